@@ -1,0 +1,34 @@
+# tennislab: two commands for a fresh machine with Python 3.11+.
+#   make demo   -> creates .venv, installs tennislab, runs the main job
+#   make test   -> creates .venv, installs tennislab with test extras, runs pytest
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+TSTAMP := $(VENV)/.installed-test
+
+.PHONY: demo test bench clean
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+
+$(STAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e .
+	touch $@
+
+$(TSTAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e ".[test]"
+	touch $(STAMP) $@
+
+demo: $(STAMP)
+	$(PY) -m tennislab.demo --out out/demo
+
+test: $(TSTAMP)
+	$(PY) -m pytest
+
+bench: $(TSTAMP)
+	$(PY) benchmarks/run_all.py
+
+clean:
+	rm -rf $(VENV) out build *.egg-info src/*.egg-info

@@ -1,0 +1,5 @@
+import sys
+
+from tennislab.cli import main
+
+sys.exit(main())

@@ -1,0 +1,94 @@
+"""Shared CLI pieces: the physics flags of ``tennislab fly`` and JSON output.
+
+Every command that simulates flight accepts the physics flags (``--aero``,
+``--cd``, ``--cl``, ``--mass``, ``--radius``, ``--air-density``,
+``--gravity``, ``--wind``, ``--spin-decay``) so any study can be rerun with
+other constants.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+
+import numpy as np
+
+from tennislab.core.flight import FlightParams
+
+
+def add_physics_flags(p, default_aero: str = "stepanek1988") -> None:
+    """Add the physics flags to an argparse parser."""
+    g = p.add_argument_group("physics")
+    g.add_argument("--aero", default=default_aero,
+                   help=f"aero model name (default {default_aero}); see `tennislab models`")
+    g.add_argument("--cd", type=float, help="drag coefficient for models that take one [-]")
+    g.add_argument("--cl", type=float, help="lift coefficient for models that take one [-]")
+    g.add_argument("--aero-table", metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)")
+    g.add_argument("--mass", type=float, help="ball mass [kg] (default 0.0577)")
+    g.add_argument("--radius", type=float, help="ball radius [m] (default 0.0335)")
+    g.add_argument("--air-density", type=float, help="air density [kg/m^3] (default 1.199)")
+    g.add_argument("--gravity", type=float, help="gravity [m/s^2] (default 9.80665)")
+    g.add_argument("--wind", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]")
+    g.add_argument("--spin-decay", type=float, help="spin decay rate [1/s] (default 0: off)")
+
+
+def physics_from_args(args) -> FlightParams:
+    """Build :class:`FlightParams` from parsed physics flags."""
+    from tennislab.core.aero import get_aero_model
+    aero = args.aero
+    if aero == "table":
+        if not getattr(args, "aero_table", None):
+            from tennislab.errors import InputError
+            raise InputError("--aero table needs --aero-table FILE.csv")
+        model = get_aero_model("table", path=args.aero_table)
+    else:
+        model = get_aero_model(aero, cd=args.cd, cl=args.cl)
+    return FlightParams.from_options(aero=model, mass=args.mass, radius=args.radius,
+                                     air_density=args.air_density, gravity=args.gravity,
+                                     wind=args.wind, spin_decay=args.spin_decay)
+
+
+def _clean(obj):
+    """Make an object JSON-serialisable: numpy -> python, NaN/inf -> None."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (np.floating, float)):
+        f = float(obj)
+        return f if math.isfinite(f) else None
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
+
+
+def emit_json(obj) -> None:
+    """Print one JSON object (NaN -> null)."""
+    print(json.dumps(_clean(obj), indent=2))
+
+
+def atomic_write(path: str, write_fn, mode: str = "w") -> None:
+    """Write a file atomically: ``write_fn(fh)`` into a temp file, then rename (nothing half-written)."""
+    d = os.path.dirname(os.path.abspath(path)) or "."
+    os.makedirs(d, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.splitext(path)[1])
+    try:
+        with os.fdopen(fd, mode) as fh:
+            write_fn(fh)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def save_figure(fig, path: str) -> None:
+    """Save a Matplotlib figure atomically."""
+    def _w(fh):
+        fig.savefig(fh, dpi=130, bbox_inches="tight", format=os.path.splitext(path)[1][1:] or "png")
+    atomic_write(path, _w, mode="wb")

@@ -1,0 +1,287 @@
+"""Aerodynamic coefficient models, chosen by name or passed as a callable.
+
+Every model gives the drag and lift coefficients (C_D, C_L) from the air speed
+v [m/s] and the spin rate w = |omega| [rad/s] of a ball of radius r [m].  Forces
+(see :mod:`tennislab.core.flight`): drag 1/2 C_D rho A v^2 opposite the air
+velocity; Magnus lift 1/2 C_L rho A v^2 along omega x v (unit vectors' cross
+product, so spin along the velocity gives no lift).
+
+A model is an :class:`AeroModel`: a Numba kernel ``kernel(v, w, r, p) ->
+(cd, cl)`` with the fixed signature :data:`AERO_SIGNATURE` plus its parameter
+array ``p``.  The same kernel serves the SciPy dense path and the compiled batch
+path (it is passed to the batch kernel as a first-class function, so the batch
+kernel is compiled and cached once for all models).
+
+Registered models (``get_aero_model(name, **params)``):
+
+``constant``       C_D, C_L given (defaults 0.55, 0).
+``stepanek1988``   Stepanek 1988, Am. J. Phys. 56:138, as written in seed 000
+                   eqs 3-4: C_D = 0.55 + 1/(22.5 + 4.2 (v/(r w))^2.5)^0.4,
+                   C_L = 1/(2 + v/(r w)).  Fitted at 13-27 m/s and 800-3250
+                   rpm (C_D 0.55-0.75, C_L 0.075-0.275); elsewhere an
+                   extrapolation (reference-data.md, after Cross 2000).
+``launcher2015``   Seed 002 (Wojcicki, Pucilowski & Kulesza, Acta Mech. Autom.)
+                   eqs 1 and 3: constant c_d; Magnus F = 1/2 c_l pi r^3 rho
+                   omega x v, i.e. C_L = c_l r w / v.  The seed gives no
+                   values; defaults c_d = 0.55 (the low end of Alam et al.
+                   2007's 0.55-0.85 quoted by the seed) and c_l = 0.6 (Cross
+                   2020, Sports Eng. 23:9, C_L = 0.6 S).  Alias ``wojcicki2010``.
+``cross2014``      Cross & Lindsey 2014, Sports Eng. 17:89: C_D = 0.507 in
+                   flight (launcher, 15-30 m/s, <= 2500 rpm); C_L = 0.6 S
+                   as in Cross 2020 (their lift data scatter widely).
+``table``          C_D, C_L bilinearly interpolated over a grid of speed and
+                   spin (e.g. wind-tunnel data), clamped at the grid's edges.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numba as nb
+import numpy as np
+from numba import types
+
+from tennislab.errors import InputError, check_range
+
+#: Numba signature of every aero kernel: (v [m/s], w [rad/s], r [m], params) -> (C_D, C_L)
+AERO_SIGNATURE = types.UniTuple(types.float64, 2)(
+    types.float64, types.float64, types.float64, types.float64[::1])
+AERO_FUNCTION_TYPE = types.FunctionType(AERO_SIGNATURE)
+
+
+@dataclass(frozen=True)
+class AeroModel:
+    """A named aerodynamic model: a compiled kernel and its parameters."""
+
+    name: str
+    kernel: Callable = field(repr=False)
+    params: np.ndarray = field(repr=False)
+    reference: str = ""
+
+    def coefficients(self, speed, spin, radius: float):
+        """(C_D, C_L) for speed(s) [m/s] and spin rate(s) |omega| [rad/s] of a ball of radius [m]."""
+        v = np.asarray(speed, dtype=float)
+        w = np.asarray(spin, dtype=float)
+        vb, wb = np.broadcast_arrays(v, w)
+        cd = np.empty(vb.shape)
+        cl = np.empty(vb.shape)
+        for idx in np.ndindex(vb.shape):
+            cd[idx], cl[idx] = self.kernel(float(vb[idx]), float(wb[idx]), float(radius), self.params)
+        if cd.ndim == 0:
+            return float(cd), float(cl)
+        return cd, cl
+
+
+# ---------------------------------------------------------------- kernels
+@nb.njit(AERO_SIGNATURE, cache=True)
+def _constant_kernel(v, w, r, p):
+    return p[0], p[1]
+
+
+@nb.njit(AERO_SIGNATURE, cache=True)
+def _stepanek_kernel(v, w, r, p):
+    # Seed 000 eqs 3-4 (Stepanek 1988).  p = (C_D0, a, b, h, q): C_D = C_D0 + 1/(a + b (v/rw)^h)^q
+    rw = r * w
+    if rw <= 0.0:
+        return p[0], 0.0
+    if v <= 0.0:
+        return p[0] + 1.0 / p[1] ** p[4], 0.5
+    x = v / rw
+    xh = x * x * math.sqrt(x) if p[3] == 2.5 else x ** p[3]  # fast path for the published h
+    cd = p[0] + math.exp(-p[4] * math.log(p[1] + p[2] * xh))
+    cl = 1.0 / (2.0 + x)
+    return cd, cl
+
+
+@nb.njit(AERO_SIGNATURE, cache=True)
+def _linear_lift_kernel(v, w, r, p):
+    # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
+    if v <= 0.0:
+        return p[0], 0.0
+    cl = p[1] * r * w / v
+    if cl > p[2]:
+        cl = p[2]
+    return p[0], cl
+
+
+@nb.njit(AERO_SIGNATURE, cache=True)
+def _table_kernel(v, w, r, p):
+    # p = [nv, nw, v_0..v_nv-1, w_0..w_nw-1, cd (nv*nw, row-major in v), cl (same)]
+    nv = int(p[0])
+    nw = int(p[1])
+    ov = 2
+    ow = 2 + nv
+    ocd = ow + nw
+    ocl = ocd + nv * nw
+    # locate v
+    if v <= p[ov]:
+        i, tv = 0, 0.0
+    elif v >= p[ov + nv - 1]:
+        i, tv = nv - 2, 1.0
+    else:
+        i = 0
+        while p[ov + i + 1] < v:
+            i += 1
+        tv = (v - p[ov + i]) / (p[ov + i + 1] - p[ov + i])
+    if w <= p[ow]:
+        j, tw = 0, 0.0
+    elif w >= p[ow + nw - 1]:
+        j, tw = nw - 2, 1.0
+    else:
+        j = 0
+        while p[ow + j + 1] < w:
+            j += 1
+        tw = (w - p[ow + j]) / (p[ow + j + 1] - p[ow + j])
+    if nv == 1:
+        i, tv = 0, 0.0
+    if nw == 1:
+        j, tw = 0, 0.0
+    i1 = min(i + 1, nv - 1)
+    j1 = min(j + 1, nw - 1)
+    out0 = 0.0
+    out1 = 0.0
+    for k in range(2):
+        base = ocd if k == 0 else ocl
+        a = p[base + i * nw + j]
+        b = p[base + i1 * nw + j]
+        c = p[base + i * nw + j1]
+        d = p[base + i1 * nw + j1]
+        val = (a * (1 - tv) * (1 - tw) + b * tv * (1 - tw) + c * (1 - tv) * tw + d * tv * tw)
+        if k == 0:
+            out0 = val
+        else:
+            out1 = val
+    return out0, out1
+
+
+# ---------------------------------------------------------------- registry
+_REGISTRY: dict[str, Callable[..., AeroModel]] = {}
+
+
+def register_aero(name: str, *aliases: str):
+    """Decorator registering a factory ``f(**params) -> AeroModel`` under ``name``."""
+    def deco(factory):
+        for n in (name, *aliases):
+            _REGISTRY[n] = factory
+        return factory
+    return deco
+
+
+def aero_model_names() -> list[str]:
+    """Names of all registered aero models."""
+    return sorted(_REGISTRY)
+
+
+def _params(*vals) -> np.ndarray:
+    a = np.ascontiguousarray(np.array(vals, dtype=np.float64))
+    return a
+
+
+@register_aero("constant")
+def constant(cd: float = 0.55, cl: float = 0.0) -> AeroModel:
+    """Constant C_D and C_L [-]."""
+    cd = check_range("cd", cd, 0.0, 2.0)
+    cl = check_range("cl", cl, -2.0, 2.0)
+    return AeroModel("constant", _constant_kernel, _params(cd, cl), "user-given constants")
+
+
+@register_aero("stepanek1988")
+def stepanek1988(cd0: float = 0.55, cd: float | None = None, cl: float | None = None) -> AeroModel:
+    """Stepanek (1988) C_D(S), C_L(S) as written in seed 000 eqs 3-4.
+
+    ``cd`` (if given) replaces the base drag C_D0 = 0.55; ``cl`` is not used by
+    this model and is refused.
+    """
+    if cl is not None:
+        raise InputError("cl: the stepanek1988 model computes C_L from spin; use --aero constant to set it")
+    base = check_range("cd", cd0 if cd is None else cd, 0.0, 2.0)
+    return AeroModel("stepanek1988", _stepanek_kernel, _params(base, 22.5, 4.2, 2.5, 0.4),
+                     "Stepanek 1988 Am. J. Phys. 56:138; seed 000 eqs 3-4")
+
+
+@register_aero("launcher2015", "wojcicki2010")
+def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = 0.6) -> AeroModel:
+    """Seed 002 eqs 1, 3: constant c_d; Magnus 1/2 c_l pi r^3 rho omega x v (C_L = c_l r w / v, <= cl_max)."""
+    cd = check_range("cd", cd, 0.0, 2.0)
+    cl = check_range("cl", cl, -5.0, 5.0)
+    return AeroModel("launcher2015", _linear_lift_kernel, _params(cd, cl, cl_max),
+                     "seed 002 eqs 1, 3; c_d after Alam et al. 2007, c_l after Cross 2020")
+
+
+@register_aero("cross2014")
+def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = 0.6) -> AeroModel:
+    """In-flight C_D = 0.507 (Cross & Lindsey 2014); C_L = 0.6 S (Cross 2020)."""
+    cd = check_range("cd", cd, 0.0, 2.0)
+    cl = check_range("cl", cl, -5.0, 5.0)
+    return AeroModel("cross2014", _linear_lift_kernel, _params(cd, cl, cl_max),
+                     "Cross & Lindsey 2014 Sports Eng. 17:89; Cross 2020 Sports Eng. 23:9")
+
+
+@register_aero("table")
+def table(speed=None, spin=None, cd=None, cl=None, path=None) -> AeroModel:
+    """C_D, C_L interpolated over a grid: ``speed`` [m/s] (n), ``spin`` [rad/s] (m), ``cd``, ``cl`` (n x m).
+
+    ``path`` reads a CSV (via :func:`tennislab.io.aero_table.read_aero_table`)
+    with columns ``speed_ms, spin_rpm, cd, cl`` on a full grid.
+    """
+    if path is not None:
+        from tennislab.io.aero_table import read_aero_table  # io stays outside core
+        speed, spin, cd, cl = read_aero_table(path)
+    if speed is None or spin is None or cd is None or cl is None:
+        raise InputError("table: needs speed, spin, cd and cl arrays (or a CSV path)")
+    v = np.asarray(speed, dtype=float).ravel()
+    w = np.asarray(spin, dtype=float).ravel()
+    cda = np.asarray(cd, dtype=float).reshape(len(v), len(w))
+    cla = np.asarray(cl, dtype=float).reshape(len(v), len(w))
+    for nm, arr in (("speed", v), ("spin", w)):
+        if len(arr) < 1 or not np.all(np.isfinite(arr)) or np.any(np.diff(arr) <= 0):
+            raise InputError(f"table: {nm} grid must be finite and strictly increasing")
+    if not (np.all(np.isfinite(cda)) and np.all(np.isfinite(cla))):
+        raise InputError("table: cd and cl must be finite")
+    p = _params(len(v), len(w), *v, *w, *cda.ravel(), *cla.ravel())
+    return AeroModel("table", _table_kernel, p, "user table")
+
+
+def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str = "callable") -> AeroModel:
+    """Wrap ``fn(speed [m/s], spin [rad/s]) -> (C_D, C_L)`` as an :class:`AeroModel`.
+
+    The function is compiled with Numba so that the batch path can use it; a
+    function Numba cannot compile raises :class:`InputError`.
+    """
+    try:
+        jf = nb.njit(fn)
+
+        @nb.njit(AERO_SIGNATURE)
+        def _wrapped(v, w, r, p):
+            a, b = jf(v, w)
+            return float(a), float(b)
+    except Exception as exc:  # numba raises many error types
+        raise InputError(f"aero: callable {name!r} cannot be compiled by Numba ({type(exc).__name__})") from None
+    return AeroModel(name, _wrapped, _params(0.0), "user callable")
+
+
+def get_aero_model(model="stepanek1988", **params) -> AeroModel:
+    """Resolve an aero model by registered name, :class:`AeroModel` or callable ``f(v, w) -> (cd, cl)``.
+
+    Keyword parameters go to the model's factory; ``None`` values are dropped.
+    """
+    params = {k: v for k, v in params.items() if v is not None}
+    if isinstance(model, AeroModel):
+        if params:
+            raise InputError("aero: parameters cannot be applied to an already built model")
+        return model
+    if callable(model):
+        return callable_model(model)
+    if model not in _REGISTRY:
+        raise InputError(f"aero: unknown model {model!r}; allowed: {', '.join(aero_model_names())}")
+    try:
+        return _REGISTRY[model](**params)
+    except TypeError:
+        raise InputError(f"aero: model {model!r} does not take parameters {sorted(params)}") from None
+
+
+def spin_parameter(speed, spin, radius):
+    """Spin parameter S = r |omega| / v [-]."""
+    return radius * np.asarray(spin) / np.asarray(speed)
+

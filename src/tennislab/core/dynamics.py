@@ -1,0 +1,73 @@
+"""The one right-hand side of ball flight, shared by every integration path.
+
+State y (9): position (x, y, z) [m], velocity (vx, vy, vz) [m/s], spin vector
+(wx, wy, wz) [rad/s], in the court frame (see :mod:`tennislab.core.court`).
+
+    m dv/dt = -m g e_z - 1/2 rho A C_D |u| u + 1/2 rho A C_L |u|^2 (w x u)/(|w||u|)
+    dw/dt   = -lambda w
+
+where u = v - wind is the air-relative velocity, C_D and C_L come from the aero
+model at (|u|, |w|), and lambda [1/s] is an optional exponential spin-decay rate
+(default 0: the seeds neglect spin decay; seed 002 section 3 reports video
+showing almost none).  Cross & Lindsey 2014 measured about 2 % spin loss over
+6.4 m at 15-30 m/s, i.e. lambda ~ 0.05-0.1 /s.  Drag: seed 000 eq 1, seed 002
+eq 1; lift: seed 000 eq 2, seed 002 eqs 3 and 5-7 (whose component form is
+omega x v; its eq 3 writes v x omega, a sign slip noted in docs/seeds.md).
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+from numba import types
+
+from tennislab.core.aero import AERO_FUNCTION_TYPE
+
+_F = types.float64
+DERIVATIVE_SIGNATURE = types.void(
+    _F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
+
+
+@nb.njit(DERIVATIVE_SIGNATURE, cache=True)
+def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
+    """Fill ``out`` with dy/dt.
+
+    Parameters
+    ----------
+    y : state (9,) [m, m/s, rad/s]
+    out : output (9,)
+    aero : aero kernel (v, w, r, p) -> (C_D, C_L)
+    aero_p : its parameters
+    k : 1/2 rho A / m [1/m]
+    g : gravity [m/s^2]
+    r : ball radius [m]
+    wind_x, wind_y, wind_z : wind velocity [m/s]
+    decay : spin-decay rate lambda [1/s]
+    """
+    ux = y[3] - wind_x
+    uy = y[4] - wind_y
+    uz = y[5] - wind_z
+    wx = y[6]
+    wy = y[7]
+    wz = y[8]
+    u = math.sqrt(ux * ux + uy * uy + uz * uz)
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    cd, cl = aero(u, w, r, aero_p)
+    d = -k * cd * u
+    ax = d * ux
+    ay = d * uy
+    az = d * uz - g
+    if w > 0.0 and u > 0.0:
+        f = k * cl * u / w
+        ax += f * (wy * uz - wz * uy)
+        ay += f * (wz * ux - wx * uz)
+        az += f * (wx * uy - wy * ux)
+    out[0] = y[3]
+    out[1] = y[4]
+    out[2] = y[5]
+    out[3] = ax
+    out[4] = ay
+    out[5] = az
+    out[6] = -decay * wx
+    out[7] = -decay * wy
+    out[8] = -decay * wz
