@@ -21,7 +21,7 @@ def add_physics_flags(p, default_aero: str = "stepanek1988") -> None:
     """Add the physics flags to an argparse parser."""
     g = p.add_argument_group("physics")
     g.add_argument("--aero", default=default_aero,
-                   help=f"aero model name (default {default_aero}); see `tennislab models`")
+                   help=f"aero model: constant, stepanek1988, launcher2015, cross2014, table (default {default_aero})")
     g.add_argument("--cd", type=float, help="drag coefficient for models that take one [-]")
     g.add_argument("--cl", type=float, help="lift coefficient for models that take one [-]")
     g.add_argument("--aero-table", metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)")

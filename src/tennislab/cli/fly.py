@@ -22,9 +22,6 @@ def register(sub) -> None:
     add_physics_flags(p)
     p.add_argument("--plot", metavar="FILE.png", help="draw side and top views on the court")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    hook = globals().get("_extend_parser")
-    if hook:
-        hook(p)
     p.set_defaults(func=run)
 
 
@@ -70,9 +67,6 @@ def run(args) -> int:
     if tr.landing is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s")
     out = flight_summary(tr)
-    post = globals().get("_post_flight")
-    if post:
-        tr, out = post(args, tr, out, params)
     if args.plot:
         from tennislab.plot.trajectory import plot_trajectories
         fig = plot_trajectories([tr], title="tennislab fly")
