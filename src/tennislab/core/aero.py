@@ -201,8 +201,12 @@ def stepanek1988(cd0: float = 0.55, cd: float | None = None, cl: float | None = 
 
 
 @register_aero("launcher2015", "wojcicki2010")
-def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = 0.6) -> AeroModel:
-    """Seed 002 eqs 1, 3: constant c_d; Magnus 1/2 c_l pi r^3 rho omega x v (C_L = c_l r w / v, <= cl_max)."""
+def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = math.inf) -> AeroModel:
+    """Seed 002 eqs 1, 3: constant c_d; Magnus 1/2 c_l pi r^3 rho omega x v (C_L = c_l r w / v).
+
+    The seed's lift grows without bound with spin; ``cl_max`` optionally caps C_L
+    (a cap makes the right-hand side non-smooth; default: no cap, as published).
+    """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
     return AeroModel("launcher2015", _linear_lift_kernel, _params(cd, cl, cl_max),
@@ -210,7 +214,7 @@ def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = 0.6) -> Aero
 
 
 @register_aero("cross2014")
-def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = 0.6) -> AeroModel:
+def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = math.inf) -> AeroModel:
     """In-flight C_D = 0.507 (Cross & Lindsey 2014); C_L = 0.6 S (Cross 2020)."""
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)

@@ -1,0 +1,1 @@
+"""Reading and writing files (CSV, JSON, YAML, Parquet); validation errors are InputError."""
