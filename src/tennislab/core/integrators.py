@@ -43,6 +43,15 @@ _P = np.array([
     [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
     [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423]])
 
+# scalar copies of the tableau for the unrolled stages
+_A21 = _A[1, 0]
+_A31, _A32 = _A[2, 0], _A[2, 1]
+_A41, _A42, _A43 = _A[3, 0], _A[3, 1], _A[3, 2]
+_A51, _A52, _A53, _A54 = _A[4, 0], _A[4, 1], _A[4, 2], _A[4, 3]
+_A61, _A62, _A63, _A64, _A65 = _A[5, 0], _A[5, 1], _A[5, 2], _A[5, 3], _A[5, 4]
+_B1, _B3, _B4, _B5, _B6 = _B[0], _B[2], _B[3], _B[4], _B[5]
+_E1, _E3, _E4, _E5, _E6, _E7 = _E[0], _E[2], _E[3], _E[4], _E[5], _E[6]
+
 # consts vector layout passed to the kernel
 K_K, K_G, K_R, K_WX, K_WY, K_WZ, K_DECAY, K_HC, K_HP, K_YP, K_TMAX, K_RTOL, K_ATOL = range(13)
 NCONSTS = 13
@@ -63,7 +72,7 @@ _iNET_T = COL["net_t"]
 _iAPEX_T = COL["apex_t"]
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", inline="always")
 def _dense_comp(theta, c, y0, K, h, P):
     s = 0.0
     for k in range(7):
@@ -72,48 +81,60 @@ def _dense_comp(theta, c, y0, K, h, P):
     return y0[c] + h * s
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _dense_full(theta, y0, K, h, P, out):
     for c in range(9):
         out[c] = _dense_comp(theta, c, y0, K, h, P)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def _dense_comp_d(theta, c, y0, K, h, P):
+    """The interpolant's component c and its derivative d/dtheta at theta."""
+    s = 0.0
+    ds = 0.0
+    for k in range(7):
+        p0, p1, p2, p3 = P[k, 0], P[k, 1], P[k, 2], P[k, 3]
+        q = theta * (p0 + theta * (p1 + theta * (p2 + theta * p3)))
+        dq = p0 + theta * (2.0 * p1 + theta * (3.0 * p2 + theta * 4.0 * p3))
+        s += K[k, c] * q
+        ds += K[k, c] * dq
+    return y0[c] + h * s, h * ds
+
+
+@nb.njit(cache=True, error_model="numpy")
 def _root(c, target, y0, K, h, P, f0, f1):
     """theta in [0, 1] where the interpolant's component c equals target.
 
-    Illinois regula falsi on a bracket [0, 1] with f0 * f1 <= 0; stops when the
-    residual is below 1e-13 (m or m/s) or the bracket below 1e-14 s.
+    Safeguarded Newton on the interpolant polynomial (bracket [0, 1] with
+    f0 * f1 <= 0, bisection when a Newton step leaves the bracket); stops when
+    the step is below 1e-15 of the interval or the residual below 1e-14.
     """
     a, fa = 0.0, f0
-    b, fb = 1.0, f1
+    b = 1.0
     if fa == 0.0:
         return 0.0
-    if fb == 0.0:
+    if f1 == 0.0:
         return 1.0
-    side = 0
-    x = 1.0
-    for _ in range(200):
-        x = (a * fb - b * fa) / (fb - fa)
-        fx = _dense_comp(x, c, y0, K, h, P) - target
-        if abs(fx) < 1e-13:
-            break
-        if fx * fb > 0.0:
-            b, fb = x, fx
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
+    x = f0 / (f0 - f1)                      # secant first guess
+    for _ in range(60):
+        fx, dfx = _dense_comp_d(x, c, y0, K, h, P)
+        fx -= target
+        if abs(fx) < 1e-14:
+            return x
+        if (fx > 0.0) == (fa > 0.0):
             a, fa = x, fx
-            if side == 1:
-                fb *= 0.5
-            side = 1
-        if (b - a) * h < 1e-14:
-            break
+        else:
+            b = x
+        xn = x - fx / dfx if dfx != 0.0 else 0.5 * (a + b)
+        if not (a < xn < b):
+            xn = 0.5 * (a + b)
+        if abs(xn - x) < 1e-15:
+            return xn
+        x = xn
     return x
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def integrate_one(y_init, aero, aero_p, consts, row, work):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
 
@@ -129,7 +150,7 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
     t_max = consts[K_TMAX]
     rtol = consts[K_RTOL]
     atol = consts[K_ATOL]
-    C, A, B, E, P = _C, _A, _B, _E, _P
+    P = _P
     for i in range(NCOLS):
         row[i] = np.nan
     row[_c_net_status] = NET_NONE
@@ -160,7 +181,7 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
         row[_c_apex_y] = y[1]
         row[_c_apex_z] = y[2]
     t = 0.0
-    h = 0.01
+    h = 0.05
     nsteps = 0
     landed = False
     while t < t_max and nsteps < 100000:
@@ -168,24 +189,31 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
             h = t_max - t
         for c in range(9):
             K[0, c] = fcur[c]
-        for s in range(1, 6):
-            for c in range(9):
-                acc = 0.0
-                for j in range(s):
-                    acc += A[s, j] * K[j, c]
-                ytmp[c] = y[c] + h * acc
-            derivative(ytmp, K[s], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        # stages, unrolled (Dormand-Prince tableau constants below)
         for c in range(9):
-            acc = 0.0
-            for j in range(6):
-                acc += B[j] * K[j, c]
-            ynew[c] = y[c] + h * acc
+            ytmp[c] = y[c] + h * (_A21 * K[0, c])
+        derivative(ytmp, K[1], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        for c in range(9):
+            ytmp[c] = y[c] + h * (_A31 * K[0, c] + _A32 * K[1, c])
+        derivative(ytmp, K[2], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        for c in range(9):
+            ytmp[c] = y[c] + h * (_A41 * K[0, c] + _A42 * K[1, c] + _A43 * K[2, c])
+        derivative(ytmp, K[3], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        for c in range(9):
+            ytmp[c] = y[c] + h * (_A51 * K[0, c] + _A52 * K[1, c] + _A53 * K[2, c] + _A54 * K[3, c])
+        derivative(ytmp, K[4], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        for c in range(9):
+            ytmp[c] = y[c] + h * (_A61 * K[0, c] + _A62 * K[1, c] + _A63 * K[2, c] + _A64 * K[3, c]
+                                  + _A65 * K[4, c])
+        derivative(ytmp, K[5], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        for c in range(9):
+            ynew[c] = y[c] + h * (_B1 * K[0, c] + _B3 * K[2, c] + _B4 * K[3, c] + _B5 * K[4, c]
+                                  + _B6 * K[5, c])
         derivative(ynew, K[6], aero, aero_p, k, g, r, wx, wy, wz, decay)
         errsum = 0.0
         for c in range(9):
-            acc = 0.0
-            for j in range(7):
-                acc += E[j] * K[j, c]
+            acc = (_E1 * K[0, c] + _E3 * K[2, c] + _E4 * K[3, c] + _E5 * K[4, c] + _E6 * K[5, c]
+                   + _E7 * K[6, c])
             sc = atol + rtol * max(abs(y[c]), abs(ynew[c]))
             e = h * acc / sc
             errsum += e * e
@@ -242,7 +270,7 @@ _F = types.float64
 BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], _F[::1], _F[:, ::1])
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, parallel=True)
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", parallel=True)
 def batch_kernel(states, aero, aero_p, consts, out):
     """Integrate every row of ``states`` (N, 9) and fill the event table ``out`` (N, NCOLS)."""
     n = states.shape[0]
@@ -253,7 +281,7 @@ def batch_kernel(states, aero, aero_p, consts, out):
             integrate_one(states[i], aero, aero_p, consts, out[i], work)
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True)
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy")
 def serial_kernel(states, aero, aero_p, consts, out):
     """As :func:`batch_kernel`, on one thread (for callers that parallelise themselves)."""
     work = np.empty((12, 9))
