@@ -49,8 +49,9 @@ def mc(chunk, seed=11):
             "u": rng.uniform(seed, chunk["row"], stream=1)}
 
 
-def failing_at(chunk, bad_row):
-    if chunk["a"].size and chunk["row"][0] <= bad_row <= chunk["row"][-1]:
+def flaky(chunk, trigger, bad_row):
+    """``affine``, but fails on the chunk holding ``bad_row`` while the file ``trigger`` exists."""
+    if os.path.exists(trigger) and chunk["row"][0] <= bad_row <= chunk["row"][-1]:
         raise RuntimeError("worker died")
     return affine(chunk)
 
@@ -138,22 +139,22 @@ def test_interrupted_run_resumes_to_the_same_result(tmp_path, data):
     x = dict(data, row=np.arange(5000))
     ref = map_chunks(affine, x, progress=False)
     out = str(tmp_path / "job")
+    trigger = tmp_path / "fail-now"
+    trigger.write_text("")
+    job = functools.partial(flaky, trigger=str(trigger), bad_row=2500)
     with pytest.raises(RuntimeError, match="worker died"):
-        map_chunks(functools.partial(failing_at, bad_row=2500), x, chunk_size=1000, out=out, progress=False)
+        map_chunks(job, x, chunk_size=1000, out=out, progress=False)
     assert sorted(os.listdir(out)) == ["manifest.json", "part-00000.parquet", "part-00001.parquet"]
     assert not read_manifest(out)["complete"]
     with pytest.raises(InputError, match="incomplete"):
         read_output(out)
-    # same job (same fn, same partial arguments): another bad row is still the same job
+    trigger.unlink()  # the "crash" is gone; same job, same directory
     CALLS.clear()
-    res = run_batch(functools.partial(failing_at, bad_row=2500), x, out=out, progress=False,
-                    scheduler="local") if False else None
-    CALLS.clear()
-    done = run_batch(functools.partial(failing_at, bad_row=10 ** 9), x, out=out, progress=False) \
-        if False else None
-    # a resumed run must be the *same* job; rerun with fn that no longer fails via the tag-free identity:
-    with pytest.raises(InputError, match="another job"):
-        run_batch(functools.partial(failing_at, bad_row=10 ** 9), x, out=out, progress=False)
+    res = run_batch(job, x, out=out, progress=False)
+    assert (res.computed, res.skipped) == (3, 2) and CALLS == [1000, 1000, 1000]
+    for k in ref:
+        assert np.array_equal(res.data[k], ref[k])
+    assert read_manifest(out)["complete"]
 
 
 def test_manifest_mismatch_refused(tmp_path, data):
@@ -169,11 +170,12 @@ def test_manifest_mismatch_refused(tmp_path, data):
         map_chunks(mc, data, out=out, progress=False)
     with pytest.raises(InputError, match="tag differs"):
         map_chunks(affine, data, out=out, tag={"aero": "constant"}, progress=False)
-    with pytest.raises(InputError, match="fn differs"):
-        map_chunks(functools.partial(fly_chunk, params=FlightParams()), {"states": serve_states(4)},
-                   out=str(tmp_path / "fly"), progress=False) or \
-            map_chunks(functools.partial(fly_chunk, params=FlightParams.from_options(air_density=1.1)),
-                       {"states": serve_states(4)}, out=str(tmp_path / "fly"), progress=False)
+    fly_out, states = str(tmp_path / "fly"), {"states": serve_states(4)}
+    map_chunks(functools.partial(fly_chunk, params=FlightParams()), states, out=fly_out, progress=False)
+    map_chunks(functools.partial(fly_chunk, params=FlightParams()), states, out=fly_out, progress=False)
+    with pytest.raises(InputError, match="fn differs"):  # other physics = another job
+        map_chunks(functools.partial(fly_chunk, params=FlightParams.from_options(air_density=1.1)),
+                   states, out=fly_out, progress=False)
     (tmp_path / "junk").mkdir()
     (tmp_path / "junk" / "notes.txt").write_text("mine")
     with pytest.raises(InputError, match="not empty"):
@@ -196,6 +198,9 @@ def test_stream_source_resume_and_mismatch(tmp_path):
     assert np.array_equal(r2.data["s"], np.arange(40.0) * 2 + 1)
     with pytest.raises(InputError, match="input chunk 0 differs"):
         run_batch(affine, chunks(2.0), out=out, progress=False)
+    with pytest.raises(InputError, match="only 3 chunks"):
+        run_batch(affine, (c for i, c in enumerate(chunks(1.0)) if i < 3), out=out, progress=False)
+    assert np.array_equal(read_output(out)["s"], np.arange(40.0) * 2 + 1)
 
 
 def test_collect_false_bounded_and_readable(tmp_path, data):
@@ -268,7 +273,8 @@ def test_huge_grid_is_never_materialised():
     last = g.chunk(g.n_chunks(65536) - 1, 65536)
     assert len(last["speed"]) == g.size - (g.n_chunks(65536) - 1) * 65536
     assert last["speed"][-1] == 40 and last["height"][-1] == 1.5 and last["spin"][-1] == 400
-    mid = g.rows(g.index(speed=60, spin=3, axis=7, elevation=11, heading=5, height=2), g.size)
+    r = g.index(speed=60, spin=3, axis=7, elevation=11, heading=5, height=2)
+    mid = g.rows(r, r + 3)
     assert mid["speed"][0] == axes["speed"][60] and mid["elevation"][0] == axes["elevation"][11]
     assert GridSpec(axes).fingerprint() == g.fingerprint()
     assert GridSpec(dict(axes, height=axes["height"] + 1e-9)).fingerprint() != g.fingerprint()

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field
 
+from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError, check_range
 
 AERO_CHOICES = ("stepanek1988", "launcher2015", "cross2014", "constant")
@@ -131,11 +132,15 @@ _form("serve", [
     Field("racket_speed", "racket speed", "float", 40.0, 5.0, 70.0, "m/s", 0.1),
     Field("impact_angle", "impact angle alpha", "float", 36.0, 0.0, 90.0, "deg", 1),
     Field("face_angle", "face angle beta", "float", 21.0, -10.0, 90.0, "deg", 1),
-    Field("spin_axis_deg", "spin-axis tilt", "float", 0.0, -90.0, 90.0, "deg", 1,
-          help="0 = pure topspin; tilt toward slice (+) or kick (-) in 3-D"),
-    Field("aim_deg", "aim (heading)", "float", 0.0, -20.0, 20.0, "deg", 0.1),
-    Field("lateral", "server position y", "float", 0.0, -4.0, 4.0, "m", 0.01),
-    Field("mode", "success criteria", "choice", "seed-2d", choices=("seed-2d", "deuce-box", "ad-box")),
+    Field("target", "success criteria", "choice", "seed-2d", choices=("seed-2d", "deuce", "ad"),
+          help="seed-2d: the paper's 2-D test; deuce/ad: the real service box in 3-D"),
+    Field("azimuth_deg", "face azimuth (3-D)", "float", 0.0, -30.0, 30.0, "deg", 0.5,
+          help="turns the racket face toward +y (left); needs target deuce or ad"),
+    Field("brush_deg", "brush direction / spin axis (3-D)", "float", 0.0, -90.0, 90.0, "deg", 1,
+          help="0 = the seed's pure topspin; tilts the brush (and the spin axis) sideways for slice/kick"),
+    Field("server_y", "server position y (3-D)", "float", 0.0, -4.0, 4.0, "m", 0.05),
+    Field("toss_vz", "ball vertical speed at impact", "float", 0.0, -6.0, 6.0, "m/s", 0.1,
+          help="negative: the ball is falling when hit"),
 ])
 
 _form("window", [
@@ -156,16 +161,13 @@ _form("aim", [
     Field("spin_axis_deg", "spin axis (custom)", "float", 0.0, -180.0, 180.0, "deg", 1),
     Field("solution", "solution", "choice", "low", choices=("low", "high")),
     Field("height", "launch height", "float", 1.0, 0.1, 3.0, "m", 0.1),
-    Field("machine_x", "machine x", "float", -12.5, -20.0, 0.0, "m", 0.1),
+    Field("machine_x", "machine x", "float", -12.385, -20.0, 0.0, "m", 0.1),
     Field("machine_y", "machine y", "float", 0.0, -8.0, 8.0, "m", 0.1),
 ])
 
 _form("linecall", [
-    Field("line", "line", "choice", "auto",
-          choices=("auto", "baseline", "service", "singles", "doubles", "center")),
-    Field("target", "target area", "choice", "none",
-          choices=("none", "singles", "doubles", "deuce-box", "ad-box",
-                   "near-singles", "near-doubles", "near-deuce-box", "near-ad-box")),
+    Field("line", "line", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.lines())),
+    Field("target", "target area", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.area_names())),
     Field("surface", "surface", "choice", "hard", choices=("hard", "clay", "grass", "carpet")),
 ])
 

@@ -21,8 +21,10 @@ from tennislab.units import DEG, KMH, RPM
 
 #: module -> attributes the app needs from it
 REQUIREMENTS = {
-    "serve": [("tennislab.serve", None), ("tennislab.core.impact", None)],
-    "linecall": [("tennislab.linecall", None), ("tennislab.io.track", None)],
+    "serve": [("tennislab.serve.single", "simulate_serve"), ("tennislab.serve.window", "serve_window"),
+              ("tennislab.serve.players", "get_player")],
+    "linecall": [("tennislab.io.track", "parse_track"), ("tennislab.linecall.fit", "fit_track"),
+                 ("tennislab.linecall.decide", "call_mark"), ("tennislab.core.mark", "ball_mark")],
     "launcher": [("tennislab.launcher.machine", "MachineSpec"), ("tennislab.launcher.machine", "launch_states")],
 }
 

@@ -19,6 +19,10 @@ def register(sub) -> None:
     p.add_argument("--spin-rpm", type=float, help="spin rate [rpm], with --spin-axis")
     p.add_argument("--spin-axis", type=float, nargs=3, metavar=("AX", "AY", "AZ"),
                    help="spin axis (any length; right-hand rule)")
+    p.add_argument("--surface", default="hard",
+                   help="court surface for --bounces: clay, grass, hard, carpet (default hard)")
+    p.add_argument("--bounces", type=int, default=0,
+                   help="continue through N bounces on --surface (default 0: stop at the first landing)")
     add_physics_flags(p)
     p.add_argument("--plot", metavar="FILE.png", help="draw side and top views on the court")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -59,17 +63,44 @@ def flight_summary(tr) -> dict:
     return out
 
 
+def bounces_summary(rally) -> list:
+    """The JSON ``bounces`` list of ``fly --bounces N``: one object per bounce."""
+    out = []
+    for b in rally.bounces:
+        d = b.as_dict()
+        d["mark"] = {"length": b.mark.length, "width": b.mark.width, "x": float(b.mark.center[0]),
+                     "y": float(b.mark.center[1]), "skid": b.mark.skid,
+                     "contact_time": b.mark.contact_time, "compression": b.mark.compression}
+        out.append(d)
+    return out
+
+
 def run(args) -> int:
     from tennislab.core.flight import fly
+    from tennislab.core.surfaces import get_surface
     params = physics_from_args(args)
     spin = spin_from_args(args)
-    tr = fly(args.position, args.velocity, spin, params)
+    if args.bounces < 0 or args.bounces > 100:
+        raise InputError(f"--bounces: {args.bounces} is outside the allowed range [0, 100]")
+    surface = get_surface(args.surface)
+    if args.bounces > 0:
+        from tennislab.core.rally import fly_bounces
+        rally = fly_bounces(args.position, args.velocity, spin, params, surface=surface, bounces=args.bounces)
+        tr = rally.first
+        trs = rally.segments
+    else:
+        rally = None
+        tr = fly(args.position, args.velocity, spin, params)
+        trs = [tr]
     if tr.landing is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s")
     out = flight_summary(tr)
+    if rally is not None:
+        out["surface"] = surface.name
+        out["bounces"] = bounces_summary(rally)
     if args.plot:
         from tennislab.plot.trajectory import plot_trajectories
-        fig = plot_trajectories([tr], title="tennislab fly")
+        fig = plot_trajectories(trs, title="tennislab fly")
         save_figure(fig, args.plot)
     if args.json:
         emit_json(out)
@@ -83,6 +114,10 @@ def run(args) -> int:
         else:
             print(f"net: {n['result']} (centre height {n['z']:.3f} m, clearance {n['clearance']:.3f} m)")
         print(f"apex: z = {out['apex']['z']:.3f} m at t = {out['apex']['t']:.3f} s")
+        for i, b in enumerate(out.get("bounces", []), 1):
+            print(f"bounce {i} ({out['surface']}, {b['mode']}): x = {b['x']:.3f} m, y = {b['y']:.3f} m, "
+                  f"t = {b['t']:.3f} s, out {np.linalg.norm(b['velocity_out']):.2f} m/s; "
+                  f"mark {b['mark']['length'] * 1000:.0f} x {b['mark']['width'] * 1000:.0f} mm")
         if args.plot:
             print(f"figure: {args.plot}")
     return 0

@@ -68,11 +68,13 @@ from tennislab.core.haake2003 import BallImpactModel, get_ball_model
 from tennislab.errors import InputError, check_range
 
 # parameter vector layout of the compiled kernel
-P_MK, P_MB, P_I, P_R, P_KK, P_KB, P_CB, P_KT, P_CT, P_MU = range(10)
-NP = 10
+P_MK, P_MB, P_I, P_R, P_KK, P_KB, P_CB, P_KT, P_CT, P_MU, P_FM = range(11)
+NP = 11
 NS = 9  # state: x1, x2, x3, v1, v2, e, w1, w2, w3
 
 METHODS = {"rk4": 0, "euler": 1}
+#: friction models: 0 = elasto-plastic (default), 1 = the seed's clamp (stretch not reset)
+FRICTION_MODELS = {"elastoplastic": 0, "seed-clamp": 1}
 REGIMES = ("slide", "roll")
 
 #: Output columns of :func:`impact_batch`.
@@ -98,6 +100,9 @@ class ImpactParams:
         (seed sec. 2.2: "COR is 4 % higher for oblique impacts", Goodwill et al. 2005)
     ball_model : :class:`BallImpactModel` giving T_c(v), COR(v) (default ``haake2003``)
     max_cor : cap of the tangential COR so that c > 0 [-]
+    friction_model : ``elastoplastic`` (default: the spring stretch slides with the ball,
+        |k e + c e'| <= mu F_N) or ``seed-clamp`` (seed eq 20 read literally: F_t =
+        clip(k e + c s, +-mu F_N) with e' = s always; it can create energy, docs/impact.md)
     """
 
     ball: Ball = field(default_factory=lambda: Ball(mass=0.059, radius=0.033))
@@ -108,8 +113,12 @@ class ImpactParams:
     oblique_cor_factor: float = 1.04
     ball_model: BallImpactModel = field(default_factory=lambda: get_ball_model("haake2003"))
     max_cor: float = 0.99
+    friction_model: str = "elastoplastic"
 
     def __post_init__(self):
+        if self.friction_model not in FRICTION_MODELS:
+            raise InputError(f"friction_model: unknown {self.friction_model!r}; choose from "
+                             f"{', '.join(FRICTION_MODELS)}")
         check_range("racket_mass", self.racket_mass, 0.0, 10.0, "kg", lo_open=True)
         check_range("string_stiffness", self.string_stiffness, 1e2, 1e7, "N/m")
         check_range("friction", self.friction, 0.0, 5.0)
@@ -145,6 +154,7 @@ class ImpactParams:
         p[:, P_KT] = self.tangential_stiffness_ratio * kb
         p[:, P_CT] = -2.0 * b.mass / tc * np.log(e_t)
         p[:, P_MU] = self.friction
+        p[:, P_FM] = FRICTION_MODELS[self.friction_model]
         return p
 
 
@@ -182,7 +192,10 @@ def rhs(s, p, out):
     slip = s[6] - s[7] - r * s[8]
     e = s[5]
     ffree = kt * e + ct * slip
-    if ffree > lim:
+    if p[P_FM] == 1.0:
+        edot = slip
+        ft = min(max(ffree, -lim), lim)
+    elif ffree > lim:
         edot = (lim - kt * e) / ct
         ft = lim
     elif ffree < -lim:
@@ -240,7 +253,7 @@ def step_size(p, steps):
 
 
 @nb.njit(cache=True)
-def impact_one(vn, vt, p, steps, method, out, hist, nhist):
+def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
     """Integrate one impact (racket approach V_n, V_t relative to the ball at rest).
 
     Writes the row of :data:`OUT_COLUMNS` into ``out``; if ``nhist`` > 0 also
@@ -255,7 +268,7 @@ def impact_one(vn, vt, p, steps, method, out, hist, nhist):
     k3 = np.empty(NS)
     k4 = np.empty(NS)
     tmp = np.empty(NS)
-    h = step_size(p, steps)
+    h = dt if dt > 0.0 else step_size(p, steps)
     t = 0.0
     r = p[P_R]
     s0 = s[6] - s[7] - r * s[8]
@@ -347,17 +360,17 @@ def impact_one(vn, vt, p, steps, method, out, hist, nhist):
 
 
 @nb.njit(cache=True, parallel=True)
-def _impact_batch_kernel(vn, vt, P, steps, method, out):
-    dummy = np.empty((1, NS + 3))
+def _impact_batch_kernel(vn, vt, P, steps, dt, method, out):
     for i in nb.prange(vn.shape[0]):
-        impact_one(vn[i], vt[i], P[i], steps, method, out[i], dummy, 0)
+        dummy = np.empty((1, NS + 3))
+        impact_one(vn[i], vt[i], P[i], steps, dt, method, out[i], dummy, 0)
 
 
 @nb.njit(cache=True)
-def _impact_serial_kernel(vn, vt, P, steps, method, out):
+def _impact_serial_kernel(vn, vt, P, steps, dt, method, out):
     dummy = np.empty((1, NS + 3))
     for i in range(vn.shape[0]):
-        impact_one(vn[i], vt[i], P[i], steps, method, out[i], dummy, 0)
+        impact_one(vn[i], vt[i], P[i], steps, dt, method, out[i], dummy, 0)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -372,7 +385,8 @@ def _check_method(method: str) -> int:
 
 
 def impact_batch(speed, alpha, params: ImpactParams | None = None, *, toss_n=0.0, toss_t=0.0,
-                 steps: int = 400, method: str = "rk4", parallel: bool = True) -> dict[str, np.ndarray]:
+                 steps: int = 400, dt: float = 0.0, method: str = "rk4",
+                 parallel: bool = True) -> dict[str, np.ndarray]:
     """Impacts for arrays of racket speed V [m/s] and impact angle alpha [rad] (broadcast).
 
     ``toss_n``, ``toss_t``: ball velocity before impact in the racket frame [m/s]
@@ -399,7 +413,8 @@ def impact_batch(speed, alpha, params: ImpactParams | None = None, *, toss_n=0.0
         raise InputError("impact: the racket must approach the ball (V cos(alpha) > toss normal speed)")
     P = params.vectors(vn)
     out = np.empty((vn.size, NOUT))
-    (_impact_batch_kernel if parallel and vn.size > 1 else _impact_serial_kernel)(vn, vt, P, steps, m, out)
+    (_impact_batch_kernel if parallel and vn.size > 1 else _impact_serial_kernel)(vn, vt, P, steps, float(dt),
+                                                                                    m, out)
     res = {c: out[:, i].reshape(shape) for i, c in enumerate(OUT_COLUMNS)}
     # back to the ground frame (add the toss)
     res["v_n"] = res["v_n"] + un.reshape(shape)
@@ -442,8 +457,13 @@ HIST_COLUMNS = ("t", "x1", "x2", "x3", "v1", "v2", "e", "w1", "w2", "w3", "F_N",
 
 
 def impact(speed: float, alpha: float, params: ImpactParams | None = None, *, toss_n: float = 0.0,
-           toss_t: float = 0.0, steps: int = 400, method: str = "rk4", history: bool = False) -> ImpactResult:
-    """One impact: racket speed V [m/s] at impact angle alpha [rad] (see module docstring)."""
+           toss_t: float = 0.0, steps: int = 400, dt: float = 0.0, method: str = "rk4",
+           history: bool = False) -> ImpactResult:
+    """One impact: racket speed V [m/s] at impact angle alpha [rad] (see module docstring).
+
+    ``steps`` per half period (RK4 step h = T/steps), or a fixed step ``dt`` [s] if > 0
+    (``method="euler", dt=1e-4`` is the seed's scheme).  ``history=True`` keeps every step.
+    """
     params = params or ImpactParams()
     V = check_range("racket speed", speed, 0.0, 150.0, "m/s", lo_open=True)
     A = check_range("impact angle", alpha, -math.pi / 2, math.pi / 2, "rad")
@@ -456,9 +476,10 @@ def impact(speed: float, alpha: float, params: ImpactParams | None = None, *, to
     nh = 0
     hist = np.empty((1, NS + 3))
     if history:
-        nh = 4 * steps + 100
+        h0 = dt if dt > 0 else step_size(p, steps)
+        nh = int(0.05 / h0) + 100
         hist = np.empty((nh, NS + 3))
-    rows = impact_one(vn, vt, p, steps, _check_method(method), out, hist, nh)
+    rows = impact_one(vn, vt, p, steps, float(dt), _check_method(method), out, hist, nh)
     H = None
     if history:
         H = {c: hist[:rows, i].copy() for i, c in enumerate(HIST_COLUMNS)}

@@ -1,0 +1,173 @@
+"""Benchmark: ``launcher lookup`` on a hits table of 10^7 rows (target: < 10 ms per lookup).
+
+Builds (once; reused if the file is there) an SQLite table of ~10^7 hits laid
+out exactly like a real fill (ids, grid order, R*Tree over landing x, y, speed
+and spin), then times R*Tree lookups against a full-scan baseline measured in
+the same run on the same file, and prints median / 95th percentile [ms] and
+their ratio.
+
+Rows are synthetic by default: the landing point of each setting comes from a
+closed-form flight (projectile with a linear-drag range factor and a Magnus
+term scaling gravity), which gives the same smooth landing "sheets" per speed
+and spin as real flights, so the R*Tree holds the same structure -- lookup
+timing depends on that layout, not on the physics.  ``--real`` fills the table
+with ``fly_batch`` flights instead (slower: ~10^8 flights for 10^7 kept hits).
+
+Usage:  python benchmarks/bench_db.py [--rows 1e7] [--db PATH] [--lookups 500] [--scans 5]
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "src"))
+
+from tennislab.launcher import db  # noqa: E402
+from tennislab.launcher import table as T  # noqa: E402
+from tennislab.launcher.aim import launcher_params  # noqa: E402
+from tennislab.launcher.machine import DEFAULT_SPEC  # noqa: E402
+from tennislab.units import DEG, KMH  # noqa: E402
+
+
+def _synthetic_rows(indices: dict, spec, params) -> dict:
+    """Closed-form stand-in for :func:`tennislab.launcher.table.fly_chunk` (same columns, same ids)."""
+    sizes = T.machine_sizes(spec)
+    vals = {f: T.axis_values(spec.range_of(f), indices[f]) for f in T.AXES}
+    v = vals["speed_kmh"] * KMH
+    a = vals["elevation_deg"] * DEG
+    b = vals["heading_deg"] * DEG
+    h = vals["height_m"]
+    # Magnus: topspin (axis 0) pulls down, backspin (axis 180) holds up: g_eff = g (1 + m cos(axis))
+    g = 9.81 * (1.0 + 0.35 * vals["spin_rpm"] / 2000.0 * np.cos(vals["spin_axis_deg"] * DEG))
+    vz, vh = v * np.sin(a), v * np.cos(a)
+    t = (vz + np.sqrt(vz * vz + 2 * g * h)) / g
+    drag = 1.0 / (1.0 + 0.012 * v * np.sqrt(t))         # shortens fast, long flights
+    r = vh * t * drag
+    px, py = spec.position
+    x, y = px + r * np.cos(b), py + r * np.sin(b)
+    tn = np.where(np.cos(b) > 0, -px / np.maximum(vh * np.cos(b) * drag, 1e-9), np.inf)
+    zn = h + vz * tn - 0.5 * g * tn * tn
+    n = len(x)
+    out = {"id": T.pack_ids({f: indices[f] for f in T.AXES}, sizes), **vals,
+           "land_x": x, "land_y": y, "net_clearance_m": zn - 0.914 - params.ball.radius, "flight_time_s": t,
+           "bounce_speed_ms": v * 0.7, "bounce_spin_rpm": vals["spin_rpm"] * 0.98,
+           "apex_z_m": h + np.where(vz > 0, vz * vz / (2 * g), 0.0),
+           "status": np.zeros(n, np.int8), "net_status": np.where(zn - 0.914 - 0.0335 > 0, 1, 2).astype(np.int8)}
+    return out
+
+
+#: Grid presets per table size: (spin step [rpm], spin-axis rotations [deg] (min, max, stride in 1-deg
+#: steps), heights [m] (min, max, stride in 0.1-m steps)); every speed, elevation and heading step.
+PRESETS = {1e5: (2000, (0, 180, 180), (1.0, 1.0, 1)),
+           1e6: (500, (0, 180, 180), (1.0, 1.0, 1)),
+           1e7: (100, (-90, 180, 90), (1.0, 2.0, 10))}
+
+
+def bench_grid(spec, rows: float):
+    """The preset grid nearest ``rows`` kept hits (about 5 % of the settings land in the far court)."""
+    key = min(PRESETS, key=lambda k: abs(math.log10(rows / k)))
+    spin_step, (a0, a1, ak), (h0, h1, hk) = PRESETS[key]
+    return T.make_grid(spec, {"height_m": (h0, h1), "spin_axis_deg": (a0, a1)},
+                       {"spin_rpm": spin_step, "spin_axis_deg": ak, "height_m": hk})
+
+
+def build(path: str, rows: float, real: bool, chunk: int = 50_000) -> None:
+    spec, params = DEFAULT_SPEC, launcher_params()
+    grid = bench_grid(spec, rows)
+    print(f"building {path}: grid {grid.size:,} settings, "
+          f"{'fly_batch' if real else 'synthetic'} rows ...", flush=True)
+    t0 = time.perf_counter()
+    if real:
+        T.fill_table(path, spec, params, grid, chunk_size=chunk, progress="always")
+    else:
+        conn = db.open_db(path)
+        db.bind_config(conn, db.config_dict(spec, params), path)
+        fid, done = db.begin_fill(conn, grid.to_json(), grid.size, chunk)
+        n_chunks = -(-grid.size // chunk)
+        for i in range(n_chunks):
+            if i in done:
+                continue
+            rows_i = _synthetic_rows(grid.chunk(i, chunk), spec, params)
+            db.store_chunk(conn, fid, i, T.select_hits(rows_i, spec, params.court))
+            if i % 50 == 0:
+                print(f"  chunk {i}/{n_chunks}: {db.count_hits(conn):,} hits, {time.perf_counter() - t0:.0f} s",
+                      flush=True)
+        db.finish_fill(conn, fid)
+        conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+        conn.close()
+    print(f"built in {time.perf_counter() - t0:.0f} s; {os.path.getsize(path) / 1e9:.2f} GB", flush=True)
+
+
+def _stats(ms):
+    a = np.asarray(ms)
+    return float(np.median(a)), float(np.percentile(a, 95))
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rows", type=float, default=1e7, help="approximate number of hits (default 1e7)")
+    ap.add_argument("--db", default=None, help="database file (default out/bench_db_<rows>.sqlite; reused)")
+    ap.add_argument("--lookups", type=int, default=500)
+    ap.add_argument("--scans", type=int, default=5, help="full-scan baseline queries (slow)")
+    ap.add_argument("--real", action="store_true", help="fill with fly_batch flights instead of synthetic rows")
+    if argv is None:  # run_all.py calls main() with its own command line in sys.argv
+        argv = sys.argv[1:] if __name__ == "__main__" else []
+    args = ap.parse_args(argv)
+    path = args.db or os.path.join(HERE, "..", "out", f"bench_db_{args.rows:.0e}{'_real' if args.real else ''}.sqlite")
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    if not os.path.exists(path):
+        build(path, args.rows, args.real)
+    conn = db.open_readonly(path)
+    n = db.count_hits(conn)
+    rng = db.table_ranges(conn)
+    speeds = np.arange(rng["speed_kmh"][0], rng["speed_kmh"][1] + 1)
+    spins = np.array(sorted({r[0] for r in conn.execute(
+        "SELECT DISTINCT spin_rpm FROM hits WHERE id IN (SELECT id FROM hits ORDER BY random() LIMIT 2000)")}))
+    print(f"table: {n:,} hits, {os.path.getsize(path) / 1e9:.2f} GB, speeds {speeds[0]:g}-{speeds[-1]:g} km/h, "
+          f"{len(spins)} spin values")
+    r = np.random.default_rng(0)
+
+    def targets(k):
+        return r.uniform(1.0, 11.5, k), r.uniform(-5.0, 5.0, k), r.choice(speeds, k), r.choice(spins, k)
+
+    # warm the page cache (both methods read the same file)
+    conn.execute("SELECT count(*) FROM hits_rtree").fetchone()
+    results = {}
+    for label, kw in (("speed+spin", lambda s, w: {"speed_kmh": s, "spin_rpm": w}),
+                      ("speed only", lambda s, w: {"speed_kmh": s}),
+                      ("any speed/spin", lambda s, w: {})):
+        xs, ys, ss, ws = targets(args.lookups)
+        ms, reads = [], []
+        for x, y, s, w in zip(xs, ys, ss, ws):
+            t = time.perf_counter()
+            hit = db.nearest_hit(conn, x, y, **kw(float(s), float(w)))
+            ms.append((time.perf_counter() - t) * 1e3)
+            reads.append(hit["n_candidates"] if hit else 0)
+        results[label] = _stats(ms)
+        print(f"R*Tree lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
+              f"rows read median {int(np.median(reads))}  [{args.lookups} lookups]")
+    xs, ys, ss, ws = targets(args.scans)
+    ms = []
+    for x, y, s, w in zip(xs, ys, ss, ws):
+        t = time.perf_counter()
+        b = db.scan_nearest(conn, x, y, speed_kmh=float(s), spin_rpm=float(w))
+        ms.append((time.perf_counter() - t) * 1e3)
+        a = db.nearest_hit(conn, x, y, speed_kmh=float(s), spin_rpm=float(w))
+        assert (a is None and b is None) or a["id"] == b["id"], "R*Tree and scan disagree"
+    scan = _stats(ms)
+    print(f"full-scan baseline (speed+spin): median {scan[0]:9.1f} ms, p95 {scan[1]:9.1f} ms  [{args.scans} scans]")
+    med = results["speed+spin"][0]
+    print(f"speedup (median, speed+spin): {scan[0] / med:,.0f}x; target < 10 ms: "
+          f"{'PASS' if results['speed+spin'][1] < 10 else 'FAIL'} (p95 {results['speed+spin'][1]:.2f} ms)")
+    conn.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,129 @@
+"""Launcher benchmarks (issue 5): aiming cost, launch-state throughput, quantisation error.
+
+1. ``launch_states`` (vectorised NumPy) vs a per-shot Python loop building the same
+   states with ``math`` (baseline measured in this run): states/s and speed-up.
+2. ``aim`` (scan + Newton + quantised neighbours, both solutions) per target vs one
+   reference flight with ``fly`` (SciPy DOP853, rtol 1e-10) of the same shot, measured
+   in this run: "an aim costs X reference flights".
+3. Quantisation: over a grid of targets in the far singles court (groundstroke
+   speeds and spins), the miss of the quantised low solution (1 degree steps):
+   median, 95th percentile, maximum [mm], and the share within the first-order bound.
+4. Drill compilation time of every shipped drill.
+
+Run: ``python benchmarks/bench_launcher.py [--quick]``.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+
+def _loop_states(spec, h, v, a, b, w, g):
+    out = np.empty((len(h), 9))
+    for i in range(len(h)):
+        ar, br, gr = math.radians(a[i]), math.radians(b[i]), math.radians(g[i])
+        d = (math.cos(ar) * math.cos(br), math.cos(ar) * math.sin(br), math.sin(ar))
+        hh = (-math.sin(br), math.cos(br), 0.0)
+        uu = (-math.sin(ar) * math.cos(br), -math.sin(ar) * math.sin(br), math.cos(ar))
+        vv, ww = v[i] / 3.6, w[i] * math.pi / 30
+        out[i] = (spec.position[0], spec.position[1], h[i], *(vv * c for c in d),
+                  *(ww * (math.cos(gr) * hh[k] + math.sin(gr) * uu[k]) for k in range(3)))
+    return out
+
+
+def bench_states(n):
+    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    rng = np.random.default_rng(1)
+    cols = [rng.uniform(0.1, 3, n), rng.uniform(30, 200, n), rng.uniform(-20, 80, n), rng.uniform(-40, 40, n),
+            rng.uniform(0, 2000, n), rng.uniform(-180, 180, n)]
+    t_vec = math.inf
+    for _ in range(3):  # best of 3 (the first call pays for page faults of the fresh arrays)
+        t0 = time.perf_counter()
+        s = launch_states(DEFAULT_SPEC, *cols)
+        t_vec = min(t_vec, time.perf_counter() - t0)
+    m = min(n, 20_000)
+    t0 = time.perf_counter()
+    ref = _loop_states(DEFAULT_SPEC, *(c[:m] for c in cols))
+    t_loop = (time.perf_counter() - t0) * n / m
+    err = np.abs(s[:m] - ref).max()
+    print(f"launch_states: {n / t_vec:,.0f} states/s vectorised vs {n / t_loop:,.0f} states/s Python loop "
+          f"(baseline, this run): x{t_loop / t_vec:.0f}; max |difference| {err:.1e}")
+
+
+def bench_aim(n_targets):
+    from tennislab.core.flight import fly
+    from tennislab.errors import InputError
+    from tennislab.launcher.aim import aim_all, launcher_params
+    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    params = launcher_params()
+    aim_all((8.0, 0.0), 80, 1000, 0)  # compile / warm up
+    rng = np.random.default_rng(2)
+    targets = np.column_stack([rng.uniform(6, 11.5, n_targets), rng.uniform(-4, 4, n_targets)])
+    speeds = rng.integers(70, 120, n_targets)
+    spins = rng.integers(0, 2000, n_targets)
+    axes = rng.choice([0, 180, 45, -45], n_targets)
+    t_aim, t_fly, n_ok = 0.0, 0.0, 0
+    for (x, y), v, w, g in zip(targets, speeds, spins, axes):
+        t0 = time.perf_counter()
+        try:
+            sols, _ = aim_all((x, y), v, w, g)
+        except InputError:
+            continue
+        t_aim += time.perf_counter() - t0
+        s = next(iter(sols.values())).settings
+        st = launch_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
+        t0 = time.perf_counter()
+        fly(st[0:3], st[3:6], st[6:9], params)
+        t_fly += time.perf_counter() - t0
+        n_ok += 1
+    print(f"aim (both solutions): {1e3 * t_aim / n_ok:.1f} ms per target vs {1e3 * t_fly / n_ok:.1f} ms for one "
+          f"reference fly() (baseline, this run): an aim costs {t_aim / t_fly:.1f} reference flights "
+          f"({n_ok} targets)")
+
+
+def bench_quantisation(n):
+    from tennislab.errors import InputError
+    from tennislab.launcher.aim import aim
+    rng = np.random.default_rng(3)
+    miss, ratio = [], []
+    for _ in range(n):
+        x, y = rng.uniform(6.5, 11.5), rng.uniform(-3.8, 3.8)
+        v, w = int(rng.integers(60, 130)), int(rng.integers(0, 2000))
+        try:
+            s = aim((x, y), v, w, 0)
+        except InputError:
+            continue
+        miss.append(s.miss_mm)
+        ratio.append(s.miss_mm / s.quantisation_bound_mm)
+    m = np.array(miss)
+    print(f"quantisation (1 deg steps, {len(m)} targets, 60-130 km/h, topspin 0-2000 rpm): miss median "
+          f"{np.median(m):.0f} mm, 95 % {np.percentile(m, 95):.0f} mm, max {m.max():.0f} mm; "
+          f"within first-order bound: {np.mean(np.array(ratio) <= 1.0):.0%}")
+
+
+def bench_drills():
+    from tennislab.io.drill import load_drill, shipped_drills
+    from tennislab.launcher.drills import compile_drill
+    for name in shipped_drills():
+        t0 = time.perf_counter()
+        c = compile_drill(load_drill(name))
+        print(f"drill {name}: {len(c.shots)} shots, {len(c.unique)} aimed, ok={c.ok}, "
+              f"{1e3 * (time.perf_counter() - t0):.0f} ms")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer targets")
+    args = ap.parse_args(argv if argv is not None else [])
+    bench_states(200_000 if args.quick else 1_000_000)
+    bench_aim(10 if args.quick else 40)
+    bench_quantisation(40 if args.quick else 200)
+    bench_drills()
+
+
+if __name__ == "__main__":
+    import sys
+    main(sys.argv[1:])

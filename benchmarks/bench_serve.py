@@ -1,0 +1,139 @@
+"""Benchmark of the serve analysis (issue 3).
+
+Targets (not timed tests): the full 91 x 91 window for all three players in < 0.5 s warm on
+2 cores; 10^6 Monte Carlo serves in < 5 s.  Baseline, measured in the same run: a
+straightforward vectorised NumPy implementation of the seed's model (explicit Euler at the
+seed's dt = 1e-4 s for the impact and the flight, all alpha x beta serves of a window as one
+array).  Prints times and the ratio baseline / tennislab.
+
+    python benchmarks/bench_serve.py [--quick] [--mc N]
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
+
+from tennislab.serve.mc import run_mc  # noqa: E402
+from tennislab.serve.players import get_player  # noqa: E402
+from tennislab.serve.setup import seed_impact_params  # noqa: E402
+from tennislab.serve.window import serve_window  # noqa: E402
+
+PLAYERS = ("professional", "recreational", "junior")
+
+
+def numpy_seed_window(player, step=1.0, dt=1e-4):
+    """The seed's model, vectorised with NumPy: Euler impact (eqs 7-20) + Euler flight (eqs 1-4)."""
+    pl = get_player(player)
+    p = seed_impact_params()
+    m, r, mk, kk, mu = 0.059, 0.033, 0.2, 50e3, 0.35
+    inertia = 2 / 3 * m * r * r
+    a = np.radians(np.arange(0, 90 + step / 2, step))
+    b = np.radians(np.arange(0, 90 + step / 2, step))
+    A, B = np.meshgrid(a, b, indexing="ij")
+    A, B = A.ravel(), B.ravel()
+    A = np.minimum(A, math.radians(89.999))
+    vn0 = pl.racket_speed * np.cos(A)
+    kb, cb = p.ball_model.spring_damper(vn0, m)
+    tc = p.ball_model.contact_time(vn0)
+    ct = -2 * m / tc * np.log(np.minimum(1.04 * p.ball_model.cor(vn0), 0.99))
+    kt = 0.5 * kb
+    n = A.size
+    x1, x2, x3 = np.zeros(n), np.zeros(n), np.zeros(n)
+    v1, v2 = vn0.copy(), np.zeros(n)
+    y, w1, w2, w3 = np.zeros(n), pl.racket_speed * np.sin(A), np.zeros(n), np.zeros(n)
+    active = np.ones(n, bool)
+    for _ in range(2000):
+        fn = kk * (x1 - x3)
+        x3d = v2 + (kk * (x1 - x3) - kb * (x3 - x2)) / cb
+        slip = w1 - w2 - r * w3
+        ft = np.clip(kt * y + ct * slip, -mu * np.maximum(fn, 0), mu * np.maximum(fn, 0))
+        s = active.astype(float)
+        x1 += s * dt * v1
+        x2 += s * dt * v2
+        x3 += s * dt * x3d
+        v1 -= s * dt * fn / mk
+        v2 += s * dt * fn / m
+        y += s * dt * slip
+        w1 -= s * dt * ft / mk
+        w2 += s * dt * ft / m
+        w3 += s * dt * r * ft / inertia
+        active &= ~((kk * (x1 - x3) <= 0) & (v2 > 0))
+        if not active.any():
+            break
+    vx = v2 * np.cos(B) + w2 * np.sin(B)
+    vz = -v2 * np.sin(B) + w2 * np.cos(B)
+    # flight: Euler, Stepanek C_D, C_L, Magnus along omega x v (spin about +y)
+    k = 0.5 * 1.22 * math.pi * r * r / m
+    x, z = np.full(n, -11.885), np.full(n, pl.impact_height)
+    net_z = np.full(n, np.nan)
+    land_x = np.full(n, np.nan)
+    fly = np.ones(n, bool)
+    for _ in range(40000):
+        v = np.hypot(vx, vz)
+        S = np.maximum(r * np.abs(w3), 1e-9) / v
+        cd = 0.55 + 1.0 / (22.5 + 4.2 * S ** -2.5) ** 0.4
+        cl = 1.0 / (2.0 + 1.0 / S)
+        ax = -k * v * (cd * vx - cl * np.sign(w3) * (-vz))
+        az = -9.82 - k * v * (cd * vz - cl * np.sign(w3) * vx)
+        xn = x + dt * vx
+        crossed = fly & (x < 0) & (xn >= 0)
+        net_z[crossed] = z[crossed]
+        x = np.where(fly, xn, x)
+        z = np.where(fly, z + dt * vz, z)
+        vx = np.where(fly, vx + dt * ax, vx)
+        vz = np.where(fly, vz + dt * az, vz)
+        landed = fly & (z <= r)
+        land_x[landed] = x[landed]
+        fly &= ~landed
+        if not fly.any():
+            break
+    X = land_x + 11.885
+    return (net_z > 0.943) & (X <= 18.318) & (land_x > 0)
+
+
+def best_of(fn, repeat=3):
+    ts = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t)
+    return min(ts)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="baseline on one player only (x3 extrapolated)")
+    ap.add_argument("--mc", type=int, default=1_000_000, help="Monte Carlo serves (default 10^6)")
+    args = ap.parse_args(argv)
+
+    for p in PLAYERS:  # warm-up (compile / load caches)
+        serve_window(p, step=10)
+    t_win = best_of(lambda: [serve_window(p) for p in PLAYERS])
+    print(f"serve window 91 x 91, three players (warm, best of 3): {t_win:.3f} s  (target < 0.5 s)")
+
+    players = PLAYERS[:1] if args.quick else PLAYERS
+    t = time.perf_counter()
+    n_ok = sum(int(numpy_seed_window(p).sum()) for p in players)
+    t_base = (time.perf_counter() - t) * (3 if args.quick else 1)
+    print(f"NumPy baseline (seed's Euler model, vectorised){' x3 extrapolated' if args.quick else ''}: "
+          f"{t_base:.2f} s  ({n_ok} successes)")
+    print(f"ratio baseline / tennislab: {t_base / t_win:.0f}x")
+
+    run_mc("pro", 40, 19, n=1000, seed=0)  # warm-up
+    t = time.perf_counter()
+    r = run_mc("pro", 40, 19, n=args.mc, seed=0)
+    t_mc = time.perf_counter() - t
+    print(f"Monte Carlo {args.mc:.0e} serves: {t_mc:.2f} s  (target < 5 s for 10^6), "
+          f"{args.mc / t_mc:,.0f} serves/s, P(success) = {r['p_success']:.4f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

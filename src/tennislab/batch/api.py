@@ -1,0 +1,280 @@
+"""``map_chunks``: one call for batch work in process, on local cores or on a Dask cluster.
+
+The job is ``fn`` applied to the input rows chunk by chunk.  Per-row results
+depend only on the row (the compiled kernels are deterministic per row, and
+random draws come from :mod:`tennislab.batch.rng` keyed by (seed, row)), so the
+scheduler, the chunk size and resuming never change a single bit of the
+output; chunks are always concatenated in row order.
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import json
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from tennislab.batch.progress import ProgressBar, progress_enabled
+from tennislab.batch.schedulers import check_scheduler, get_runner
+from tennislab.batch.sources import as_source, default_chunk_size, hash_arrays, is_indexable
+from tennislab.batch.store import ChunkStore
+from tennislab.errors import InputError
+
+
+@dataclass
+class BatchResult:
+    """What a batch run did.  ``data`` holds the concatenated outputs (None if ``collect=False``)."""
+
+    data: dict | None
+    n_rows: int
+    n_chunks: int
+    computed: int
+    skipped: int
+    seconds: float
+    chunk_size: int | None
+    out: str | None
+    scheduler: str
+
+
+# ------------------------------------------------------------------ the task
+def execute_chunk(fn, payload, row0: int, row_key, include_inputs: bool):
+    """Run ``fn`` on one chunk (on a worker or in process) and check its outputs.
+
+    ``payload`` is either the chunk's input dict or ``(source, i, chunk_size)``
+    for sources that workers materialise themselves (e.g. a GridSpec).
+    """
+    chunk = payload[0].chunk(payload[1], payload[2]) if isinstance(payload, tuple) else payload
+    n = len(next(iter(chunk.values())))
+    if row_key is not None and row_key not in chunk:
+        chunk = dict(chunk)
+        chunk[row_key] = np.arange(row0, row0 + n, dtype=np.int64)
+    out = fn(chunk)
+    if not isinstance(out, dict):
+        raise TypeError(f"batch fn {_name(fn)} returned {type(out).__name__}, expected a dict of arrays")
+    clean = {}
+    for k, v in out.items():
+        a = np.asarray(v)
+        if not isinstance(k, str) or a.ndim == 0 or a.shape[0] != n:
+            raise TypeError(f"batch fn {_name(fn)}: output {k!r} has shape {a.shape}, expected {n} rows")
+        clean[k] = a
+    if include_inputs:
+        both = set(chunk) & set(clean)
+        if both:
+            raise TypeError(f"batch fn {_name(fn)}: outputs {sorted(both)} clash with input names")
+        clean = {**chunk, **clean}
+    return clean
+
+
+# ------------------------------------------------------------ job identity
+def _name(fn) -> str:
+    f = fn.func if isinstance(fn, functools.partial) else fn
+    f = getattr(f, "py_func", f)
+    mod = getattr(f, "__module__", None) or type(f).__module__
+    qual = getattr(f, "__qualname__", None) or type(f).__qualname__
+    return f"{mod}.{qual}"
+
+
+def describe(obj, depth: int = 0):
+    """A stable, JSON-able description of a function and its bound parameters.
+
+    Used to fingerprint the job in the manifest (a partial with other physics
+    parameters is another job).  Arrays are hashed; objects without a stable
+    description fall back to their type name (add a ``tag`` to be safe).
+    """
+    if depth > 8:
+        return "..."
+    if isinstance(obj, functools.partial):
+        return {"partial": describe(obj.func, depth + 1), "args": [describe(a, depth + 1) for a in obj.args],
+                "kwargs": {k: describe(v, depth + 1) for k, v in sorted(obj.keywords.items())}}
+    if obj is None or isinstance(obj, (bool, int, float, str)):
+        return obj if not isinstance(obj, float) else repr(obj)
+    if isinstance(obj, np.generic):
+        return repr(obj.item())
+    if isinstance(obj, np.ndarray):
+        return "array:" + hash_arrays({"a": obj})
+    if isinstance(obj, (list, tuple)):
+        return [describe(v, depth + 1) for v in obj]
+    if isinstance(obj, dict):
+        return {str(k): describe(v, depth + 1) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {"type": type(obj).__qualname__,
+                **{f.name: describe(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)}}
+    if callable(obj):
+        return _name(obj)
+    r = repr(obj)
+    return type(obj).__qualname__ if " at 0x" in r else r
+
+
+def _digest(obj) -> str:
+    return hashlib.blake2b(json.dumps(obj, sort_keys=True).encode(), digest_size=12).hexdigest()
+
+
+# ------------------------------------------------------------------ the API
+def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
+              progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
+              tag=None, include_inputs: bool = False, row_key: str | None = None,
+              max_inflight: int | None = None) -> BatchResult:
+    """Like :func:`map_chunks` but always returns a :class:`BatchResult` (counts, timing, data)."""
+    t0 = time.perf_counter()
+    source = as_source(inputs)
+    scheduler = check_scheduler(scheduler)
+    if not collect and out is None:
+        raise InputError("collect: collect=False needs an output directory (out=...)")
+    if n_workers is not None and int(n_workers) < 1:
+        raise InputError(f"n_workers: {n_workers} is outside the allowed range [1, inf]")
+    indexable = is_indexable(source)
+    store = None
+    if out is not None:
+        manifest = {"fn": {"name": _name(fn), "config": _digest(describe(fn))},
+                    "tag": describe(tag), "source": source.kind, "fingerprint": source.fingerprint(),
+                    "n_rows": source.n_rows, "row_key": row_key, "include_inputs": bool(include_inputs)}
+        if indexable and chunk_size is None:  # resume with the chunking found on disk
+            chunk_size = _existing_chunk_size(out) or default_chunk_size(source.n_rows)
+        manifest["chunk_size"] = int(chunk_size) if (indexable and chunk_size) else None
+        store = ChunkStore(out, manifest)
+    if indexable:
+        chunk_size = int(chunk_size or default_chunk_size(source.n_rows))
+        if chunk_size < 1:
+            raise InputError(f"chunk_size: {chunk_size} is outside the allowed range [1, inf]")
+        n_total = source.n_chunks(chunk_size)
+    else:
+        chunk_size = None
+        n_total = source.n_chunks()
+    done = store.done() if store is not None else set()
+
+    bar = ProgressBar(n_total, desc=desc, enabled=progress_enabled(progress))
+    results: dict[int, dict] = {}
+    schema = {}
+    counts = {"computed": 0, "skipped": 0, "rows": 0, "chunks": 0}
+    row_ranges: dict[int, tuple[int, int, str | None]] = {}
+
+    def payloads(shared_fn, shared_src):
+        if indexable:
+            for i in range(n_total):
+                lo = i * chunk_size
+                hi = min(source.n_rows, lo + chunk_size)
+                row_ranges[i] = (lo, hi, None)
+                if i in done:
+                    counts["skipped"] += 1
+                    bar.skip()
+                    continue
+                payload = (shared_src, i, chunk_size) if source.remote else source.chunk(i, chunk_size)
+                yield i, (shared_fn, payload, lo, row_key, include_inputs)
+            return
+        lo = 0
+        for i, chunk in enumerate(source):
+            n = len(next(iter(chunk.values())))
+            h = hash_arrays(chunk)
+            row_ranges[i] = (lo, lo + n, h)
+            if i in done:
+                old = store.read_meta(i).get("input_hash")
+                if old != h:
+                    raise InputError(f"out: {store.path} holds another job (input chunk {i} differs); "
+                                     "use a new --out-dir or delete the old one")
+                counts["skipped"] += 1
+                bar.skip()
+            else:
+                yield i, (shared_fn, chunk, lo, row_key, include_inputs)
+            lo += n
+
+    with get_runner(scheduler, n_workers) as runner:
+        shared_fn = runner.share(fn)
+        shared_src = runner.share(source) if (indexable and source.remote) else source
+        try:
+            for i, res in runner.run(execute_chunk, payloads(shared_fn, shared_src), **(
+                    {"max_inflight": max_inflight} if max_inflight else {})):
+                _check_schema(schema, res, fn)
+                lo, hi, h = row_ranges[i]
+                if store is not None:
+                    store.write(i, res, {"rows": [lo, hi], "input_hash": h})
+                if collect:
+                    results[i] = res
+                counts["computed"] += 1
+                bar.update(hi - lo)
+        finally:
+            bar.close()
+    n_chunks = len(row_ranges)
+    n_rows = max((r[1] for r in row_ranges.values()), default=0)
+    extra = sorted(i for i in done if i >= n_chunks)
+    if extra:  # a stream that is shorter than the one that made this output
+        raise InputError(f"out: {store.path} holds another job (it has chunk {extra[0]}, "
+                         f"the inputs have only {n_chunks} chunks); use a new --out-dir or delete the old one")
+    if store is not None:
+        store.finish(n_chunks, n_rows)
+    data = None
+    if collect:
+        data = _concatenate(results, store, n_chunks, fn, source, chunk_size, row_key, include_inputs)
+    return BatchResult(data, n_rows, n_chunks, counts["computed"], counts["skipped"],
+                       time.perf_counter() - t0, chunk_size, store.path if store else None,
+                       scheduler if isinstance(scheduler, str) else "client")
+
+
+def map_chunks(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
+               progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
+               tag=None, include_inputs: bool = False, row_key: str | None = None):
+    """Apply ``fn`` to ``inputs`` chunk by chunk on a scheduler; return the concatenated outputs.
+
+    Parameters
+    ----------
+    fn : picklable function ``dict[str, ndarray] -> dict[str, ndarray]`` (one
+        chunk in, one output row per input row out).  Bind parameters with
+        ``functools.partial`` (they are part of the job's fingerprint).
+    inputs : dict of equal-length arrays (N rows), an indexable chunk source
+        (e.g. :class:`~tennislab.batch.grid.GridSpec`) or an iterable of chunk dicts.
+    scheduler : ``"local"`` (in process), ``"processes"`` (a LocalCluster),
+        ``"tcp://HOST:PORT"`` (a running Dask scheduler) or a ``distributed.Client``.
+    chunk_size : rows per chunk (default ~N/64 clamped to [1024, 65536]; on a
+        resume, the chunk size of the existing output).
+    out : directory for ``part-NNNNN.parquet`` + ``manifest.json``; a rerun skips
+        finished chunks, another job in the same directory is an ``InputError``.
+    progress : True (stderr bar when a TTY), False, or ``"always"``.
+    n_workers : worker processes for ``"processes"`` (default: number of cores).
+    collect : False returns a :class:`BatchResult` without data (needs ``out``):
+        memory stays bounded by a few chunks however large the job.
+    tag : anything JSON-able identifying the job beyond ``fn`` and ``inputs``.
+    include_inputs : also return/store the input columns next to the outputs.
+    row_key : add the global row index (int64) to every chunk under this name.
+
+    Returns the outputs as ``dict[str, ndarray]`` in row order (or a
+    :class:`BatchResult` if ``collect=False``).
+    """
+    res = run_batch(fn, inputs, scheduler=scheduler, chunk_size=chunk_size, out=out, progress=progress,
+                    desc=desc, n_workers=n_workers, collect=collect, tag=tag,
+                    include_inputs=include_inputs, row_key=row_key)
+    return res.data if collect else res
+
+
+def _existing_chunk_size(out) -> int | None:
+    import os
+    from tennislab.batch.store import MANIFEST
+    path = os.path.join(os.fspath(out), MANIFEST)
+    if not os.path.exists(path):
+        return None
+    try:
+        with open(path) as fh:
+            return json.load(fh).get("chunk_size")
+    except (OSError, json.JSONDecodeError):
+        return None
+
+
+def _check_schema(schema: dict, res: dict, fn) -> None:
+    sig = {k: (v.dtype.str, v.shape[1:]) for k, v in res.items()}
+    if not schema:
+        schema.update(sig)
+    elif sig != schema:
+        raise TypeError(f"batch fn {_name(fn)}: chunk outputs differ in names/dtypes ({sig} vs {schema})")
+
+
+def _concatenate(results, store, n_chunks, fn, source, chunk_size, row_key, include_inputs):
+    parts = []
+    for i in range(n_chunks):
+        parts.append(results.pop(i) if i in results else store.read(i))
+    if not parts:  # zero rows: run fn on the empty chunk for the output names and dtypes
+        if is_indexable(source):
+            parts = [execute_chunk(fn, source.chunk(0, chunk_size or 1), 0, row_key, include_inputs)]
+        else:
+            return {}
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}

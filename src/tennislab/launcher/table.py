@@ -1,0 +1,305 @@
+"""Filling the hits database: the machine's settings grid, flown in chunks.
+
+The grid is the machine's own (seed 002 section 2: height 0.1 m, speed 1 km/h,
+elevation, heading and spin-axis rotation 1 deg, spin 1 rpm steps), restricted
+to the ranges asked for and optionally coarsened by an integer stride.  Rows
+are enumerated lazily (:class:`tennislab.batch.grid.GridSpec` over per-setting
+grid *indices*), in the order :data:`AXES` (height slowest, heading fastest),
+so that one chunk holds neighbouring elevations and headings of one speed and
+spin: compact landing patches, which keeps the R*Tree tight.
+
+Each chunk is flown with :func:`tennislab.core.flight.fly_batch` on
+:func:`tennislab.launcher.machine.launch_states`; a row is kept when the ball
+lands (status 0), clears the net (``net_status`` over) and lands within the far
+half's doubles area plus :data:`KEEP_MARGIN_M` (a controller never aims
+elsewhere; the Parquet output of the batch layer keeps every row).  With zero
+spin every spin-axis rotation gives the same flight, so only the axis nearest
+0 deg is flown.
+
+A row's ``id`` packs its per-setting grid indices in mixed radix
+(:func:`pack_ids`): stable for a machine spec, so a resumed or overlapping fill
+inserts each setting once.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from tennislab.errors import InputError, check_finite
+from tennislab.launcher import db as _db
+from tennislab.units import RPM
+
+#: Setting order of the grid (first slowest) and of the packed id.
+AXES = ("height_m", "speed_kmh", "spin_rpm", "spin_axis_deg", "elevation_deg", "heading_deg")
+#: Kept landing area: the far half's doubles court plus this margin [m].
+KEEP_MARGIN_M = 1.0
+#: Default rows per chunk (one transaction each; ~0.1-0.3 s of fly_batch on 2 cores).
+DEFAULT_CHUNK = 20_000
+
+
+def axis_size(rng) -> int:
+    """Number of steps of a machine :class:`~tennislab.launcher.machine.Range`."""
+    return int(math.floor((rng.hi - rng.lo) / rng.step + 1e-9)) + 1
+
+
+def axis_values(rng, idx) -> np.ndarray:
+    """Setting values at grid indices ``idx`` (rounded like ``Range.quantise``)."""
+    return np.round(rng.lo + np.asarray(idx, dtype=np.int64) * rng.step, 9)
+
+
+def machine_sizes(spec) -> dict[str, int]:
+    return {f: axis_size(spec.range_of(f)) for f in AXES}
+
+
+def pack_ids(indices: dict, sizes: dict) -> np.ndarray:
+    """Row ids: the per-setting grid indices (arrays) in mixed radix, order :data:`AXES`."""
+    out = np.zeros(np.shape(indices[AXES[0]]), dtype=np.int64)
+    for f in AXES:
+        out = out * int(sizes[f]) + np.asarray(indices[f], dtype=np.int64)
+    return out
+
+
+def unpack_ids(ids, sizes: dict) -> dict:
+    """Inverse of :func:`pack_ids`."""
+    rem = np.asarray(ids, dtype=np.int64).copy()
+    out = {}
+    for f in reversed(AXES):
+        out[f] = rem % int(sizes[f])
+        rem //= int(sizes[f])
+    return {f: out[f] for f in AXES}
+
+
+def axis_indices(spec, field: str, lo=None, hi=None, stride: int = 1) -> np.ndarray:
+    """Machine grid indices of ``field`` within [lo, hi] (edge units), every ``stride``-th step.
+
+    The bounds must lie within the machine's range; they are widened to the
+    enclosing steps.  The last step within [lo, hi] is always included.
+    """
+    rng = spec.range_of(field)
+    lo = rng.lo if lo is None else rng.check(f"{field} min", lo)
+    hi = rng.hi if hi is None else rng.check(f"{field} max", hi)
+    if lo > hi:
+        raise InputError(f"{field}: min {lo:g} > max {hi:g} {rng.unit}")
+    if int(stride) < 1:
+        raise InputError(f"{field} stride: must be >= 1, got {stride}")
+    k0 = int(math.floor((lo - rng.lo) / rng.step + 1e-9))
+    k1 = int(math.floor((hi - rng.lo) / rng.step + 1e-9))
+    k1 = min(k1, axis_size(rng) - 1)
+    idx = np.arange(k0, k1 + 1, int(stride), dtype=np.int64)
+    if idx[-1] != k1:
+        idx = np.append(idx, k1)
+    return idx
+
+
+@dataclass(frozen=True)
+class TableGrid:
+    """A sub-grid of the machine's settings grid: per setting, sorted machine grid indices."""
+
+    indices: dict
+
+    @property
+    def shape(self) -> tuple:
+        return tuple(len(self.indices[f]) for f in AXES)
+
+    @property
+    def size(self) -> int:
+        return math.prod(self.shape)
+
+    def to_json(self) -> str:
+        return json.dumps({f: np.asarray(self.indices[f]).tolist() for f in AXES}, separators=(",", ":"))
+
+    def grid_spec(self):
+        """The lazy :class:`tennislab.batch.grid.GridSpec` over the indices."""
+        from tennislab.batch.grid import GridSpec
+        return GridSpec({f: np.asarray(self.indices[f], dtype=np.int64) for f in AXES})
+
+    def chunk(self, i: int, chunk_size: int) -> dict:
+        """Index arrays of chunk ``i`` (rows [i c, (i+1) c), first axis slowest)."""
+        lo = int(i) * int(chunk_size)
+        hi = min(self.size, lo + int(chunk_size))
+        rem = np.arange(lo, max(lo, hi), dtype=np.int64)
+        out = {}
+        for f in reversed(AXES):
+            a = np.asarray(self.indices[f])
+            out[f] = a[rem % a.size]
+            rem //= a.size
+        return {f: out[f] for f in AXES}
+
+
+def make_grid(spec, ranges: dict | None = None, strides: dict | None = None) -> TableGrid:
+    """The sub-grid for ``ranges`` {field: (lo, hi)} and ``strides`` {field: int} (defaults: all, 1)."""
+    ranges = ranges or {}
+    strides = strides or {}
+    for name in list(ranges) + list(strides):
+        if name not in AXES:
+            raise InputError(f"{name}: unknown setting; allowed: {', '.join(AXES)}")
+    idx = {}
+    for f in AXES:
+        lo, hi = ranges.get(f) or (None, None)
+        idx[f] = axis_indices(spec, f, lo, hi, strides.get(f, 1))
+    return TableGrid(idx)
+
+
+#: Per-row columns of a flown chunk (:func:`fly_chunk`), besides the settings of :data:`AXES`.
+ROW_COLUMNS = ("id",) + AXES + ("land_x", "land_y", "net_clearance_m", "flight_time_s", "bounce_speed_ms",
+                               "bounce_spin_rpm", "apex_z_m", "status", "net_status")
+
+
+def fly_chunk(indices: dict, spec, params) -> dict:
+    """Fly one chunk of grid indices; per-row arrays named :data:`ROW_COLUMNS` (every row).
+
+    ``status`` is :func:`fly_batch`'s (0 landed, 1 no landing within t_max);
+    ``net_status`` 0 never reached the net, 1 over, 2 into the net.  Pure
+    computation (no I/O), so it runs on worker processes or a cluster.
+    """
+    from tennislab.core.flight import fly_batch
+    from tennislab.launcher.machine import launch_states
+    sizes = machine_sizes(spec)
+    idx = {f: np.asarray(indices[f], dtype=np.int64) for f in AXES}
+    vals = {f: axis_values(spec.range_of(f), idx[f]) for f in AXES}
+    out = {"id": pack_ids(idx, sizes)}
+    out.update(vals)
+    n = len(out["id"])
+    if n == 0:
+        out.update({c: np.empty(0) for c in ROW_COLUMNS if c not in out})
+        return out
+    states = launch_states(spec, vals["height_m"], vals["speed_kmh"], vals["elevation_deg"],
+                           vals["heading_deg"], vals["spin_rpm"], vals["spin_axis_deg"])
+    tab = fly_batch(states, params, rtol=_db.FILL_RTOL, atol=_db.FILL_ATOL)
+    vel = np.stack([tab["land_vx"], tab["land_vy"], tab["land_vz"]], axis=1)
+    spin = np.stack([tab["land_wx"], tab["land_wy"], tab["land_wz"]], axis=1)
+    out.update({"land_x": tab["land_x"], "land_y": tab["land_y"], "net_clearance_m": tab.clearance,
+                "flight_time_s": tab["land_t"], "bounce_speed_ms": np.linalg.norm(vel, axis=1),
+                "bounce_spin_rpm": np.linalg.norm(spin, axis=1) / RPM, "apex_z_m": tab["apex_z"],
+                "status": tab["status"].astype(np.int8), "net_status": tab["net_status"].astype(np.int8)})
+    return out
+
+
+def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M) -> dict:
+    """The rows of a flown chunk that go into ``hits`` (module docstring), as :data:`db.HIT_COLUMNS`.
+
+    Kept: landed, cleared the net, landing in the doubles area of the half
+    opposite the machine (the far half for a machine at x < 0) + margin;
+    with zero spin only the spin-axis rotation nearest 0 deg.
+    """
+    from tennislab.core.events import NET_OVER, STATUS_OK
+    ax = spec.range_of("spin_axis_deg")
+    axis0 = axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1)))
+    side = 1.0 if spec.position[0] < 0 else -1.0  # the half opposite the machine
+    x, y = side * np.asarray(rows["land_x"]), rows["land_y"]
+    with np.errstate(invalid="ignore"):
+        ok = ((rows["status"] == STATUS_OK) & (rows["net_status"] == NET_OVER) & (x > 0.0)
+              & (x <= court.length / 2 + keep_margin) & (np.abs(y) <= court.doubles_width / 2 + keep_margin)
+              & ~((rows["spin_rpm"] == 0.0) & (rows["spin_axis_deg"] != axis0)))
+    return {c: np.asarray(rows[c])[ok] for c in _db.HIT_COLUMNS}
+
+
+def fill_chunk(indices: dict, spec, params, keep_margin: float = KEEP_MARGIN_M) -> dict:
+    """:func:`fly_chunk` then :func:`select_hits`: the hits of one chunk."""
+    return select_hits(fly_chunk(indices, spec, params), spec, params.court, keep_margin)
+
+
+def _fly_task(i, indices, spec, params):
+    """Worker entry (top level, picklable): chunk ``i`` -> ``(i, per-row outputs)``."""
+    return i, fly_chunk(indices, spec, params)
+
+
+@dataclass
+class FillReport:
+    path: str
+    hash: str
+    grid_rows: int
+    n_chunks: int
+    chunks_done_before: int
+    chunks_run: int
+    hits_inserted: int
+    hits_total: int
+    seconds: float
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DEFAULT_CHUNK,
+               runner=None, progress=False, out_dir: str | None = None,
+               keep_margin: float = KEEP_MARGIN_M, max_chunks: int | None = None,
+               on_chunk=None) -> FillReport:
+    """Fill (or resume filling) the database at ``path`` with ``grid`` for ``spec`` and ``params``.
+
+    Refuses a file built for another machine or physics (hash).  Each chunk's
+    hits are inserted in one transaction together with the chunk's "done" mark,
+    so an interrupted fill resumes where it stopped.  ``runner`` is a
+    :mod:`tennislab.batch.schedulers` runner (``runner.run(func, payloads)``
+    yields ``(index, func(*args))`` in any order; default: this process).
+    ``out_dir`` also writes every row of every chunk (kept or not) as
+    resumable Parquet parts of the batch layer (:func:`tennislab.batch.read_output`).
+    ``max_chunks`` stops after that many chunks; ``on_chunk(i, n_hits)`` is
+    called after each stored chunk.
+    """
+    chunk_size = int(chunk_size)
+    if chunk_size < 1:
+        raise InputError(f"--chunk-size: must be >= 1, got {chunk_size}")
+    check_finite("keep margin", keep_margin)
+    t0 = time.perf_counter()
+    conn = _db.open_db(path)
+    try:
+        cfg = _db.config_dict(spec, params)
+        h = _db.bind_config(conn, cfg, path)
+        fid, done = _db.begin_fill(conn, grid.to_json(), grid.size, chunk_size)
+        n_chunks = -(-grid.size // chunk_size)
+        store = _parquet_store(out_dir, h, grid, chunk_size) if out_dir else None
+        if store is not None:
+            done = done & store.done()
+        todo = [i for i in range(n_chunks) if i not in done]
+        if max_chunks is not None:
+            todo = todo[:int(max_chunks)]
+        bar = None
+        if progress:
+            from tennislab.batch.progress import ProgressBar, progress_enabled
+            bar = ProgressBar(n_chunks, desc=f"launcher table -> {path}", enabled=progress_enabled(progress))
+            bar.skip(n_chunks - len(todo) if max_chunks is None else len(done))
+        payloads = ((i, (i, grid.chunk(i, chunk_size), spec, params)) for i in todo)
+        run = runner.run if runner is not None else _local_run
+        inserted = 0
+        try:
+            for _, (ci, rows) in run(_fly_task, payloads):
+                if store is not None:
+                    lo = ci * chunk_size
+                    store.write(ci, rows, {"rows": [lo, lo + len(rows["id"])], "input_hash": None})
+                hits = select_hits(rows, spec, params.court, keep_margin)
+                inserted += _db.store_chunk(conn, fid, ci, hits)
+                if bar is not None:
+                    bar.update(len(rows["id"]))
+                if on_chunk is not None:
+                    on_chunk(ci, len(hits["id"]))
+        finally:
+            if bar is not None:
+                bar.close()
+        _db.finish_fill(conn, fid)
+        if store is not None and len(store.done()) == n_chunks:
+            store.finish(n_chunks, grid.size)
+        total = _db.count_hits(conn)
+    finally:
+        conn.close()
+    return FillReport(path, h, grid.size, n_chunks, n_chunks - len(todo) if max_chunks is None else len(done),
+                      len(todo), inserted, total, time.perf_counter() - t0)
+
+
+def _parquet_store(out_dir: str, config_hash: str, grid: TableGrid, chunk_size: int):
+    """The batch layer's resumable Parquet store for this fill (same manifest identity keys)."""
+    import hashlib
+    from tennislab.batch.store import ChunkStore
+    manifest = {"fn": {"name": f"{__name__}.fly_chunk", "config": config_hash[:24]},
+                "tag": {"launcher_table": config_hash},
+                "source": "grid", "fingerprint": "launcher-grid:" + hashlib.sha256(grid.to_json().encode()).hexdigest()[:32],
+                "n_rows": grid.size, "row_key": None, "include_inputs": True, "chunk_size": int(chunk_size)}
+    return ChunkStore(out_dir, manifest)
+
+
+def _local_run(func, payloads):
+    for i, args in payloads:
+        yield i, func(*args)

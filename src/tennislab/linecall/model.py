@@ -1,0 +1,232 @@
+"""The compiled track model: ball-centre positions at given times from bounce parameters.
+
+Parameter vector (NPARAM = 13), all SI:
+
+    0-2   x_b, y_b, t_b      first-contact point (ball centre at z = r) and time
+    3-5   v_in               velocity at contact
+    6-8   w_in               spin at contact
+    9-11  v_out              velocity leaving the ground (time t_b + T_c)
+    12    drag scale         multiplies the drag constant k (1 = nominal)
+
+Before the bounce the flight is integrated *backward* from (x_b, y_b, r, v_in,
+w_in) at t_b, after it forward from (x_b + d, y_b + d', r, v_out, w_out) at
+t_b + T_c, where w_out comes from the bounce model (:func:`bounce_kernel`) and
+(d, d') is the centre's travel during the contact (:func:`contact_displacement`).
+Parametrising by the bounce itself makes its covariance a block of the fit's.
+
+Integration: classical RK4 with a fixed step (default 2 ms) on
+:func:`tennislab.core.dynamics.derivative`, positions at the sample times by
+cubic Hermite interpolation on each step from the positions and velocities at
+its ends (error well below 1 um for tennis flights; tests/test_linecall.py
+checks against :func:`tennislab.core.flight.fly`).
+"""
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numba import types
+
+from tennislab.core.aero import AERO_FUNCTION_TYPE
+from tennislab.core.bounce import bounce_kernel
+from tennislab.core.dynamics import derivative
+from tennislab.core.mark import contact_displacement
+
+NPARAM = 13
+P_XB, P_YB, P_TB = 0, 1, 2
+P_VIN = slice(3, 6)
+P_WIN = slice(6, 9)
+P_VOUT = slice(9, 12)
+P_DRAG = 12
+
+# consts layout
+C_K, C_G, C_R, C_WX, C_WY, C_WZ, C_DECAY, C_ALPHA, C_E, C_MU, C_EX, C_TC, C_H = range(13)
+NCONST = 13
+
+SEG_PRE, SEG_POST, SEG_OFF = 0, 1, -1
+
+# Explicit signatures (aero kernels passed as first-class functions) so one compiled,
+# cached version serves every aero model, as in tennislab.core.integrators.
+_F = types.float64
+_V = _F[::1]
+_M = _F[:, ::1]
+_I = types.int64[::1]
+_B = types.boolean
+_AF = AERO_FUNCTION_TYPE
+_RK4_SIG = types.void(_V, _F, _AF, _V, _F, _F, _F, _F, _F, _F, _F, _M, _V)
+_SWEEP_SIG = types.void(_V, _F, _V, _I, types.int64, _F, _AF, _V, _V, _F, _M)
+_MODEL_SIG = types.void(_V, _V, _I, _AF, _V, _V, _M, _B, _B)
+_RES_SIG = types.void(_V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
+_JAC_SIG = types.void(_V, _I, _V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
+
+
+@nb.njit(_RK4_SIG, cache=True)
+def _rk4(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
+    k1 = work[0]
+    k2 = work[1]
+    k3 = work[2]
+    k4 = work[3]
+    yt = work[4]
+    derivative(y, k1, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k1[i]
+    derivative(yt, k2, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k2[i]
+    derivative(yt, k3, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + h * k3[i]
+    derivative(yt, k4, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@nb.njit(_SWEEP_SIG, cache=True)
+def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
+    """Integrate from (y0, t0) in ``direction`` (+1/-1) and write positions at t[idx[0..n-1]]
+    (ordered away from t0) into out[idx[j]]."""
+    k = consts[C_K] * kscale
+    g = consts[C_G]
+    r = consts[C_R]
+    wx = consts[C_WX]
+    wy = consts[C_WY]
+    wz = consts[C_WZ]
+    dec = consts[C_DECAY]
+    h = consts[C_H] * direction
+    work = np.empty((5, 9))
+    ya = y0.copy()
+    yb = np.empty(9)
+    ta = t0
+    _rk4(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+    tb = t0 + h
+    for j in range(n):
+        ts = t[idx[j]]
+        while (ts - tb) * direction > 0.0:
+            for i in range(9):
+                ya[i] = yb[i]
+            ta = tb
+            _rk4(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+            tb = ta + h
+        s = (ts - ta) / h
+        s2 = s * s
+        s3 = s2 * s
+        h00 = 2 * s3 - 3 * s2 + 1
+        h10 = s3 - 2 * s2 + s
+        h01 = -2 * s3 + 3 * s2
+        h11 = s3 - s2
+        for c in range(3):
+            out[idx[j], c] = h00 * ya[c] + h10 * h * ya[c + 3] + h01 * yb[c] + h11 * h * yb[c + 3]
+
+
+@nb.njit(cache=True)
+def post_start(p, consts, y0):
+    """State leaving the ground (9,) and its time, from the parameters."""
+    r = consts[C_R]
+    vin = p[3:6].copy()
+    win = p[6:9].copy()
+    vtmp = np.empty(3)
+    wout = np.empty(3)
+    bounce_kernel(vin, win, r, consts[C_ALPHA], consts[C_E], consts[C_MU], consts[C_EX], vtmp, wout)
+    d = np.empty(2)
+    contact_displacement(p[3], p[4], p[9], p[10], p[5], consts[C_MU], consts[C_E], consts[C_TC], d)
+    y0[0] = p[0] + d[0]
+    y0[1] = p[1] + d[1]
+    y0[2] = r
+    for i in range(3):
+        y0[3 + i] = p[9 + i]
+        y0[6 + i] = wout[i]
+    return p[2] + consts[C_TC]
+
+
+@nb.njit(_MODEL_SIG, cache=True)
+def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
+    """Positions (N, 3) at times t for segment labels seg (0 pre, 1 post, -1 none)."""
+    n = t.shape[0]
+    npre = 0
+    npost = 0
+    for i in range(n):
+        if seg[i] == SEG_PRE:
+            npre += 1
+        elif seg[i] == SEG_POST:
+            npost += 1
+    y0 = np.empty(9)
+    if do_pre and npre > 0:
+        idx = np.empty(npre, dtype=np.int64)
+        j = 0
+        for i in range(n - 1, -1, -1):
+            if seg[i] == SEG_PRE:
+                idx[j] = i
+                j += 1
+        y0[0] = p[0]
+        y0[1] = p[1]
+        y0[2] = consts[C_R]
+        for i in range(6):
+            y0[3 + i] = p[3 + i]
+        _sweep(y0, p[2], t, idx, npre, -1.0, aero, ap, consts, p[12], out)
+    if do_post and npost > 0:
+        idx = np.empty(npost, dtype=np.int64)
+        j = 0
+        for i in range(n):
+            if seg[i] == SEG_POST:
+                idx[j] = i
+                j += 1
+        t0 = post_start(p, consts, y0)
+        _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[12], out)
+
+
+@nb.njit(_RES_SIG, cache=True)
+def residuals(p, t, xyz, w, seg, aero, ap, consts, res, pos):
+    """Weighted residuals (3N,) = w (model - data); zero for seg == -1."""
+    model_positions(p, t, seg, aero, ap, consts, pos, True, True)
+    n = t.shape[0]
+    for i in range(n):
+        for c in range(3):
+            if seg[i] == SEG_OFF:
+                res[3 * i + c] = 0.0
+            else:
+                res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
+
+
+@nb.njit(_JAC_SIG, cache=True)
+def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
+    """Forward-difference Jacobian (3N, len(free)) of :func:`residuals` around ``base``."""
+    n = t.shape[0]
+    pos = np.empty((n, 3))
+    res = np.empty(3 * n)
+    for jj in range(free.shape[0]):
+        j = free[jj]
+        q = p.copy()
+        q[j] += steps[j]
+        pre_dep = not (j >= 9 and j <= 11)
+        if not pre_dep:
+            # v_out does not move the pre-bounce segment: reuse the base residuals there
+            model_positions(q, t, seg, aero, ap, consts, pos, False, True)
+        else:
+            model_positions(q, t, seg, aero, ap, consts, pos, True, True)
+        for i in range(n):
+            for c in range(3):
+                if seg[i] == SEG_OFF:
+                    res[3 * i + c] = 0.0
+                elif seg[i] == SEG_PRE and not pre_dep:
+                    res[3 * i + c] = base[3 * i + c]
+                else:
+                    res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
+        for m in range(3 * n):
+            jac[m, jj] = (res[m] - base[m]) / steps[j]
+
+
+def make_consts(params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
+    """The constant vector of the model from :class:`FlightParams`, a surface and the contact time."""
+    w = params.atmosphere.wind
+    return np.array([params.k, params.atmosphere.gravity, params.ball.radius, w[0], w[1], w[2],
+                     params.spin_decay, params.ball.inertia_factor, surface.e, surface.mu, surface.e_x,
+                     contact_time, step], dtype=np.float64)
+
+
+def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
+    """Python wrapper: model positions (N, 3) for parameters p (13,) at times t with labels seg."""
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    out = np.full((t.size, 3), np.nan)
+    model_positions(np.ascontiguousarray(p, dtype=np.float64), t, np.ascontiguousarray(seg, dtype=np.int64),
+                    params.aero.kernel, params.aero.params, make_consts(params, surface, contact_time, step),
+                    out, True, True)
+    return out

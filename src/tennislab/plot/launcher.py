@@ -1,0 +1,58 @@
+"""Launcher figures: an aimed shot, and a drill's shots and zones on the court (no physics here)."""
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.patches import Rectangle
+
+from tennislab.plot.court import court_figure
+
+
+def _draw_machine(ax_side, ax_top, position, height):
+    ax_top.plot(position[0], position[1], "s", ms=9, color="#d9822b", mec="k", zorder=5, label="machine")
+    ax_side.plot([position[0], position[0]], [0, height], color="#d9822b", lw=3, zorder=5)
+
+
+def plot_aim(solution, trajectory, title: str | None = None):
+    """Side and top views of one aimed shot: trajectory, target, landing and machine."""
+    st = solution.settings
+    title = title or (f"{solution.solution} solution: elev {st.elevation_deg:g} deg, head {st.heading_deg:g} deg, "
+                      f"{st.speed_kmh:g} km/h, {st.spin_rpm:g} rpm @ {st.spin_axis_deg:g} deg; "
+                      f"miss {solution.miss_mm:.0f} mm")
+    fig, ax_side, ax_top = court_figure(title=title)
+    _, ys = trajectory.sample(400)
+    ax_side.plot(ys[:, 0], ys[:, 2], lw=1.8, color="#f2e600")
+    ax_top.plot(ys[:, 0], ys[:, 1], lw=1.8, color="#f2e600")
+    ax_top.plot(*solution.target, "x", ms=10, mew=2.5, color="#c0392b", zorder=6, label="target")
+    ax_top.plot(*solution.landing, "o", ms=6, color="#f2e600", mec="k", zorder=6, label="landing")
+    _draw_machine(ax_side, ax_top, solution.position, st.height_m)
+    ax_side.set_ylim(0, max(3.5, float(np.nanmax(ys[:, 2])) + 0.5))
+    ax_top.legend(loc="upper left", fontsize=8)
+    return fig
+
+
+def plot_drill(compiled, params=None, title: str | None = None):
+    """Every distinct shot of a compiled drill: trajectories, zones (green = passed, red = failed)."""
+    from tennislab.launcher.aim import fly_settings
+    d = compiled.drill
+    fig, ax_side, ax_top = court_figure(title=title or f"drill: {d.name} ({len(compiled.shots)} shots)")
+    zmax = 3.5
+    colors = ["#f2e600", "#4fc3f7", "#ff8a65", "#ba68c8", "#aed581", "#ffffff", "#90a4ae", "#f06292"]
+    for i, u in enumerate(compiled.unique):
+        c = colors[i % len(colors)]
+        x0, x1, y0, y1 = u.shot.zone_bounds()
+        ax_top.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, lw=1.5, ls="--",
+                                   ec="#2ecc71" if u.ok else "#e74c3c", zorder=3))
+        if u.solution is None:
+            continue
+        tr = fly_settings(u.solution.settings, d.spec, params)
+        _, ys = tr.sample(300)
+        ax_side.plot(ys[:, 0], ys[:, 2], lw=1.5, color=c, label=u.label)
+        ax_top.plot(ys[:, 0], ys[:, 1], lw=1.5, color=c)
+        ax_top.plot(*u.solution.landing, "o", ms=5, color=c, mec="k", zorder=6)
+        ax_top.plot(*u.shot.target, "x", ms=7, mew=2, color="#c0392b", zorder=6)
+        zmax = max(zmax, float(np.nanmax(ys[:, 2])) + 0.5)
+    h = max(u.shot.height_m for u in compiled.unique)
+    _draw_machine(ax_side, ax_top, d.spec.position, h)
+    ax_side.set_ylim(0, zmax)
+    ax_side.legend(loc="upper right", fontsize=7)
+    return fig

@@ -1,0 +1,1 @@
+"""The coach-facing HTML report (``tennislab report --out DIR``); see :mod:`tennislab.report.build`."""

@@ -1,0 +1,210 @@
+"""The serve window: every (alpha, beta) on a grid, its outcome, and Table 1 (seed 000 sec. 2.3).
+
+The impact depends on the racket speed V and the impact angle alpha only (beta
+just rotates it, seed eq 21), so the impacts are computed once per alpha
+(:func:`tennislab.core.impact.impact_batch`) and the flights of all
+alpha x beta serves in one compiled batch (:func:`tennislab.core.flight.fly_batch`).
+:func:`window_chunk` is the per-chunk worker (module level, for
+``tennislab.batch.map_chunks``).
+
+Optimum serves (seed sec. 2.3): the seed asks for "a high v while landing as
+close to the service line as possible" for the flat serve and for "peak spin
+rate" for the topspin serve.  Its own choices (figs 7-9) are, for all three
+players, the successful flat serve with the largest X (two of them are the
+*slowest* flat serves), so the flat rule we apply is: largest landing_x, ties
+by higher speed.  Topspin: largest spin, ties (spin depends on alpha only) by
+largest landing_x.
+"""
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tennislab.core.flight import FlightParams, fly_batch
+from tennislab.core.impact import ImpactParams, impact_batch, launch_angle
+from tennislab.errors import InputError, check_range
+from tennislab.serve.players import Player, get_player
+from tennislab.serve.setup import (CATEGORIES, SeedCriteria, evaluate_2d, launch_states_2d,
+                                   seed_flight_params, seed_impact_params)
+from tennislab.units import RPM
+
+SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
+
+
+def flight_options(params: FlightParams) -> dict:
+    """Plain (picklable) options that rebuild ``params`` with :meth:`FlightParams.from_options`."""
+    return {"aero": params.aero, "mass": params.ball.mass, "radius": params.ball.radius,
+            "air_density": params.atmosphere.density, "gravity": params.atmosphere.gravity,
+            "wind": tuple(params.atmosphere.wind), "spin_decay": params.spin_decay}
+
+
+def window_chunk(inputs: dict, *, flight: dict | None = None, net_top: float = 0.943,
+                 service_line: float = 18.318, server_x: float = -11.885) -> dict:
+    """Per-chunk worker: 2-D serves from racket-frame impact results to the seed's outcome.
+
+    inputs: equal-length arrays ``height`` [m], ``v_n``, ``v_t`` [m/s], ``omega`` [rad/s],
+    ``beta`` [rad].  Returns per-row ``landing_x`` (from the impact point) [m],
+    ``net_height`` [m], ``success`` (bool), ``status``.
+    """
+    params = FlightParams.from_options(**(flight or {})) if not isinstance(flight, FlightParams) else flight
+    crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
+    states = launch_states_2d(inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"],
+                              server_x)
+    table = fly_batch(states, params)
+    ev = evaluate_2d(table, crit)
+    return {"landing_x": ev["landing_x"], "net_height": ev["net_height"], "success": ev["success"],
+            "status": table["status"]}
+
+
+@dataclass(frozen=True)
+class ServeWindow:
+    """Outcome of every serve on the alpha x beta grid for one player.
+
+    Arrays are (n_beta, n_alpha); angles in degrees at this edge of the API
+    (``alpha_deg``, ``beta_deg``); SI otherwise.
+    """
+
+    player: Player
+    alpha_deg: np.ndarray
+    beta_deg: np.ndarray
+    speed: np.ndarray          #: ball speed after impact [m/s] (per alpha)
+    spin_rpm: np.ndarray       #: spin [rpm] (per alpha, > 0 topspin)
+    contact_time: np.ndarray   #: [s] (per alpha)
+    regime: np.ndarray         #: 0 slide, 1 roll (per alpha)
+    launch_angle: np.ndarray   #: gamma [deg] (n_beta, n_alpha)
+    landing_x: np.ndarray      #: X from the impact point [m]
+    net_height: np.ndarray     #: Y, ball centre at the net [m]
+    success: np.ndarray        #: bool
+    category: np.ndarray       #: 0 flat, 1 topspin, 2 other
+    criteria: SeedCriteria = field(repr=False, default_factory=SeedCriteria)
+
+    def grid(self, name: str) -> np.ndarray:
+        """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
+        shape = self.success.shape
+        if name == "alpha":
+            return np.broadcast_to(self.alpha_deg[None, :], shape)
+        if name == "beta":
+            return np.broadcast_to(self.beta_deg[:, None], shape)
+        a = getattr(self, name)
+        return np.broadcast_to(a[None, :], shape) if a.ndim == 1 else a
+
+    def mask(self, category: str) -> np.ndarray:
+        return self.success & (self.grid("category") == CATEGORIES.index(category))
+
+    def summary(self) -> dict:
+        """``flat`` and ``topspin``: ``n`` and [min, max] of :data:`SUMMARY_KEYS` over the successes."""
+        out = {}
+        for cat in ("flat", "topspin"):
+            m = self.mask(cat)
+            d = {"n": int(m.sum())}
+            for k in SUMMARY_KEYS:
+                v = self.grid(k)[m]
+                d[k] = [float(v.min()), float(v.max())] if v.size else None
+            out[cat] = d
+        return out
+
+    def serve(self, i_beta: int, i_alpha: int) -> dict:
+        """One serve of the grid as a dict of its quantities."""
+        d = {k: float(self.grid(k)[i_beta, i_alpha]) for k in SUMMARY_KEYS}
+        d["success"] = bool(self.success[i_beta, i_alpha])
+        d["category"] = CATEGORIES[int(self.grid("category")[i_beta, i_alpha])]
+        return d
+
+    def optimum(self, category: str) -> dict | None:
+        """The seed's optimum serve of a category (module docstring), or None."""
+        m = self.mask(category)
+        if not m.any():
+            return None
+        X = self.landing_x
+        if category == "flat":
+            keys = (X, self.grid("speed"))
+        else:
+            keys = (self.grid("spin_rpm"), X)
+        idx = np.flatnonzero(m.ravel())
+        primary, secondary = (k.ravel()[idx] for k in keys)
+        best = idx[np.lexsort((secondary, primary))[-1]]
+        ib, ia = np.unravel_index(best, m.shape)
+        return self.serve(int(ib), int(ia))
+
+    @property
+    def peak_spin_alpha(self) -> float:
+        """alpha [deg] of the largest spin over the sweep (seed fig 5)."""
+        return float(self.alpha_deg[int(np.argmax(self.spin_rpm))])
+
+    def alpha_ranges(self, category: str) -> list[tuple[float, list[float]]]:
+        """Per beta, the successful alphas of a category (seed fig 6)."""
+        m = self.mask(category)
+        return [(float(b), self.alpha_deg[m[i]].tolist()) for i, b in enumerate(self.beta_deg)]
+
+    def widest_beta(self, category: str) -> float | None:
+        """beta with the most successful alphas of a category."""
+        n = self.mask(category).sum(axis=1)
+        return None if n.max() == 0 else float(self.beta_deg[int(np.argmax(n))])
+
+    def to_dict(self) -> dict:
+        """The JSON object of ``tennislab serve-window``."""
+        return {"player": {"name": self.player.name, "impact_height": self.player.impact_height,
+                           "racket_speed": self.player.racket_speed},
+                "n_serves": int(self.success.size), "n_success": int(self.success.sum()),
+                "summary": self.summary(), "peak_spin_alpha": self.peak_spin_alpha,
+                "optimum": {"flat": self.optimum("flat"), "topspin": self.optimum("topspin")},
+                "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")}}
+
+    def rows(self):
+        """Flat table rows (dicts) of every serve, for CSV output."""
+        cats = self.grid("category")
+        for ib in range(self.beta_deg.size):
+            for ia in range(self.alpha_deg.size):
+                d = self.serve(ib, ia)
+                d["category"] = CATEGORIES[int(cats[ib, ia])]
+                yield d
+
+
+def angle_grid(step: float, lo: float = 0.0, hi: float = 90.0) -> np.ndarray:
+    """Angles lo..hi [deg] inclusive at ``step`` [deg]."""
+    step = check_range("step", step, 0.01, 90.0, "deg")
+    n = int(np.floor((hi - lo) / step + 1e-9)) + 1
+    return lo + step * np.arange(n)
+
+
+def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, flight: FlightParams | None = None,
+                 impact: ImpactParams | None = None, criteria: SeedCriteria | None = None, steps: int = 400,
+                 dt: float = 0.0, method: str = "rk4", mapper=None) -> ServeWindow:
+    """Simulate every serve of the alpha x beta grid (default 0-90 deg at ``step``) for ``player``.
+
+    ``steps``/``dt``/``method`` set the impact integration (:func:`impact_batch`).
+    ``mapper(fn, inputs) -> outputs`` runs :func:`window_chunk` (default: in process);
+    pass e.g. ``functools.partial(tennislab.batch.map_chunks, scheduler="processes")``.
+    """
+    player = get_player(player)
+    flight = flight or seed_flight_params()
+    impact = impact or seed_impact_params(ball=flight.ball)
+    crit = criteria or SeedCriteria()
+    a = np.asarray(angle_grid(step) if alpha_deg is None else alpha_deg, float)
+    b = np.asarray(angle_grid(step) if beta_deg is None else beta_deg, float)
+    if a.size == 0 or b.size == 0:
+        raise InputError("alpha, beta: empty grid")
+    if np.any(np.abs(a) > 90):
+        raise InputError("alpha: outside the allowed range [-90, 90] deg")
+    A = np.radians(np.clip(a, -89.999, 89.999))   # alpha = 90 deg: no normal approach; use 89.999
+    imp = impact_batch(player.racket_speed, A, impact, steps=steps, dt=dt, method=method)
+    B = np.radians(b)
+    BB, _ = np.meshgrid(B, A, indexing="ij")
+    inputs = {"height": np.full(BB.size, player.impact_height),
+              "v_n": np.broadcast_to(imp["v_n"][None, :], BB.shape).ravel().copy(),
+              "v_t": np.broadcast_to(imp["v_t"][None, :], BB.shape).ravel().copy(),
+              "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
+              "beta": BB.ravel().copy()}
+    fn = functools.partial(window_chunk, flight=flight_options(flight), net_top=crit.net_top,
+                           service_line=crit.service_line, server_x=crit.server_x)
+    out = fn(inputs) if mapper is None else mapper(fn, inputs)
+    shape = BB.shape
+    spin = imp["omega"] / RPM
+    gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
+    return ServeWindow(player, a, b, imp["speed"], spin, imp["contact_time"], imp["regime"].astype(int),
+                       gamma, np.asarray(out["landing_x"]).reshape(shape),
+                       np.asarray(out["net_height"]).reshape(shape),
+                       np.asarray(out["success"]).astype(bool).reshape(shape),
+                       np.broadcast_to(crit.category(spin)[None, :], shape).copy(), crit)
