@@ -12,7 +12,8 @@
    Default N = 1e5, 1e6, 1e7; ``--full`` adds 1e8 (about 10^8 / rate seconds).
    The batch machinery alone (same lazy grid, Parquet streaming, a cheap
    closed-form fn instead of the flight integration) is measured at the full
-   10^6 and 10^8 rows.
+   10^6 and 10^8 rows, and through a 2-worker LocalCluster at 10^6 and 10^7
+   rows (client RSS: at most 2 x threads chunks in flight).
 
 Run: ``python benchmarks/bench_batch.py [--full] [--n-throughput N]``.
 """
@@ -21,6 +22,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import logging
 import os
 import resource
 import shutil
@@ -157,7 +159,7 @@ def _rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def _memory_child(n: int, out: str, fn_name: str = "flight") -> None:
+def _memory_child(n: int, out: str, fn_name: str = "flight", scheduler: str = "local") -> None:
     import threading
     fn = CHILD_FNS[fn_name]
     fn(serve_grid(10_000).chunk(0, 1000))  # imports + JIT compile / cache load (LLVM memory, not the job's)
@@ -171,7 +173,8 @@ def _memory_child(n: int, out: str, fn_name: str = "flight") -> None:
     th = threading.Thread(target=sample, daemon=True)
     th.start()
     t0 = time.perf_counter()
-    res = run_batch(fn, serve_grid(n), chunk_size=CHUNK, out=out, collect=False, progress=False)
+    res = run_batch(fn, serve_grid(n), chunk_size=CHUNK, out=out, collect=False, progress=False,
+                    scheduler=scheduler, n_workers=2)
     dt = time.perf_counter() - t0
     stop.set()
     th.join()
@@ -181,14 +184,16 @@ def _memory_child(n: int, out: str, fn_name: str = "flight") -> None:
                       "chunks": res.n_chunks, "disk_mb": disk}))
 
 
-def memory(sizes, fn_name: str = "flight") -> list[dict]:
+def memory(sizes, fn_name: str = "flight", scheduler: str = "local") -> list[dict]:
     rows = []
-    print(f"memory: fn = {CHILD_FNS[fn_name].__name__} (collect=False, Parquet out, local scheduler, fresh process per N)")
+    where = "local scheduler" if scheduler == "local" else f"{scheduler} scheduler (2 workers; client RSS shown)"
+    print(f"memory: fn = {CHILD_FNS[fn_name].__name__} (collect=False, Parquet out, {where}, fresh process per N)")
     for n in sizes:
         tmp = tempfile.mkdtemp(prefix="bench-batch-")
         try:
             cp = subprocess.run([sys.executable, os.path.abspath(__file__), "--_memory-child", str(n),
-                                 os.path.join(tmp, "out"), fn_name], capture_output=True, text=True, check=True)
+                                 os.path.join(tmp, "out"), fn_name, scheduler], capture_output=True, text=True,
+                                check=True)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
         r = json.loads(cp.stdout.strip().splitlines()[-1])
@@ -200,7 +205,7 @@ def memory(sizes, fn_name: str = "flight") -> list[dict]:
     growth = rows[-1]["peak_rss_mb"] - rows[0]["peak_rss_mb"]
     print(f"memory: peak RSS grows {growth:+.0f} MB from N={rows[0]['n']:,} to N={rows[-1]['n']:,} "
           f"(chunk {CHUNK:,} rows): bounded by the chunk size, not N")
-    if rows[-1]["n"] < 10 ** 8 and fn_name == "flight":
+    if rows[-1]["n"] < 10 ** 8 and fn_name == "flight" and scheduler == "local":
         t8 = 1e8 / rows[-1]["rate"]
         print(f"memory: 10^8 shots extrapolated: ~{t8 / 60:.0f} min at {rows[-1]['rate']:,.0f} flights/s, "
               f"peak RSS ~{rows[-1]['peak_rss_mb']:.0f} MB (flat in N; run with --full to measure)")
@@ -208,20 +213,22 @@ def memory(sizes, fn_name: str = "flight") -> list[dict]:
 
 
 def main(argv=()) -> dict:
+    logging.getLogger("distributed").setLevel(logging.WARNING)  # no INFO lines from cluster shutdown
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--full", action="store_true", help="also measure the 10^8-shot run")
     p.add_argument("--n-throughput", type=int, default=400_000)
     p.add_argument("--skip-memory", action="store_true")
-    p.add_argument("--_memory-child", nargs=3, metavar=("N", "OUT", "FN"), help=argparse.SUPPRESS)
+    p.add_argument("--_memory-child", nargs=4, metavar=("N", "OUT", "FN", "SCHED"), help=argparse.SUPPRESS)
     a = p.parse_args(list(argv))
     if a._memory_child:
-        _memory_child(int(a._memory_child[0]), a._memory_child[1], a._memory_child[2])
+        _memory_child(int(a._memory_child[0]), a._memory_child[1], a._memory_child[2], a._memory_child[3])
         return {}
     res = {"throughput": throughput(a.n_throughput)}
     if not a.skip_memory:
         sizes = [10 ** 5, 10 ** 6, 10 ** 7] + ([10 ** 8] if a.full else [])
         res["memory"] = memory(sizes)
         res["memory_machinery"] = memory([10 ** 6, 10 ** 8], fn_name="vacuum")
+        res["memory_dask"] = memory([10 ** 6, 10 ** 7], fn_name="vacuum", scheduler="processes")
     return res
 
 

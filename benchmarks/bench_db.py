@@ -111,7 +111,8 @@ def _stats(ms):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--rows", type=float, default=1e7, help="approximate number of hits (default 1e7)")
+    ap.add_argument("--rows", type=float, default=float(os.environ.get("TENNISLAB_BENCH_DB_ROWS", 1e7)),
+                    help="approximate number of hits (default 1e7, or $TENNISLAB_BENCH_DB_ROWS)")
     ap.add_argument("--db", default=None, help="database file (default out/bench_db_<rows>.sqlite; reused)")
     ap.add_argument("--lookups", type=int, default=500)
     ap.add_argument("--scans", type=int, default=5, help="full-scan baseline queries (slow)")

@@ -4,7 +4,6 @@ from __future__ import annotations
 import json
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -341,17 +340,49 @@ def test_sample_track_is_a_csv(client):
     assert rows.shape[1] == 5 and np.all(np.diff(rows[:, 0]) > 0)
 
 
+def cli_call(text: str, tmp_path, *args) -> dict:
+    """The reference: ``tennislab call --track FILE --json`` run in process."""
+    import contextlib
+    import io
+    from tennislab.cli import main
+    f = tmp_path / "track.csv"
+    f.write_text(text)
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["call", "--track", str(f), "--json", *args]) == 0
+    return json.loads(buf.getvalue())
+
+
 @needs_linecall
-def test_linecall_matches_python_api(client):
-    from tennislab.app import linecall_adapter
+@pytest.mark.parametrize("form, args", [({"target": "deuce-box"}, ["--target", "deuce-box"]),
+                                        ({"line": "service"}, ["--line", "service"]),
+                                        ({}, []),
+                                        ({"surface": "clay"}, ["--surface", "clay"])])
+def test_linecall_matches_the_cli(client, tmp_path, form, args):
+    pytest.importorskip("tennislab.cli.call")
     text = client.get("/api/linecall/sample").text
-    r = client.post("/api/linecall", json={"csv": text})
+    r = client.post("/api/linecall", json={"csv": text, **form})
     assert r.status_code == 200, r.text
     out = r.json()
-    ref = linecall_adapter.reference_call(text)
+    ref = cli_call(text, tmp_path, *args)
     assert out["call"] == ref["call"]
-    assert out["bounce"]["x"] == pytest.approx(ref["bounce"]["x"], abs=1e-6)
-    assert out["distance_mm"] == pytest.approx(ref["distance_mm"], abs=1e-3)
+    for k in ("x", "y", "t", "sigma_mm"):
+        assert out["bounce"][k] == pytest.approx(ref["bounce"][k], abs=1e-9), k
+    assert out["distance_mm"] == pytest.approx(ref["distance_mm"], abs=1e-6)
+    assert out["p_in"] == pytest.approx(ref["p_in"], abs=1e-12)
+    assert out["mark"]["length"] == pytest.approx(ref["mark"]["length"], abs=1e-12)
+    assert out["fit"]["rms_mm"] == pytest.approx(ref["fit"]["rms_mm"], abs=1e-9)
+    assert out["fit"]["outliers"] == ref["fit"]["outliers"]
+    assert len(out["track"]) > 20 and len(out["fitted"]) > 20 and len(out["mark"]["discs"]) > 3
+
+
+@needs_linecall
+def test_sample_track_is_a_close_call(client):
+    """The example serve lands a few mm beyond the service line: the call must be uncertain."""
+    text = client.get("/api/linecall/sample").text
+    out = client.post("/api/linecall", json={"csv": text, "target": "deuce-box"}).json()
+    assert abs(out["distance_mm"]) < 10 and 0.01 < out["p_in"] < 0.99
+    assert out["line"] == "service" and out["line_rect"] == list(ITF_COURT.lines()["service"])
 
 
 @needs_linecall
@@ -359,3 +390,20 @@ def test_linecall_matches_python_api(client):
                                   "t,x,y,z\n1,0,0,1\n0,0,0,1\n"])
 def test_linecall_bad_tracks(client, text):
     assert err(client.post("/api/linecall", json={"csv": text}))
+
+
+@needs_serve
+def test_concurrent_requests_give_the_same_answers(client):
+    from concurrent.futures import ThreadPoolExecutor
+    body = {"player": "recreational", "step": 3}
+    ref = client.post("/api/serve/window", json=body).json()
+    aim_ref = client.post("/api/launcher/aim", json={}).json() if AVAIL["launcher"]["available"] else None
+
+    def one(i):
+        if i % 2 or aim_ref is None:
+            return "w", client.post("/api/serve/window", json=body).json()
+        return "a", client.post("/api/launcher/aim", json={}).json()
+    with ThreadPoolExecutor(4) as ex:
+        outs = list(ex.map(one, range(8)))
+    for kind, out in outs:
+        assert out == (ref if kind == "w" else aim_ref)

@@ -144,7 +144,8 @@ def test_interrupted_run_resumes_to_the_same_result(tmp_path, data):
     job = functools.partial(flaky, trigger=str(trigger), bad_row=2500)
     with pytest.raises(RuntimeError, match="worker died"):
         map_chunks(job, x, chunk_size=1000, out=out, progress=False)
-    assert sorted(os.listdir(out)) == ["manifest.json", "part-00000.parquet", "part-00001.parquet"]
+    visible = sorted(n for n in os.listdir(out) if not n.startswith("."))
+    assert visible == ["manifest.json", "part-00000.parquet", "part-00001.parquet"]
     assert not read_manifest(out)["complete"]
     with pytest.raises(InputError, match="incomplete"):
         read_output(out)
@@ -332,3 +333,38 @@ def test_progress_bar_draws_only_when_enabled():
 def test_default_chunk_size():
     assert default_chunk_size(10) == 1024 and default_chunk_size(10 ** 8) == 65536
     assert default_chunk_size(64 * 5000) == 5000
+
+
+@settings(max_examples=30, deadline=None)
+@given(shape=st.lists(st.integers(1, 5), min_size=1, max_size=4), cs=st.integers(1, 70))
+def test_grid_rows_are_meshgrid_in_c_order(shape, cs):
+    axes = {f"a{i}": np.arange(k, dtype=float) * (i + 1) + 0.5 for i, k in enumerate(shape)}
+    g = GridSpec(axes, row_key="row")
+    mesh = np.meshgrid(*axes.values(), indexing="ij")
+    got = [g.chunk(i, cs) for i in range(g.n_chunks(cs))]
+    assert sum(len(c["row"]) for c in got) == g.size == int(np.prod(shape))
+    for k, m in zip(axes, mesh):
+        assert np.array_equal(np.concatenate([c[k] for c in got]), m.ravel())
+    pos = {k: n - 1 for k, n in zip(axes, shape)}
+    assert g.index(**pos) == g.size - 1
+
+
+def test_progress_forced_on_a_pipe(capsys, data):
+    map_chunks(affine, data, chunk_size=1000, progress="always", desc="forced")
+    err = capsys.readouterr().err
+    assert "5/5 chunks 100%" in err and "forced" in err and err.endswith("\n")
+    map_chunks(affine, data, chunk_size=1000, progress=True)  # stderr is not a TTY here: silent
+    assert capsys.readouterr().err == ""
+
+
+def test_two_runs_never_share_an_output_directory(tmp_path, data):
+    from tennislab.batch.store import ChunkStore
+    out = str(tmp_path / "job")
+    map_chunks(affine, data, out=out, chunk_size=1000, progress=False)
+    held = ChunkStore(out, read_manifest(out), lock=True)  # another run in progress
+    try:
+        with pytest.raises(InputError, match="in use by another run"):
+            map_chunks(affine, data, out=out, progress=False)
+    finally:
+        held.close()
+    assert run_batch(affine, data, out=out, progress=False).skipped == 5

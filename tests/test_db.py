@@ -252,6 +252,11 @@ def test_lookup_errors(table_db):
         db.lookup(conn, 6.0, 0.0, speed_kmh=150.0, spin_rpm=0.0)
     with pytest.raises(InputError, match="no hit in range"):
         db.lookup(conn, 0.3, 0.0, speed_kmh=120.0, spin_rpm=0.0, max_miss_m=0.01)
+    a = db.lookup(conn, 8.0, 1.0, speed_kmh=100.0, spin_rpm=0.0)
+    b = db.lookup(conn, 8.0, 1.0, speed_kmh=100.0, spin_rpm=0.0, where={"height_m": (0.99, 1.01)})
+    assert a["id"] == b["id"]
+    with pytest.raises(InputError, match="height_m 2"):
+        db.lookup(conn, 8.0, 1.0, speed_kmh=100.0, where={"height_m": (1.99, 2.01)})
     conn.close()
     with pytest.raises(InputError, match="off the court"):
         db.check_target(13.0, 0.0)
@@ -309,7 +314,7 @@ def test_lookup_while_table_fills(tmp_path, params):
     code = ("import sys; from tennislab.launcher import table as T; "
             "from tennislab.launcher.aim import launcher_params; "
             "from tennislab.launcher.machine import DEFAULT_SPEC as S; "
-            "g = T.make_grid(S, {'height_m': (1, 1), 'speed_kmh': (60, 140), 'spin_rpm': (0, 0), "
+            "g = T.make_grid(S, {'height_m': (1, 1), 'speed_kmh': (80, 120), 'spin_rpm': (0, 0), "
             "'spin_axis_deg': (0, 0)}, {'speed_kmh': 4}); "
             "T.fill_table(sys.argv[1], S, launcher_params(), g, chunk_size=1500)")
     proc = subprocess.Popen([sys.executable, "-c", code, path], stderr=subprocess.PIPE)
@@ -414,3 +419,39 @@ def test_fill_on_a_dask_cluster_equals_local(tmp_path, params):
         "SELECT * FROM hits ORDER BY id").fetchall()
     ca.close()
     cb.close()
+
+
+@pytest.fixture(scope="module")
+def lattice_db(tmp_path_factory, params):
+    """Synthetic hits on a coarse lattice (many exact distance ties), unique clearances."""
+    path = str(tmp_path_factory.mktemp("lat") / "lattice.sqlite")
+    conn = db.open_db(path)
+    db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params), path)
+    rng = np.random.default_rng(3)
+    n = 600
+    rows = {"id": np.arange(n), "height_m": np.full(n, 1.0), "speed_kmh": rng.choice([60.0, 61.0, 62.0], n),
+            "elevation_deg": np.zeros(n), "heading_deg": np.zeros(n), "spin_rpm": rng.choice([0.0, 100.0], n),
+            "spin_axis_deg": np.zeros(n), "land_x": rng.integers(0, 24, n) * 0.5,
+            "land_y": rng.integers(-10, 11, n) * 0.5, "net_clearance_m": rng.permutation(n) * 1e-3,
+            "flight_time_s": np.ones(n), "bounce_speed_ms": np.ones(n), "bounce_spin_rpm": np.zeros(n),
+            "apex_z_m": np.ones(n)}
+    conn.execute("BEGIN")
+    db.insert_hits(conn, rows)
+    conn.execute("COMMIT")
+    conn.close()
+    return path
+
+
+@given(x=st.floats(0.0, 11.885), y=st.floats(-5.485, 5.485), sp=st.sampled_from([None, 60.0, 61.0, 62.0]),
+       sw=st.sampled_from([None, 0.0, 100.0]), on_lattice=st.booleans())
+@settings(max_examples=150, deadline=None)
+def test_rtree_nearest_equals_scan_with_ties(lattice_db, x, y, sp, sw, on_lattice):
+    if on_lattice:  # equidistant lattice points: ties resolved by clearance in both methods
+        x, y = round(x * 2) / 2 + 0.25, round(y * 2) / 2 + 0.25
+    conn = db.open_readonly(lattice_db)
+    a = db.nearest_hit(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+    b = db.scan_nearest(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+    conn.close()
+    assert (a is None) == (b is None)
+    if a is not None:
+        assert a["id"] == b["id"] and a["miss_m"] == pytest.approx(b["miss_m"], abs=1e-12)

@@ -123,6 +123,8 @@ def test_errors_are_one_line_exit_2(built, tmp_path, capsys):
     # nothing was written into the foreign file
     c = sqlite3.connect(foreign)
     assert [r[0] for r in c.execute("SELECT name FROM sqlite_master")] == ["notes"]
+    assert c.execute("PRAGMA journal_mode").fetchone()[0] == "delete"
+    assert c.execute("PRAGMA user_version").fetchone()[0] == 0
     c.close()
 
 

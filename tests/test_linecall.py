@@ -205,3 +205,25 @@ def test_cli_missing_velocity_and_file(capsys, tmp_path):
     assert rc == 2 and "--velocity" in err
     rc, _, err = run(capsys, "call", "--track", tmp_path / "nope.csv")
     assert rc == 2 and "nope.csv" in err
+
+
+def test_wrong_surface_does_not_bias_the_bounce():
+    """The contact model is a prior: fitting a hard-court track as clay or grass moves the bounce
+    by well under the 5 mm ITF limit (it moved up to 8 mm when the contact model was a constraint)."""
+    tr = synthetic_track((-11.9, 0.4, 2.85), (52.0, -0.5, -4.6), (0.0, 60.0, 0.0), PARAMS, seed=0, surface="hard")
+    pts = {}
+    for s in ("hard", "clay", "grass"):
+        f = fit_track(tr.t, tr.xyz, None, PARAMS, s)
+        pts[s] = f.p[:2]
+        assert np.hypot(*(f.p[:2] - (tr.bounce.x, tr.bounce.y))) < 0.005
+    assert np.hypot(*(pts["clay"] - pts["hard"])) < 0.002
+
+
+def test_fit_drag_scale():
+    """A track flown in 12 % denser air, fitted with nominal physics and --fit-drag, recovers the
+    drag scale (drag and lift both scale with density; spin absorbs the lift part)."""
+    dense = FlightParams.from_options(air_density=1.199 * 1.12)
+    tr = synthetic_track((-11.0, -2.0, 1.0), (30.0, 2.0, 6.0), (0.0, 0.0, 0.0), dense, seed=3)
+    f = fit_track(tr.t, tr.xyz, None, PARAMS, "hard", fit_drag=True, window=None)
+    assert f.drag_scale == pytest.approx(1.12, abs=0.03)
+    assert np.hypot(f.p[0] - tr.bounce.x, f.p[1] - tr.bounce.y) < 0.005

@@ -177,6 +177,7 @@ def test_cli_report_bad_input(tmp_path, capsys):
 
 
 def test_html_helpers_escape():
-    assert H.table(["a"], [["<b>"]]) == "<table>\n<tr><th class=\"l\">a</th></tr>\n<tr><td class=\"l\">&lt;b&gt;</td></tr>\n</table>"
+    assert H.table(["a"], [["<b>"]]) == ('<div class="tablewrap"><table>\n<tr><th class="l">a</th></tr>\n'
+                                         '<tr><td class="l">&lt;b&gt;</td></tr>\n</table></div>')
     assert H.num(float("nan")) == "–" and H.num(None) == "–" and H.num(1.234, 1) == "1.2"
     assert H.rng((1, 2.5), 1) == "1.0 – 2.5"

@@ -65,6 +65,8 @@ def test_serve_window_contract(capsys, tmp_path):
             assert len(s[k]) == 2 and s[k][0] <= s[k][1]
         assert d["optimum"][cat]["success"] is True
     assert isinstance(d["peak_spin_alpha"], float)
+    assert len(d["by_alpha"]["spin_rpm"]) == 46 and d["by_alpha"]["regime"][0] == "roll"
+    assert all(r[1] <= r[2] for r in d["alpha_range_by_beta"]["topspin"])
     assert d["published"]["summary"]["flat"]["n"] == 17
     rows = list(csv.DictReader(f.open()))
     assert len(rows) == 46 * 46 and set(rows[0]) >= {"alpha", "beta", "success", "category"}
@@ -116,3 +118,21 @@ def test_no_half_written_csv_on_error(capsys, tmp_path):
     f = tmp_path / "w.csv"
     rc, _, _ = run(capsys, "serve-window", "--step", "-1", "--csv", str(f))
     assert rc == 2 and not f.exists()
+
+
+def test_serve_window_all_players(capsys, tmp_path):
+    f = tmp_path / "all.csv"
+    rc, out, _ = run(capsys, "serve-window", "--player", "all", "--step", "5", "--json", "--csv", str(f))
+    assert rc == 0
+    d = json.loads(out)["players"]
+    assert set(d) == {"professional", "recreational", "junior"}
+    assert all("flat" in d[p]["summary"] and "published" in d[p] for p in d)
+    rows = list(csv.DictReader(f.open()))
+    assert len(rows) == 3 * 19 * 19 and {r["player"] for r in rows} == set(d)
+
+
+@pytest.mark.parametrize("cmd", ["impact", "serve", "serve-window", "serve-mc"])
+def test_help(capsys, cmd):
+    with pytest.raises(SystemExit) as e:
+        main([cmd, "--help"])
+    assert e.value.code == 0 and "--json" in capsys.readouterr().out

@@ -58,18 +58,36 @@ def test_flight_page(page):
     page.snap("flight")
 
 
+def _server_error(pg, path: str, body: dict) -> str:
+    import urllib.error
+    import urllib.request
+    req = urllib.request.Request(pg.base + path, data=json.dumps(body).encode(),
+                                 headers={"Content-Type": "application/json"})
+    try:
+        urllib.request.urlopen(req, timeout=30)
+    except urllib.error.HTTPError as exc:
+        assert exc.code == 422
+        return json.loads(exc.read())["error"]
+    raise AssertionError("the server accepted a bad value")
+
+
 def test_validation_in_the_page_sends_nothing(page):
     open_page(page, "flight")
     sent = []
     page.on("request", lambda r: sent.append(r.url) if r.method == "POST" else None)
+    # the page shows the server's own message (same wording, same number format)
+    for field, value in [("speed_kmh", 9999), ("speed_kmh", 0.5), ("z", 1234567.0), ("spin_rpm", -0.001),
+                         ("air_density", 2), ("heading_deg", -61)]:
+        page.fill(f"#flight-{field}", str(value))
+        assert page.inner_text(f"#err-flight-{field}") == _server_error(page, "/api/flight", {field: value})
+        page.fill(f"#flight-{field}", str(F.FORMS["flight"].by_name()[field].default))
+        assert page.inner_text(f"#err-flight-{field}") == ""
     page.fill("#flight-speed_kmh", "9999")
-    assert page.inner_text("#err-flight-speed_kmh") == \
-        "speed_kmh: 9999 is outside the allowed range [1, 260] km/h"
     page.fill("#flight-z", "abc")
     page.click("#submit-flight")
     page.wait_for_timeout(300)
     assert sent == []
-    assert "expected a number" in page.inner_text("#err-flight-z")
+    assert page.inner_text("#err-flight-z") == "z: expected a number, got 'abc'"
     assert "bad" in page.get_attribute("#flight-z", "class")
     page.fill("#flight-speed_kmh", "100")
     page.fill("#flight-z", "1.5")
@@ -139,8 +157,12 @@ def test_serve_bad_input_message(page):
     open_page(page, "serve")
     page.fill("#serve-impact_angle", "120")
     page.click("#submit-serve")
-    assert page.inner_text("#err-serve-impact_angle") == \
-        "impact_angle: 120 is outside the allowed range [0, 90] deg"
+    msg = page.inner_text("#err-serve-impact_angle")
+    assert msg == "impact_angle: 120 deg is outside the allowed range [0.0, 90.0] deg"
+    assert msg == _server_error(page, "/api/serve", {"impact_angle": 120})
+    page.select_option("#serve-player", "custom")
+    page.fill("#serve-racket_speed", "-3")
+    assert page.inner_text("#err-serve-racket_speed") == _server_error(page, "/api/serve", {"racket_speed": -3})
 
 
 # ---------------------------------------------------------------- launcher planner
@@ -205,13 +227,15 @@ def test_linecall_page(page, tmp_path):
         return
     from tennislab.app import linecall_adapter
     text = features.sample_track()
+    page.select_option("#linecall-target", "deuce-box")
     f = tmp_path / "track.csv"
     f.write_text(text)
     page.set_input_files("#track-file", str(f))
     submit_and_wait(page, "#submit-linecall", "call-status", "/api/linecall")
     got = results(page, "call-result")
-    ref = linecall_adapter.reference_call(text)
-    assert got["call"] == ref["call"]
+    ref = linecall_adapter.reference_call(text, target="deuce-box")
+    assert got["call"] == ref["call"] and got["against"] == "deuce-box"
+    assert float(got["p_in"]) == pytest.approx(ref["p_in"], abs=1e-12)
     assert float(got["distance_mm"]) == pytest.approx(ref["distance_mm"], abs=1e-3)
     assert float(got["bounce.x"]) == pytest.approx(ref["bounce"]["x"], abs=1e-6)
     assert page.locator("#call-mark").count() == 1

@@ -9,14 +9,12 @@ missing module only disables its own page (HTTP 503, "not available").
 from __future__ import annotations
 
 import io
-import math
 
 import numpy as np
 
 from tennislab.app import services as S
 from tennislab.core.flight import FlightParams, fly
 from tennislab.errors import InputError
-from tennislab.units import KMH
 
 #: Seed 000 section 2.3 (Grosen, Kousted & Treichel 2021): impact height [m], racket speed [m/s].
 #: Used only when ``tennislab.serve`` does not provide its own profiles.
@@ -127,15 +125,3 @@ def sample_track() -> str:
     for row in data:
         buf.write(f"{row[0]:.6f},{row[1]:.5f},{row[2]:.5f},{row[3]:.5f},0.003\n")
     return buf.getvalue()
-
-
-def kmh(v_ms: float) -> float:
-    return v_ms / KMH
-
-
-def finite_or_none(x):
-    try:
-        f = float(x)
-    except (TypeError, ValueError):
-        return None
-    return f if math.isfinite(f) else None

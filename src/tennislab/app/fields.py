@@ -54,20 +54,23 @@ class Field:
 
     def parse(self, value):
         """Return the validated value or raise :class:`InputError` naming the field."""
+        if isinstance(value, str) and len(value) > 60:
+            raise InputError(f"{self.name}: expected {'one of ' + ', '.join(self.choices) if self.choices else 'a number'}"
+                             f", got a text of {len(value)} characters")
         if value is None or (isinstance(value, str) and value.strip() == "" and self.kind != "choice"):
             if self.optional:
                 return self.default
             raise InputError(f"{self.name}: a value is required")
         if self.kind == "choice":
             if not isinstance(value, str) or value not in self.choices:
-                raise InputError(f"{self.name}: {value!r} is not one of {', '.join(map(str, self.choices))}")
+                raise InputError(f"{self.name}: {short(value)} is not one of {', '.join(map(str, self.choices))}")
             return value
         if self.kind == "bool":
             if isinstance(value, bool):
                 return value
             raise InputError(f"{self.name}: expected true or false, got {value!r}")
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise InputError(f"{self.name}: expected a number, got {value!r}")
+            raise InputError(f"{self.name}: expected a number, got {short(value)}")
         v = check_range(self.name, value, self.lo, self.hi, self.unit, lo_open=self.lo_open)
         if self.kind == "int":
             if v != math.floor(v):
@@ -180,6 +183,17 @@ MAX_TRACK_BYTES = 1_000_000
 MAX_DRILL_SHOTS = 50
 
 
+def short(value, n: int = 40) -> str:
+    """``repr(value)`` cut to ``n`` characters (user text never makes a long or multi-line message)."""
+    r = repr(value)
+    return r if len(r) <= n else r[:n] + "..."
+
+
+def field_label(name) -> str:
+    """A user-given field name as shown in a message: as is if a plain identifier, else quoted."""
+    return name if isinstance(name, str) and name.isidentifier() and len(name) <= 40 else short(name)
+
+
 def validate(form: str, body) -> dict:
     """Validate a request body (dict) against a form; returns the parsed values.
 
@@ -193,7 +207,7 @@ def validate(form: str, body) -> dict:
     fields = FORMS[form].by_name()
     unknown = sorted(set(body) - set(fields))
     if unknown:
-        raise InputError(f"{unknown[0]}: unknown field (allowed: {', '.join(fields)})")
+        raise InputError(f"{field_label(unknown[0])}: unknown field (allowed: {', '.join(fields)})")
     return {name: f.parse(body.get(name)) for name, f in fields.items()}
 
 

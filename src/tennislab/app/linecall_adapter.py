@@ -24,14 +24,10 @@ def _pipeline(text: str, surface: str = "hard", line: str | None = None, target:
     track = parse_track(text, name="csv")
     params = FlightParams()
     fit = fit_track(track.t, track.xyz, track.sigma, params, surface)
-    if fit.has_post:
-        v_out = fit.velocity_out
-    else:  # no points after the bounce: the bounce model's outgoing velocity
-        from tennislab.core.bounce import bounce
-        v_out = bounce(fit.velocity_in, fit.spin_in, fit.surface, params.ball).velocity_out
-    mark = ball_mark(fit.bounce_xy, fit.velocity_in, v_out, fit.spin_in, fit.surface, params.ball,
-                     fit.mark_params)
-    res = call_mark(mark, target=target, line=line, bounce_cov=fit.bounce_cov)
+    # as ``tennislab call --track`` (tennislab/cli/call.py): the fit's outgoing velocity (the bounce
+    # model's when the track has no points after the bounce)
+    mark = ball_mark(fit.bounce_xy, fit.velocity_in, fit.velocity_out, fit.spin_in, fit.surface, params.ball)
+    res = call_mark(mark, court=params.court, target=target, line=line, bounce_cov=fit.bounce_cov)
     return track, fit, mark, res
 
 
@@ -78,7 +74,7 @@ def call(v: dict, text: str) -> dict:
     out["line_rect"] = list(lines[drawn]) if drawn in lines else None
     out["mark"]["discs"] = np.round(mark.discs, 5).tolist()
     out["mark"]["direction"] = [float(d) for d in mark.direction]
-    t_fit = np.linspace(track.t[0], fit.t_bounce, 120)
+    t_fit = np.linspace(track.t[0], track.t[-1] if fit.has_post else fit.t_bounce, 200)
     pts = fit.positions(t_fit)
     out["fitted"] = np.round(pts[np.all(np.isfinite(pts), axis=1)], 4).tolist()
     step = max(1, len(track) // 400)

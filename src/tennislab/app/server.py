@@ -27,6 +27,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +43,10 @@ from tennislab.app import services as S
 from tennislab.errors import InputError
 
 STATIC = Path(__file__).parent / "static"
+#: One physics call at a time: the compiled kernels already use every core, and Numba's
+#: ``workqueue`` threading layer (the fallback when neither TBB nor OpenMP is present) must not
+#: be entered from two threads at once.
+PHYSICS_LOCK = threading.Lock()
 LOOPBACK_HOSTS = ["127.0.0.1", "localhost", "[::1]", "::1"]
 log = logging.getLogger("tennislab.app")
 
@@ -91,6 +96,11 @@ async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
         return json.loads(bytes(buf))
     except (ValueError, UnicodeDecodeError):
         raise InputError("body: not valid JSON") from None
+
+
+def _locked(fn, *args, **kw):
+    with PHYSICS_LOCK:
+        return fn(*args, **kw)
 
 
 def _error(status: int, msg: str) -> JSONResponse:
@@ -155,10 +165,10 @@ def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
             if form:
                 vals = F.validate(form, body)
             elif body:
-                raise InputError(f"{sorted(body)[0]}: unknown field (allowed: {', '.join(extra)})")
+                raise InputError(f"{F.field_label(sorted(body)[0])}: unknown field (allowed: {', '.join(extra)})")
             else:
                 vals = {}
-            result = await run_in_threadpool(fn, vals, **raw)
+            result = await run_in_threadpool(_locked, fn, vals, **raw)
             return JSONResponse(clean(result))
         handler.__name__ = "post_" + path.strip("/").replace("/", "_")
         app.post(path)(handler)
@@ -173,7 +183,7 @@ def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
 
     @app.get("/api/linecall/sample")
     async def sample():
-        text = await run_in_threadpool(features.sample_track)
+        text = await run_in_threadpool(_locked, features.sample_track)
         return PlainTextResponse(text, media_type="text/csv")
 
     return app

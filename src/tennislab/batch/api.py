@@ -126,6 +126,8 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
     if n_workers is not None and int(n_workers) < 1:
         raise InputError(f"n_workers: {n_workers} is outside the allowed range [1, inf]")
     indexable = is_indexable(source)
+    if chunk_size is not None and int(chunk_size) < 1:
+        raise InputError(f"chunk_size: {chunk_size} is outside the allowed range [1, inf]")
     store = None
     if out is not None:
         manifest = {"fn": {"name": _name(fn), "config": _digest(describe(fn))},
@@ -134,29 +136,43 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
         if indexable and chunk_size is None:  # resume with the chunking found on disk
             chunk_size = _existing_chunk_size(out) or default_chunk_size(source.n_rows)
         manifest["chunk_size"] = int(chunk_size) if (indexable and chunk_size) else None
-        store = ChunkStore(out, manifest)
+        store = ChunkStore(out, manifest, lock=True)
     if indexable:
         chunk_size = int(chunk_size or default_chunk_size(source.n_rows))
-        if chunk_size < 1:
-            raise InputError(f"chunk_size: {chunk_size} is outside the allowed range [1, inf]")
-        n_total = source.n_chunks(chunk_size)
     else:
         chunk_size = None
+    try:
+        return _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect,
+                    row_key, include_inputs, max_inflight, t0)
+    finally:
+        if store is not None:
+            store.close()
+
+
+def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect, row_key,
+         include_inputs, max_inflight, t0) -> BatchResult:
+    if indexable:
+        n_total = source.n_chunks(chunk_size)
+    else:
         n_total = source.n_chunks()
     done = store.done() if store is not None else set()
 
     bar = ProgressBar(n_total, desc=desc, enabled=progress_enabled(progress))
     results: dict[int, dict] = {}
     schema = {}
-    counts = {"computed": 0, "skipped": 0, "rows": 0, "chunks": 0}
-    row_ranges: dict[int, tuple[int, int, str | None]] = {}
+    counts = {"computed": 0, "skipped": 0, "seen": 0}
+    stream_ranges: dict[int, tuple[int, int, str | None]] = {}  # (lo, hi, input hash) of stream chunks
+
+    def row_range(i: int) -> tuple[int, int, str | None]:
+        if indexable:  # by arithmetic: no per-chunk bookkeeping for 10^5-chunk grids
+            return i * chunk_size, min(source.n_rows, (i + 1) * chunk_size), None
+        return stream_ranges[i]
 
     def payloads(shared_fn, shared_src):
         if indexable:
             for i in range(n_total):
                 lo = i * chunk_size
-                hi = min(source.n_rows, lo + chunk_size)
-                row_ranges[i] = (lo, hi, None)
+                counts["seen"] = i + 1
                 if i in done:
                     counts["skipped"] += 1
                     bar.skip()
@@ -168,7 +184,8 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
         for i, chunk in enumerate(source):
             n = len(next(iter(chunk.values())))
             h = hash_arrays(chunk)
-            row_ranges[i] = (lo, lo + n, h)
+            stream_ranges[i] = (lo, lo + n, h)
+            counts["seen"] = i + 1
             if i in done:
                 old = store.read_meta(i).get("input_hash")
                 if old != h:
@@ -180,14 +197,15 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
                 yield i, (shared_fn, chunk, lo, row_key, include_inputs)
             lo += n
 
-    with get_runner(scheduler, n_workers) as runner:
+    all_done = indexable and done.issuperset(range(n_total))
+    with get_runner("local" if all_done else scheduler, n_workers) as runner:  # no cluster to read parts
         shared_fn = runner.share(fn)
         shared_src = runner.share(source) if (indexable and source.remote) else source
         try:
             for i, res in runner.run(execute_chunk, payloads(shared_fn, shared_src), **(
                     {"max_inflight": max_inflight} if max_inflight else {})):
                 _check_schema(schema, res, fn)
-                lo, hi, h = row_ranges[i]
+                lo, hi, h = row_range(i)
                 if store is not None:
                     store.write(i, res, {"rows": [lo, hi], "input_hash": h})
                 if collect:
@@ -196,8 +214,8 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
                 bar.update(hi - lo)
         finally:
             bar.close()
-    n_chunks = len(row_ranges)
-    n_rows = max((r[1] for r in row_ranges.values()), default=0)
+    n_chunks = counts["seen"]
+    n_rows = row_range(n_chunks - 1)[1] if n_chunks else 0
     extra = sorted(i for i in done if i >= n_chunks)
     if extra:  # a stream that is shorter than the one that made this output
         raise InputError(f"out: {store.path} holds another job (it has chunk {extra[0]}, "

@@ -94,14 +94,24 @@ def table_to_outputs(table, columns=None) -> dict[str, np.ndarray]:
 class ChunkStore:
     """The output directory of one job (see module docstring)."""
 
-    def __init__(self, path: str, manifest: dict):
+    def __init__(self, path: str, manifest: dict, *, lock: bool = False):
         self.path = os.fspath(path)
+        self._lock_fh = None
         from tennislab import __version__
         self.manifest = dict(manifest, format=FORMAT, tennislab=__version__)
         mpath = os.path.join(self.path, MANIFEST)
         if os.path.isfile(self.path):
             raise InputError(f"out: {self.path} is a file, expected a directory")
         os.makedirs(self.path, exist_ok=True)
+        if lock:
+            self._lock()
+        try:
+            self._open(mpath)
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self, mpath: str) -> None:
         for tmp in glob.glob(os.path.join(self.path, ".tmp-*")):  # leftovers of a killed run
             os.unlink(tmp)
         if os.path.exists(mpath):
@@ -113,11 +123,32 @@ class ChunkStore:
             self._check_same_job(old)
             self.manifest["complete"] = old.get("complete", False) and self.manifest.get("n_chunks") == old.get("n_chunks")
         else:
-            if os.listdir(self.path):
+            if [n for n in os.listdir(self.path) if n != ".lock"]:
                 raise InputError(f"out: {self.path} is not empty and has no {MANIFEST}; "
                                  "use an empty or new directory")
             self.manifest["complete"] = False
             self._write_manifest()
+
+    def _lock(self) -> None:
+        """Hold an exclusive lock on DIR/.lock until :meth:`close`: two runs never share a directory."""
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - not POSIX: no locking
+            return
+        fh = open(os.path.join(self.path, ".lock"), "a")
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.close()
+            raise InputError(f"out: {self.path} is in use by another run; wait for it or use another "
+                             "--out-dir") from None
+        self._lock_fh = fh
+
+    def close(self) -> None:
+        """Release the directory lock (if any)."""
+        if self._lock_fh is not None:
+            self._lock_fh.close()
+            self._lock_fh = None
 
     def _check_same_job(self, old: dict) -> None:
         for key in IDENTITY_KEYS:

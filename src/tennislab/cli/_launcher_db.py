@@ -103,6 +103,8 @@ def register_launcher(sub) -> None:
     p.add_argument("--speed-kmh", type=float, help="ball speed [km/h] (rounded to the machine's step; "
                                                    "default: any)")
     p.add_argument("--spin-rpm", type=float, help="spin [rpm] (rounded to the machine's step; default: any)")
+    p.add_argument("--height", type=float, help="only this launch height [m] (default: any)")
+    p.add_argument("--spin-axis-deg", type=float, help="only this spin-axis rotation [deg] (default: any)")
     p.add_argument("--max-miss-m", type=float, default=1.0,
                    help="refuse answers landing farther than this from the target [m] (default 1.0)")
     _add_machine_flags(p)
@@ -199,7 +201,8 @@ def run_table(args) -> int:
 
 
 # ------------------------------------------------------------------ lookup
-def lookup_result(path: str, target, spec, params, speed_kmh=None, spin_rpm=None, max_miss_m: float = 1.0) -> dict:
+def lookup_result(path: str, target, spec, params, speed_kmh=None, spin_rpm=None, max_miss_m: float = 1.0,
+                  height_m=None, spin_axis_deg=None) -> dict:
     """The JSON object of ``launcher lookup`` (keys of ``launcher aim`` plus ``lookup_ms``)."""
     from tennislab.errors import check_range
     from tennislab.launcher import db
@@ -209,12 +212,19 @@ def lookup_result(path: str, target, spec, params, speed_kmh=None, spin_rpm=None
         speed_kmh = spec.speed.quantise(spec.speed.check("--speed-kmh", speed_kmh))
     if spin_rpm is not None:
         spin_rpm = spec.spin.quantise(spec.spin.check("--spin-rpm", spin_rpm))
+    where = {}
+    for name, field, v in (("--height", "height_m", height_m), ("--spin-axis-deg", "spin_axis_deg", spin_axis_deg)):
+        if v is not None:
+            rng = spec.range_of(field)
+            q = rng.quantise(rng.check(name, v))
+            where[field] = (q - rng.step / 3, q + rng.step / 3)
     conn = db.open_readonly(path)
     try:
         with db.guard(path):
             h = db.check_config(conn, db.config_dict(spec, params), path)
             hit = db.lookup(conn, x, y, speed_kmh=speed_kmh, spin_rpm=spin_rpm, max_miss_m=max_miss_m,
-                            steps={"speed_kmh": spec.speed.step, "spin_rpm": spec.spin.step}, path=path)
+                            steps={"speed_kmh": spec.speed.step, "spin_rpm": spec.spin.step}, path=path,
+                            where=where)
     finally:
         conn.close()
     return _result_dict(hit, (x, y), spec, params, h, path)
@@ -252,7 +262,8 @@ def run_lookup(args) -> int:
     from tennislab.cli.common import emit_json
     spec = _machine_from_args(args)
     params = _physics(args)
-    out = lookup_result(args.db, args.target, spec, params, args.speed_kmh, args.spin_rpm, args.max_miss_m)
+    out = lookup_result(args.db, args.target, spec, params, args.speed_kmh, args.spin_rpm, args.max_miss_m,
+                        args.height, args.spin_axis_deg)
     if args.json:
         emit_json(out)
     else:

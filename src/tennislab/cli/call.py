@@ -43,6 +43,9 @@ def register(sub) -> None:
     p.add_argument("--sigma", type=float, help="per-axis track noise [m] if the CSV has no sigma column "
                                                "(default: estimated from the residuals)")
     p.add_argument("--fit-drag", action="store_true", help="also fit a drag scale factor")
+    p.add_argument("--contact-sigma", type=float, default=10.0, metavar="MM",
+                   help="prior sigma [mm] of the ball's travel during the contact around the contact model "
+                        "(default 10; 0 = trust the contact and bounce models exactly)")
     p.add_argument("--window", type=float, nargs=2, default=(0.6, 0.3), metavar=("BEFORE", "AFTER"),
                    help="fit only points this long before/after the bounce [s] (default 0.6 0.3)")
     add_physics_flags(p)
@@ -100,8 +103,11 @@ def _from_track(args, params, surface, t, xyz, sigma):
     w = args.window
     if not (0 < w[0] <= 100 and 0 <= w[1] <= 100):
         raise InputError(f"--window: ({w[0]:g}, {w[1]:g}) s is outside the allowed range (0, 100] x [0, 100] s")
+    if not (0 <= args.contact_sigma <= 1000):
+        raise InputError(f"--contact-sigma: {args.contact_sigma:g} mm is outside the allowed range [0, 1000] mm")
     t0 = time.perf_counter()
-    fit = fit_track(t, xyz, sigma, params, surface, fit_drag=args.fit_drag, window=tuple(w))
+    fit = fit_track(t, xyz, sigma, params, surface, fit_drag=args.fit_drag, window=tuple(w),
+                    contact_prior=args.contact_sigma / 1000.0)
     mark = ball_mark(fit.bounce_xy, fit.velocity_in, fit.velocity_out, fit.spin_in, surface, params.ball)
     elapsed = time.perf_counter() - t0
     sb = np.sqrt(np.clip(np.diag(fit.cov), 0, None))
@@ -116,6 +122,7 @@ def _from_track(args, params, surface, t, xyz, sigma):
                   "n_used": int(np.count_nonzero(fit.segment >= 0)),
                   "has_post_bounce": fit.has_post, "chi2_dof": fit.chi2_dof,
                   "sigma_mm": float(np.nanmedian(fit.sigma) * 1000), "drag_scale": fit.drag_scale,
+                  "contact_offset_mm": fit.contact_offset * 1000,
                   "evaluations": fit.n_iter, "elapsed_ms": elapsed * 1000}
     return out, mark, fit, (t, xyz)
 

@@ -27,7 +27,6 @@ def add_impact_flags(p) -> None:
 def seed_physics_from_args(args):
     """(FlightParams, ImpactParams) with the seed's constants, overridden by any flag given."""
     from tennislab.core.aero import get_aero_model
-    from tennislab.core.impact import ImpactParams
     from tennislab.serve.setup import seed_flight_params, seed_impact_params
     if args.aero == "table":
         if not getattr(args, "aero_table", None):
@@ -43,7 +42,6 @@ def seed_physics_from_args(args):
     if args.friction_model != "elastoplastic":
         import dataclasses
         imp = dataclasses.replace(imp, friction_model=args.friction_model)
-    assert isinstance(imp, ImpactParams)
     return flight, imp
 
 

@@ -20,9 +20,10 @@ except ImportError:  # pragma: no cover - the CLI works without it
     add_scheduler_flag = batch_options_from_args = map_chunks = None
 
 
-def _player_flags(p) -> None:
+def _player_flags(p, allow_all: bool = False) -> None:
     p.add_argument("--player", default="professional",
-                   help="professional (pro), recreational (rec) or junior (default professional)")
+                   help="professional (pro), recreational (rec) or junior (default professional)"
+                        + ("; 'all' = the seed's three players side by side" if allow_all else ""))
     p.add_argument("--impact-height", type=float, metavar="M", help="override the player's impact height [m]")
     p.add_argument("--racket-speed", type=float, metavar="V", help="override the player's racket speed [m/s]")
 
@@ -82,8 +83,11 @@ def register(sub) -> None:
     p = sub.add_parser("serve-window", help="all (alpha, beta) serves of a player: Table 1 of seed 000",
                        description="Sweep alpha and beta over 0-90 deg; summarise successful flat and "
                                    "topspin serves next to the seed's Table 1.")
-    _player_flags(p)
+    _player_flags(p, allow_all=True)
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step [deg] (default 1)")
+    p.add_argument("--brush", type=float, default=0.0, metavar="DEG",
+                   help="3-D brush direction in the face: 0 topspin, -90 slice, -45 kick [deg] (needs --target)")
+    _three_d_flags(p)
     add_impact_flags(p)
     add_physics_flags(p)
     p.add_argument("--csv", metavar="FILE", help="write every serve of the window as CSV")
@@ -107,7 +111,7 @@ def register(sub) -> None:
     _three_d_flags(p)
     add_impact_flags(p)
     add_physics_flags(p)
-    p.add_argument("--plot", metavar="FILE.png", help="landing points and 95 % ellipse on the court")
+    p.add_argument("--plot", metavar="FILE.png", help="landing points and 95%% ellipse on the court")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_batch(p)
     p.set_defaults(func=run_mc)
@@ -154,7 +158,8 @@ def comparison_table(win) -> list[str]:
     s = win.summary()
     keys = (("beta", 0), ("alpha", 0), ("spin_rpm", 0), ("speed", 1), ("landing_x", 2), ("net_height", 2),
             ("launch_angle", 1))
-    lines = [f"{win.player.name} (impact height {win.player.impact_height:g} m, racket {win.player.racket_speed:g} m/s)",
+    lines = [f"{win.player.name} (impact height {win.player.impact_height:g} m, racket {win.player.racket_speed:g} m/s; "
+             f"criteria {win.mode})",
              f"{'':9s}{'n':>5s}" + "".join(f"{k:>18s}" for k, _ in keys)]
     for cat in ("flat", "topspin"):
         lines.append(f"{cat:9s}{s[cat]['n']:5d}" + "".join(f"{_fmt_range(s[cat][k], nd):>18s}" for k, nd in keys))
@@ -164,48 +169,73 @@ def comparison_table(win) -> list[str]:
     return lines
 
 
-def run_window(args) -> int:
+def _window_dict(win):
     from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
-    from tennislab.serve.window import serve_window
-    flight, imp = seed_physics_from_args(args)
-    win = serve_window(_player(args), step=args.step, flight=flight, impact=imp, mapper=_mapper(args),
-                       **_impact_kw(args))
     out = win.to_dict()
     if win.player.name in TABLE1:
         out["published"] = {"summary": TABLE1[win.player.name], "peak_spin_alpha": PEAK_SPIN_ALPHA[win.player.name],
                             "optimum": OPTIMUM[win.player.name]}
+    return out
+
+
+def run_window(args) -> int:
+    from tennislab.serve.players import SEED_PLAYERS
+    from tennislab.serve.published import PEAK_SPIN_ALPHA
+    from tennislab.serve.window import serve_window
+    flight, imp = seed_physics_from_args(args)
+    if args.player == "all":
+        if args.impact_height is not None or args.racket_speed is not None:
+            raise InputError("--player all: --impact-height/--racket-speed need a single player")
+        players = list(SEED_PLAYERS)
+    else:
+        players = [_player(args)]
+    mapper = _mapper(args)
+    wins = [serve_window(pl, step=args.step, flight=flight, impact=imp, mapper=mapper, target=args.target,
+                         server_y=args.server_y, azimuth_deg=args.azimuth, brush_deg=args.brush, **_impact_kw(args))
+            for pl in players]
+    outs = [_window_dict(w) for w in wins]
+    out = outs[0] if len(outs) == 1 else {"players": {w.player.name: o for w, o in zip(wins, outs)}}
     if args.csv:
-        cols = ("beta", "alpha", "spin_rpm", "speed", "launch_angle", "net_height", "landing_x", "success",
-                "category")
+        cols = ("player", "beta", "alpha", "spin_rpm", "speed", "launch_angle", "net_height", "landing_x",
+                "success", "category")
 
         def _w(fh):
             w = csv.DictWriter(fh, fieldnames=cols, extrasaction="ignore", lineterminator="\n")
             w.writeheader()
-            for row in win.rows():
-                w.writerow(row)
+            for win in wins:
+                for row in win.rows():
+                    row["player"] = win.player.name
+                    w.writerow(row)
         atomic_write(args.csv, _w)
     if args.plot:
         from tennislab.plot.serve import plot_window
         from tennislab.serve.single import simulate_serve
-        trs = []
-        for cat in ("flat", "topspin"):
-            o = out["optimum"][cat]
-            trs.append(None if o is None else simulate_serve(
-                win.player, o["alpha"], o["beta"], flight=flight, impact_params=imp, trajectory=True,
-                **_impact_kw(args))["_trajectory"])
-        save_figure(plot_window([win], optimum_trajectories=[trs]), args.plot)
+        all_trs = []
+        for win, o in zip(wins, outs):
+            trs = []
+            for cat in ("flat", "topspin"):
+                opt = o["optimum"][cat]
+                trs.append(None if opt is None else simulate_serve(
+                    win.player, opt["alpha"], opt["beta"], flight=flight, impact_params=imp, trajectory=True,
+                    target=args.target, server_y=args.server_y, azimuth_deg=args.azimuth, brush_deg=args.brush,
+                    **_impact_kw(args))["_trajectory"])
+            all_trs.append(trs)
+        save_figure(plot_window(wins, optimum_trajectories=all_trs), args.plot)
     if args.json:
         emit_json(out)
     else:
-        print("\n".join(comparison_table(win)))
-        print(f"peak spin at alpha = {out['peak_spin_alpha']:g} deg"
-              + (f" (seed {PEAK_SPIN_ALPHA[win.player.name]})" if win.player.name in PEAK_SPIN_ALPHA else ""))
-        for cat in ("flat", "topspin"):
-            o = out["optimum"][cat]
-            if o:
-                print(f"optimum {cat}: beta {o['beta']:g}, alpha {o['alpha']:g}, {o['speed']:.2f} m/s, "
-                      f"{o['spin_rpm']:.0f} rpm, X {o['landing_x']:.2f} m, Y {o['net_height']:.2f} m, "
-                      f"gamma {o['launch_angle']:.1f} deg")
+        for win, o in zip(wins, outs):
+            print("\n".join(comparison_table(win)))
+            name = win.player.name
+            print(f"peak spin at alpha = {o['peak_spin_alpha']:g} deg"
+                  + (f" (seed {PEAK_SPIN_ALPHA[name]})" if name in PEAK_SPIN_ALPHA else ""))
+            for cat in ("flat", "topspin"):
+                opt = o["optimum"][cat]
+                if opt:
+                    print(f"optimum {cat}: beta {opt['beta']:g}, alpha {opt['alpha']:g}, {opt['speed']:.2f} m/s, "
+                          f"{opt['spin_rpm']:.0f} rpm, X {opt['landing_x']:.2f} m, Y {opt['net_height']:.2f} m, "
+                          f"gamma {opt['launch_angle']:.1f} deg")
+            print()
         for f in (args.csv, args.plot):
             if f:
                 print(f"wrote {f}")

@@ -194,7 +194,43 @@ def contact_displacement(vxi, vyi, vxo, vyo, vz_in, mu, e, T, out):
 
 
 # ------------------------------------------------------------------ geometry
-def depth_in_rect(discs: np.ndarray, rect, offsets=None) -> np.ndarray:
+@nb.njit(cache=True)
+def _depth_rect_kernel(discs, x0, x1, y0, y1, off, out):
+    for m in range(off.shape[0]):
+        best = -np.inf
+        for i in range(discs.shape[0]):
+            cx = discs[i, 0] + off[m, 0]
+            cy = discs[i, 1] + off[m, 1]
+            dx = min(cx - x0, x1 - cx)
+            dy = min(cy - y0, y1 - cy)
+            if dx >= 0.0 and dy >= 0.0:
+                d = min(dx, dy)
+            else:
+                d = -math.sqrt(max(0.0, -dx) ** 2 + max(0.0, -dy) ** 2)
+            d += discs[i, 2]
+            if d > best:
+                best = d
+        out[m] = best
+
+
+@nb.njit(cache=True)
+def _depth_half_kernel(discs, axis, edge, inward, off, out):
+    for m in range(off.shape[0]):
+        best = -np.inf
+        for i in range(discs.shape[0]):
+            d = inward * (discs[i, axis] + off[m, axis] - edge) + discs[i, 2]
+            if d > best:
+                best = d
+        out[m] = best
+
+
+def _offsets(offsets):
+    if offsets is None:
+        return np.zeros((1, 2))
+    return np.ascontiguousarray(np.asarray(offsets, dtype=float).reshape(-1, 2))
+
+
+def depth_in_rect(discs: np.ndarray, rect, offsets=None):
     """How far the mark reaches into a rectangle [m]: >= 0 when any part touches it.
 
     For each disc (x, y, a): depth of its centre inside ``rect`` = (xmin, xmax,
@@ -203,19 +239,11 @@ def depth_in_rect(discs: np.ndarray, rect, offsets=None) -> np.ndarray:
     maximum over discs.  ``offsets`` (M, 2) translates the mark (Monte Carlo
     over the bounce-point uncertainty); returns (M,) or a scalar.
     """
-    x0, x1, y0, y1 = rect
-    off = np.zeros((1, 2)) if offsets is None else np.asarray(offsets, dtype=float).reshape(-1, 2)
-    cx = discs[None, :, 0] + off[:, 0:1]
-    cy = discs[None, :, 1] + off[:, 1:2]
-    dx = np.minimum(cx - x0, x1 - cx)
-    dy = np.minimum(cy - y0, y1 - cy)
-    inside = np.minimum(dx, dy)
-    ox = np.maximum(0.0, -dx)
-    oy = np.maximum(0.0, -dy)
-    outside = -np.hypot(ox, oy)
-    depth = np.where((dx >= 0) & (dy >= 0), inside, outside) + discs[None, :, 2]
-    res = depth.max(axis=1)
-    return float(res[0]) if offsets is None else res
+    off = _offsets(offsets)
+    out = np.empty(off.shape[0])
+    x0, x1, y0, y1 = (float(v) for v in rect)
+    _depth_rect_kernel(np.ascontiguousarray(discs, dtype=float), x0, x1, y0, y1, off, out)
+    return float(out[0]) if offsets is None else out
 
 
 def depth_in_halfplane(discs: np.ndarray, axis: int, edge: float, inward: float, offsets=None):
@@ -223,7 +251,7 @@ def depth_in_halfplane(discs: np.ndarray, axis: int, edge: float, inward: float,
 
     The inside is where ``inward * (p[axis] - edge) >= 0``.
     """
-    off = np.zeros((1, 2)) if offsets is None else np.asarray(offsets, dtype=float).reshape(-1, 2)
-    c = discs[None, :, axis] + off[:, axis:axis + 1]
-    res = (inward * (c - edge) + discs[None, :, 2]).max(axis=1)
-    return float(res[0]) if offsets is None else res
+    off = _offsets(offsets)
+    out = np.empty(off.shape[0])
+    _depth_half_kernel(np.ascontiguousarray(discs, dtype=float), int(axis), float(edge), float(inward), off, out)
+    return float(out[0]) if offsets is None else out

@@ -178,17 +178,13 @@ def check_not_truncated(path: str) -> None:
                          f"{n_pages} pages of {page} bytes = {n_pages * page} bytes)")
 
 
-def migrate(conn: sqlite3.Connection, path: str = "", target: int = SCHEMA_VERSION) -> int:
-    """Upgrade the schema of an open read-write file to ``target``; return the old version.
-
-    A new (empty) file is initialised; a file written by a newer tennislab, or a
-    SQLite file of another application, is refused.
-    """
+def _check_identity(conn: sqlite3.Connection, path: str) -> int:
+    """Schema version of an open file; InputError for another application's file or a newer schema."""
     version = conn.execute("PRAGMA user_version").fetchone()[0]
     app = conn.execute("PRAGMA application_id").fetchone()[0]
     if version == 0:
         n = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
-        if n:
+        if n or app not in (0, APPLICATION_ID):
             raise InputError(f"--db {path}: a SQLite file of another application (it has tables "
                              "but no tennislab schema version); refusing to modify it")
     elif app != APPLICATION_ID:
@@ -196,6 +192,16 @@ def migrate(conn: sqlite3.Connection, path: str = "", target: int = SCHEMA_VERSI
     if version > max(MIGRATIONS):
         raise InputError(f"--db {path}: schema version {version} is newer than this tennislab "
                          f"understands ({max(MIGRATIONS)}); upgrade tennislab")
+    return version
+
+
+def migrate(conn: sqlite3.Connection, path: str = "", target: int = SCHEMA_VERSION) -> int:
+    """Upgrade the schema of an open read-write file to ``target``; return the old version.
+
+    A new (empty) file is initialised; a file written by a newer tennislab, or a
+    SQLite file of another application, is refused.  Each step is one transaction.
+    """
+    version = _check_identity(conn, path)
     for v in range(version + 1, target + 1):
         conn.execute("BEGIN IMMEDIATE")
         try:
@@ -231,8 +237,10 @@ def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERS
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
         raise InputError(f"--db {path}: directory {d} does not exist")
+    conn = None
     try:
         conn = sqlite3.connect(path, timeout=30.0, isolation_level=None)
+        _check_identity(conn, path)  # before anything could modify another application's file
         mode = conn.execute("PRAGMA journal_mode=WAL").fetchone()[0]
         if mode.lower() != "wal":
             raise sqlite3.DatabaseError(f"cannot switch to WAL mode (got {mode})")
@@ -241,7 +249,11 @@ def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERS
         conn.execute("PRAGMA cache_size=-131072")  # 128 MiB: R*Tree inserts touch many nodes
         migrate(conn, path, target_version)
         conn.execute("SELECT count(*) FROM machine").fetchone()
-    except sqlite3.DatabaseError as exc:
+    except (sqlite3.DatabaseError, InputError) as exc:
+        if conn is not None:
+            conn.close()
+        if isinstance(exc, InputError):
+            raise
         raise _db_error(path, exc) from None
     return conn
 
@@ -255,6 +267,7 @@ def open_readonly(path: str) -> sqlite3.Connection:
     check_not_truncated(path)
     from urllib.parse import quote
     uri = "file:" + quote(os.path.abspath(path)) + "?mode=ro"
+    conn = None
     try:
         conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
@@ -268,7 +281,11 @@ def open_readonly(path: str) -> sqlite3.Connection:
             raise InputError(f"--db {path}: schema version {version} is older than {SCHEMA_VERSION}; "
                              "rerun `launcher table` on it to migrate it (finished chunks are skipped)")
         conn.execute("SELECT count(*) FROM machine").fetchone()
-    except sqlite3.DatabaseError as exc:
+    except (sqlite3.DatabaseError, InputError) as exc:
+        if conn is not None:
+            conn.close()
+        if isinstance(exc, InputError):
+            raise
         raise _db_error(path, exc) from None
     return conn
 
@@ -470,7 +487,7 @@ def _half_window(value, step):
 
 def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: float | None = None,
                 spin_rpm: float | None = None, speed_tol: float = 1e-3, spin_tol: float = 1e-3,
-                start_m: float = 0.05, max_m: float = 64.0, tie_m: float = TIE_M):
+                start_m: float = 0.05, max_m: float = 64.0, tie_m: float = TIE_M, where: dict | None = None):
     """The stored hit whose landing is nearest (x, y) among those matching speed and spin.
 
     R*Tree box queries around the target (``hits_rtree`` over x, y, speed and
@@ -481,7 +498,11 @@ def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: floa
     within ``tie_m``) go to the larger net clearance.  Returns a dict (columns
     of ``hits`` plus ``miss_m`` and ``n_candidates``, the rows the last query
     read) or None when no matching hit lands within ``max_m`` of the target.
+    ``where`` {column: (lo, hi)} filters on other settings (e.g. ``height_m``)
+    in the join, after the index.
     """
+    extra = "".join(f" AND h.{c} BETWEEN ? AND ?" for c in (where or {}) if c in HIT_SETTINGS)
+    xargs = [v for c, lh in (where or {}).items() if c in HIT_SETTINGS for v in lh]
     inf = 1e30
     s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
     w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
@@ -490,9 +511,10 @@ def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: floa
     d = min(start_m, limit)
     while True:
         if free:
-            rows = conn.execute(_BOX_XY_SQL, (x - d, x + d, y - d, y + d)).fetchall()
+            rows = conn.execute(_BOX_XY_SQL + extra, [x - d, x + d, y - d, y + d] + xargs).fetchall()
         else:
-            rows = conn.execute(_BOX_SQL, (x - d, x + d, y - d, y + d, s_lo, s_hi, w_lo, w_hi)).fetchall()
+            rows = conn.execute(_BOX_SQL + extra, [x - d, x + d, y - d, y + d, s_lo, s_hi, w_lo, w_hi]
+                                + xargs).fetchall()
         if rows:
             a = np.array([r[7:9] for r in rows])
             miss = np.hypot(a[:, 0] - x, a[:, 1] - y)
@@ -584,7 +606,7 @@ def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tup
 
 
 def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin_rpm=None,
-           steps: dict | None = None, max_miss_m: float = 1.0, path: str = "") -> dict:
+           steps: dict | None = None, max_miss_m: float = 1.0, path: str = "", where: dict | None = None) -> dict:
     """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
 
     ``steps`` (grid step per setting, from the machine spec) sets how close a
@@ -597,12 +619,13 @@ def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin
     st = _half_window(speed_kmh, steps.get("speed_kmh"))
     wt = _half_window(spin_rpm, steps.get("spin_rpm"))
     hit = nearest_hit(conn, x, y, speed_kmh=speed_kmh, spin_rpm=spin_rpm, speed_tol=st, spin_tol=wt,
-                      max_m=max_miss_m)
+                      max_m=max_miss_m, where=where)
     ms = (time.perf_counter() - t0) * 1e3
     if hit is None:
         if count_hits_fast(conn) == 0:
             raise InputError(f"--db {path}: the table holds no hits; fill it with `launcher table`")
-        want = ", ".join(f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None)
+        want = ", ".join([f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
+                         + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()])
         if not has_hits(conn, speed_kmh, spin_rpm, st, wt):
             rng = table_ranges(conn)
             raise InputError(f"--target: no hit with {want} in the table (filled: speed "

@@ -3,18 +3,20 @@
 The grid is the machine's own (seed 002 section 2: height 0.1 m, speed 1 km/h,
 elevation, heading and spin-axis rotation 1 deg, spin 1 rpm steps), restricted
 to the ranges asked for and optionally coarsened by an integer stride.  Rows
-are enumerated lazily (:class:`tennislab.batch.grid.GridSpec` over per-setting
-grid *indices*), in the order :data:`AXES` (height slowest, heading fastest),
-so that one chunk holds neighbouring elevations and headings of one speed and
-spin: compact landing patches, which keeps the R*Tree tight.
+are enumerated lazily by index arithmetic (:class:`TableGrid`, the same C order
+as :class:`tennislab.batch.grid.GridSpec`), in the order :data:`AXES` (height
+slowest, heading fastest), so that one chunk holds neighbouring elevations and
+headings of one speed and spin: compact landing patches, which keeps the
+R*Tree tight.
 
 Each chunk is flown with :func:`tennislab.core.flight.fly_batch` on
-:func:`tennislab.launcher.machine.launch_states`; a row is kept when the ball
-lands (status 0), clears the net (``net_status`` over) and lands within the far
-half's doubles area plus :data:`KEEP_MARGIN_M` (a controller never aims
-elsewhere; the Parquet output of the batch layer keeps every row).  With zero
-spin every spin-axis rotation gives the same flight, so only the axis nearest
-0 deg is flown.
+:func:`tennislab.launcher.machine.launch_states` (:func:`fly_chunk`, on any
+runner of :mod:`tennislab.batch.schedulers`); :func:`select_hits` keeps a row
+when the ball lands (status 0), clears the net (``net_status`` over) and lands
+in the doubles area of the half opposite the machine plus
+:data:`KEEP_MARGIN_M` (a controller never aims elsewhere; the optional Parquet
+output keeps every row).  With zero spin every spin-axis rotation is the same
+flight, so only the rotation nearest 0 deg is stored.
 
 A row's ``id`` packs its per-setting grid indices in mixed radix
 (:func:`pack_ids`): stable for a machine spec, so a resumed or overlapping fill
@@ -22,6 +24,7 @@ inserts each setting once.
 """
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import time
@@ -35,7 +38,7 @@ from tennislab.units import RPM
 
 #: Setting order of the grid (first slowest) and of the packed id.
 AXES = ("height_m", "speed_kmh", "spin_rpm", "spin_axis_deg", "elevation_deg", "heading_deg")
-#: Kept landing area: the far half's doubles court plus this margin [m].
+#: Kept landing area: the doubles court of the half opposite the machine plus this margin [m].
 KEEP_MARGIN_M = 1.0
 #: Default rows per chunk (one transaction each; ~0.1-0.3 s of fly_batch on 2 cores).
 DEFAULT_CHUNK = 20_000
@@ -254,14 +257,14 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
         store = _parquet_store(out_dir, h, grid, chunk_size) if out_dir else None
         if store is not None:
             done = done & store.done()
-        todo = [i for i in range(n_chunks) if i not in done]
-        if max_chunks is not None:
-            todo = todo[:int(max_chunks)]
+        n_todo = n_chunks - len(done) if max_chunks is None else min(int(max_chunks), n_chunks - len(done))
+        # lazy: the full grid has ~10^9 chunks
+        todo = itertools.islice((i for i in range(n_chunks) if i not in done), n_todo)
         bar = None
         if progress:
             from tennislab.batch.progress import ProgressBar, progress_enabled
             bar = ProgressBar(n_chunks, desc=f"launcher table -> {path}", enabled=progress_enabled(progress))
-            bar.skip(n_chunks - len(todo) if max_chunks is None else len(done))
+            bar.skip(len(done))
         payloads = ((i, (i, grid.chunk(i, chunk_size), spec, params)) for i in todo)
         run = runner.run if runner is not None else _local_run
         inserted = 0
@@ -285,8 +288,7 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
         total = _db.count_hits(conn)
     finally:
         conn.close()
-    return FillReport(path, h, grid.size, n_chunks, n_chunks - len(todo) if max_chunks is None else len(done),
-                      len(todo), inserted, total, time.perf_counter() - t0)
+    return FillReport(path, h, grid.size, n_chunks, len(done), n_todo, inserted, total, time.perf_counter() - t0)
 
 
 def _parquet_store(out_dir: str, config_hash: str, grid: TableGrid, chunk_size: int):

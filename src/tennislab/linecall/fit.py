@@ -5,16 +5,22 @@ Unknowns (see :mod:`tennislab.linecall.model`): the first-contact point and time
 the ground (when there are points after the bounce) and optionally a drag
 scale.  The bounce point is found jointly from both segments: they share
 (x_b, y_b, t_b), the post-bounce flight starting where the contact model puts
-it.  Spin out is the bounce model's (surface), not fitted.
+it.  The contact model (travel of the centre during the contact, spin out of
+the bounce model for ``surface``) enters as a prior, not a constraint: an
+offset of the travel (prior sigma 10 mm: T_c = 4-5 ms at 10-35 m/s) and of the
+spin out (prior sigma 150 rad/s) are fitted with the other unknowns, which
+makes the bounce point insensitive to a wrong surface (docs/linecall.md).
 
 Procedure:
 
 1. Split the track at its lowest point (running median of z); quadratic fits
    of each segment give the starting values (bounce where the pre-bounce
    quadratic reaches z = r).
-2. ``scipy.optimize.least_squares`` (trust-region reflective) on residuals
-   weighted by 1/sigma, with the robust soft-L1 loss, and a compiled
-   forward-difference Jacobian.  A weak prior (sigma 500 rad/s) on each spin
+2. Levenberg-Marquardt (:func:`_levenberg_marquardt`) on residuals weighted
+   by 1/sigma, with the robust soft-L1 loss on each point's 3-D residual and a
+   compiled forward-difference Jacobian; the normal equations are accumulated
+   by a compiled loop (no multi-threaded BLAS call, which on a busy machine
+   cost 10x the fit itself).  A weak prior (sigma 500 rad/s) on each spin
    component keeps the spin along the velocity (unobservable but for the
    spin dependence of C_D) from wandering.
 3. Iterative outlier rejection: points whose 3-D normalised residual exceeds
@@ -30,7 +36,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from tennislab.core.bounce import bounce
 from tennislab.core.flight import FlightParams
@@ -40,10 +45,16 @@ from tennislab.errors import InputError
 from tennislab.linecall import model as M
 
 SPIN_PRIOR = 500.0          #: [rad/s] sigma of the weak zero-mean prior on each spin component
+CONTACT_PRIOR = 0.01        #: [m] sigma of the contact-travel offset (T_c +- 0.5 ms at 20 m/s)
+SPIN_OUT_PRIOR = 150.0      #: [rad/s] sigma of the offset of the spin out from the bounce model
+#: zero-mean Gaussian priors (sigma) on parameters, by parameter index
+PRIOR_SIGMA = {6: SPIN_PRIOR, 7: SPIN_PRIOR, 8: SPIN_PRIOR, 13: CONTACT_PRIOR, 14: CONTACT_PRIOR,
+               15: SPIN_OUT_PRIOR, 16: SPIN_OUT_PRIOR, 17: SPIN_OUT_PRIOR}
 OUTLIER_SIGMA = 4.0         #: normalised 3-D residual above which a point is an outlier
 MIN_PRE_POINTS = 6          #: fewest points before the bounce
 MIN_POST_POINTS = 4         #: fewest points after the bounce to fit the outgoing velocity
-STEPS = np.array([1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6])
+STEPS = np.array([1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6,
+                  1e-3, 1e-3, 1e-3])
 
 
 @dataclass(frozen=True)
@@ -93,6 +104,11 @@ class TrackFit:
     @property
     def velocity_out(self) -> np.ndarray:
         return self.p[9:12].copy()
+
+    @property
+    def contact_offset(self) -> np.ndarray:
+        """Fitted offset of the ball's travel during the contact from the contact model [m]."""
+        return self.p[13:15].copy()
 
     @property
     def drag_scale(self) -> float:
@@ -197,20 +213,89 @@ def _segments(t, tb, tc, has_post, outlier):
     return seg.astype(np.int64)
 
 
-def _solve(fun, jac, x0, loss):
-    return least_squares(fun, x0, jac=jac, method="trf", loss=loss, f_scale=2.0, x_scale="jac",
-                         xtol=1e-9, ftol=1e-9, gtol=1e-9, max_nfev=100)
+ROBUST_SCALE = 2.0   #: soft-L1 scale of the first round [sigma]
+COST_TOL = 1e-3      #: stop when an iteration lowers the cost (chi^2) by less than this
+
+
+def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_idx, prior_sig, robust: bool,
+                         max_iter: int = 60):
+    """Minimise the (robust) cost over p[free] from x0.  Returns (x, cost, model evaluations).
+
+    Levenberg-Marquardt with Marquardt's diagonal scaling (More 1978) on the normal equations
+    (accumulated by a compiled loop), soft-L1 loss by iteratively reweighting each point by
+    rho'(z) = 1/sqrt(1 + z), z = |r_i|^2 / f^2 (Triggs et al. 2000, sec. 6.8) when ``robust``.
+    """
+    n = t.size
+    npar = free.size
+    res = np.empty(3 * n)
+    pos = np.empty((n, 3))
+    J = np.empty((3 * n, npar))
+    A = np.empty((npar, npar))
+    g = np.empty(npar)
+    q = p.copy()
+
+    def cost_of(x):
+        q[free] = x
+        M.residuals(q, t, xyz, w, seg, kern, ap, consts, res, pos)
+        r2 = (res.reshape(-1, 3) ** 2).sum(axis=1)
+        if robust:
+            c = float(np.sum(2.0 * ROBUST_SCALE ** 2 * (np.sqrt(1.0 + r2 / ROBUST_SCALE ** 2) - 1.0)))
+        else:
+            c = float(np.sum(r2))
+        return c + float(np.sum((x[prior_idx] / prior_sig) ** 2)), r2
+
+    x = np.array(x0, dtype=float)
+    cost, r2 = cost_of(x)
+    nev = 1
+    lam = 1e-3
+    for _ in range(max_iter):
+        q[free] = x
+        M.jacobian(q, free, STEPS, t, xyz, w, seg, kern, ap, consts, res, J)
+        nev += npar
+        wpt = 1.0 / np.sqrt(1.0 + r2 / ROBUST_SCALE ** 2) if robust else np.ones(n)
+        M.normal_equations(J, res, wpt, A, g)
+        for j, sj in zip(prior_idx, prior_sig):
+            A[j, j] += 1.0 / sj ** 2
+            g[j] += x[j] / sj ** 2
+        d = np.maximum(np.diag(A).copy(), 1e-30)
+        improved = False
+        for _ in range(12):
+            try:
+                step = -np.linalg.solve(A + lam * np.diag(d), g)
+            except np.linalg.LinAlgError:
+                lam *= 10.0
+                continue
+            xn = x + step
+            cn, r2n = cost_of(xn)
+            nev += 1
+            if np.isfinite(cn) and cn < cost:
+                improved = True
+                break
+            lam *= 10.0
+        if not improved:
+            cost_of(x)      # restore the residual buffer at x
+            break
+        gain = cost - cn
+        small = np.all(np.abs(step) <= 1e-10 + 1e-9 * np.abs(x))
+        x, cost, r2 = xn, cn, r2n
+        lam = max(lam / 10.0, 1e-12)
+        if gain < COST_TOL or small:    # cost is chi^2: a gain of 1e-3 moves parameters by ~0.03 sigma
+            break
+    return x, cost, nev
 
 
 def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="hard", *,
               fit_drag: bool = False, mark_params: MarkParams = MarkParams(), step: float = 4e-3,
-              max_rounds: int = 5, window: tuple | None = (0.6, 0.3)) -> TrackFit:
+              max_rounds: int = 5, window: tuple | None = (0.6, 0.3),
+              contact_prior: float = CONTACT_PRIOR) -> TrackFit:
     """Fit the flight model to a track (see the module docstring).
 
     t : (N,) strictly increasing times [s]; xyz : (N, 3) ball-centre positions [m];
     sigma : (N,) per-point 1-sigma 3-D noise per axis [m] or None (estimated);
     params : :class:`FlightParams`; surface : bounce surface (spin out, contact
-    displacement); fit_drag : also fit a drag scale; window : (before, after) [s]
+    displacement); fit_drag : also fit a drag scale; contact_prior : sigma [m] of the
+    offset of the contact travel from the contact model (0: trust the contact model and
+    the bounce model's spin out exactly); window : (before, after) [s]
     around the first bounce estimate: only points in it are fitted (None: all).
     Points outside the window get segment -1 and residual NaN.
     """
@@ -237,51 +322,41 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     consts = M.make_consts(params, s, tc, step)
     kern, ap = params.aero.kernel, params.aero.params
     outlier = np.zeros(n, dtype=bool)
-    free_list = list(range(9)) + ([9, 10, 11] if has_post else []) + ([12] if fit_drag else [])
+    free_list = (list(range(9)) + ([9, 10, 11] if has_post else []) + ([12] if fit_drag else [])
+                 + (list(range(13, 18)) if has_post and contact_prior > 0 else []))
     free = np.array(free_list, dtype=np.int64)
     spin_cols = [j for j, f in enumerate(free_list) if 6 <= f <= 8]
     pos = np.empty((n, 3))
-    res = np.empty(3 * n)
     seg = _segments(t, p[2], tc, has_post, outlier)
     n_iter = 0
-    state = {"seg": seg, "w": 1.0 / sig}
+    w = 1.0 / sig
+    spin_idx = np.array([j for j, f in enumerate(free_list) if 6 <= f <= 8], dtype=np.int64)
+    prior_idx = np.array([j for j, f in enumerate(free_list) if f in PRIOR_SIGMA], dtype=np.int64)
+    psig = dict(PRIOR_SIGMA)
+    if contact_prior > 0:
+        psig[13] = psig[14] = float(contact_prior)
+    prior_sig = np.array([psig[free_list[j]] for j in prior_idx])
 
-    def fun(x):
-        q = p.copy()
-        q[free] = x
-        M.residuals(q, t, xyz, state["w"], state["seg"], kern, ap, consts, res, pos)
-        prior = q[6:9] / SPIN_PRIOR
-        return np.concatenate([res, prior])
+    def solve(x0, seg, w, robust):
+        return _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_idx, prior_sig, robust)
 
-    def jac(x):
-        q = p.copy()
-        q[free] = x
-        base = np.empty(3 * n)
-        M.residuals(q, t, xyz, state["w"], state["seg"], kern, ap, consts, base, pos)
-        J = np.empty((3 * n, free.size))
-        M.jacobian(q, free, STEPS, t, xyz, state["w"], state["seg"], kern, ap, consts, base, J)
-        Jp = np.zeros((3, free.size))
-        for i, c in enumerate(spin_cols):
-            Jp[i, c] = 1.0 / SPIN_PRIOR
-        return np.vstack([J, Jp])
-
-    loss = "soft_l1"
-    sol = None
+    robust = True
     for rnd in range(max_rounds):
-        sol = _solve(fun, jac, p[free], loss)
-        n_iter += sol.nfev
-        if rnd == 0 and spin_cols:
+        x, cost, nev = solve(p[free], seg, w, robust)
+        n_iter += nev
+        q = p.copy()
+        q[free] = x
+        along = abs(np.dot(q[6:9], q[3:6])) / np.linalg.norm(q[3:6])
+        if rnd == 0 and spin_idx.size and along > 10.0:
             # The spin component along the velocity is seen only through the turning of the
             # velocity: its sign can hide in a second minimum.  Restart with it reflected.
-            q = p.copy()
-            q[free] = sol.x
             vh = q[3:6] / np.linalg.norm(q[3:6])
             q[6:9] -= 2.0 * np.dot(q[6:9], vh) * vh
-            alt = _solve(fun, jac, q[free], loss)
-            n_iter += alt.nfev
-            if alt.cost < sol.cost:
-                sol = alt
-        p[free] = sol.x
+            x2, cost2, nev2 = solve(q[free], seg, w, robust)
+            n_iter += nev2
+            if cost2 < cost:
+                x, cost = x2, cost2
+        p[free] = x
         nat = _segments(t, p[2], tc, has_post, np.zeros(n, dtype=bool))
         pos_all = np.full((n, 3), np.nan)
         M.model_positions(p, t, nat, kern, ap, consts, pos_all, True, True)
@@ -292,28 +367,36 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
             comp = r3[used].ravel()
             s_est = 1.4826 * np.median(np.abs(comp - np.median(comp)))
             sig = np.full(n, max(s_est, 1e-5))
-            state["w"] = 1.0 / sig
+            w = 1.0 / sig
         norm = np.where(usable, np.linalg.norm(np.nan_to_num(r3), axis=1) / sig, 0.0)
         new_out = usable & (norm > OUTLIER_SIGMA)
         new_seg = _segments(t, p[2], tc, has_post, new_out)
-        if loss == "linear" and np.array_equal(new_seg, state["seg"]):
+        if not robust and np.array_equal(new_seg, seg):
             break
         outlier = new_out
-        state["seg"] = new_seg
-        loss = "linear"
+        seg = new_seg
+        robust = False
+    state = {"seg": seg, "w": w}
     if np.count_nonzero(state["seg"] == M.SEG_PRE) < MIN_PRE_POINTS:
         raise InputError(f"track: too few usable points before the bounce (need {MIN_PRE_POINTS})")
     # final residuals and covariance
+    res = np.empty(3 * n)
     M.residuals(p, t, xyz, state["w"], state["seg"], kern, ap, consts, res, pos)
-    J = jac(p[free])
+    J = np.empty((3 * n, free.size))
+    M.jacobian(p, free, STEPS, t, xyz, state["w"], state["seg"], kern, ap, consts, res, J)
+    A = np.empty((free.size, free.size))
+    g = np.empty(free.size)
+    M.normal_equations(J, res, np.ones(n), A, g)
+    for j, sj in zip(prior_idx, prior_sig):
+        A[j, j] += 1.0 / sj ** 2
     used = state["seg"] != M.SEG_OFF
     nres = 3 * np.count_nonzero(used)
     dof = max(nres - free.size, 1)
     chi2 = float(np.sum(res ** 2)) / dof
     try:
-        cov = np.linalg.pinv(J.T @ J) * max(1.0, chi2)
-    except np.linalg.LinAlgError:  # pragma: no cover
-        cov = np.full((free.size, free.size), np.nan)
+        cov = np.linalg.inv(A) * max(1.0, chi2)
+    except np.linalg.LinAlgError:
+        cov = np.linalg.pinv(A) * max(1.0, chi2)
     nat = _segments(t, p[2], tc, has_post, np.zeros(n, dtype=bool))
     pos_all = np.full((n, 3), np.nan)
     M.model_positions(p, t, nat, kern, ap, consts, pos_all, True, True)
@@ -321,7 +404,7 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     rms = float(math.sqrt(np.mean(r3[used] ** 2))) if used.any() else float("nan")
     # bounce-point covariance, including t_b's correlation (the point is at fixed t_b)
     bc = cov[:2, :2].copy()
-    spin_out = bounce(p[3:6], p[6:9], s, params.ball).spin_out
+    spin_out = bounce(p[3:6], p[6:9], s, params.ball).spin_out + p[15:18]
     seg_all = np.full(n_all, M.SEG_OFF, dtype=np.int64)
     seg_all[rows] = state["seg"]
     out_all = np.zeros(n_all, dtype=bool)

@@ -1,12 +1,14 @@
 """The compiled track model: ball-centre positions at given times from bounce parameters.
 
-Parameter vector (NPARAM = 13), all SI:
+Parameter vector (NPARAM = 18), all SI:
 
     0-2   x_b, y_b, t_b      first-contact point (ball centre at z = r) and time
     3-5   v_in               velocity at contact
     6-8   w_in               spin at contact
     9-11  v_out              velocity leaving the ground (time t_b + T_c)
     12    drag scale         multiplies the drag constant k (1 = nominal)
+    13-14 contact offset     added to the modelled travel of the centre during the contact
+    15-17 spin-out offset    added to the bounce model's outgoing spin
 
 Before the bounce the flight is integrated *backward* from (x_b, y_b, r, v_in,
 w_in) at t_b, after it forward from (x_b + d, y_b + d', r, v_out, w_out) at
@@ -31,12 +33,14 @@ from tennislab.core.bounce import bounce_kernel
 from tennislab.core.dynamics import derivative
 from tennislab.core.mark import contact_displacement
 
-NPARAM = 13
+NPARAM = 18
 P_XB, P_YB, P_TB = 0, 1, 2
 P_VIN = slice(3, 6)
 P_WIN = slice(6, 9)
 P_VOUT = slice(9, 12)
 P_DRAG = 12
+P_DXY = slice(13, 15)
+P_DWOUT = slice(15, 18)
 
 # consts layout
 C_K, C_G, C_R, C_WX, C_WY, C_WZ, C_DECAY, C_ALPHA, C_E, C_MU, C_EX, C_TC, C_H = range(13)
@@ -128,12 +132,12 @@ def post_start(p, consts, y0):
     bounce_kernel(vin, win, r, consts[C_ALPHA], consts[C_E], consts[C_MU], consts[C_EX], vtmp, wout)
     d = np.empty(2)
     contact_displacement(p[3], p[4], p[9], p[10], p[5], consts[C_MU], consts[C_E], consts[C_TC], d)
-    y0[0] = p[0] + d[0]
-    y0[1] = p[1] + d[1]
+    y0[0] = p[0] + d[0] + p[13]
+    y0[1] = p[1] + d[1] + p[14]
     y0[2] = r
     for i in range(3):
         y0[3 + i] = p[9 + i]
-        y0[6 + i] = wout[i]
+        y0[6 + i] = wout[i] + p[15 + i]
     return p[2] + consts[C_TC]
 
 
@@ -230,3 +234,31 @@ def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-
                     params.aero.kernel, params.aero.params, make_consts(params, surface, contact_time, step),
                     out, True, True)
     return out
+
+
+@nb.njit(cache=True)
+def normal_equations(jac, res, wpt, A, g):
+    """A = sum_i w_i J_i^T J_i and g = sum_i w_i J_i^T r_i over points i (rows 3i..3i+2).
+
+    Written out (no BLAS) so that a call does not wake a multi-threaded BLAS.
+    """
+    npar = jac.shape[1]
+    for a in range(npar):
+        g[a] = 0.0
+        for b in range(npar):
+            A[a, b] = 0.0
+    for m in range(jac.shape[0]):
+        w = wpt[m // 3]
+        if w == 0.0:
+            continue
+        rm = res[m]
+        for a in range(npar):
+            ja = w * jac[m, a]
+            if ja == 0.0:
+                continue
+            g[a] += ja * rm
+            for b in range(a, npar):
+                A[a, b] += ja * jac[m, b]
+    for a in range(npar):
+        for b in range(a):
+            A[a, b] = A[b, a]

@@ -27,7 +27,6 @@ def plot_impact_history(res, title: str | None = None):
     ax[0, 2].set_ylabel("normal force F_N [N]")
     ax[1, 0].plot(t, H["w1"], label="racket")
     ax[1, 0].plot(t, H["w2"], label="ball")
-    ax[1, 0].plot(t, H["w2"] + 0 * H["w3"], alpha=0)
     ax[1, 0].set_ylabel("tangential velocity [m/s]")
     ax[1, 1].plot(t, H["F_t"], color="k", label="F_t")
     ax[1, 1].plot(t, 0.0 * t, color="0.6", lw=0.8)

@@ -23,6 +23,7 @@ h2 { color: #234d2c; border-bottom: 2px solid #3a7d44; padding-bottom: 0.2em; }
 figure { margin: 1em 0; text-align: center; }
 figure img { max-width: 100%; border: 1px solid #eee; }
 figcaption { font-size: 0.9em; color: #444; margin-top: 0.3em; }
+.tablewrap { overflow-x: auto; }
 table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.9em; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 th { background: #eef3ee; }
@@ -68,11 +69,11 @@ def table(header: list[str], rows: list[list], row_classes: list[str] | None = N
     def cell(tag, v, i):
         cls = ' class="l"' if i < left_cols else ""
         return f"<{tag}{cls}>{v.html if isinstance(v, Raw) else esc(v)}</{tag}>"
-    out = ["<table>", "<tr>" + "".join(cell("th", h, i) for i, h in enumerate(header)) + "</tr>"]
+    out = ['<div class="tablewrap"><table>', "<tr>" + "".join(cell("th", h, i) for i, h in enumerate(header)) + "</tr>"]
     for k, r in enumerate(rows):
         cls = f' class="{row_classes[k]}"' if row_classes and row_classes[k] else ""
         out.append(f"<tr{cls}>" + "".join(cell("td", v, i) for i, v in enumerate(r)) + "</tr>")
-    out.append("</table>")
+    out.append("</table></div>")
     return "\n".join(out)
 
 

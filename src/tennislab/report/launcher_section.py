@@ -89,11 +89,12 @@ def drill(ctx) -> None:
                         fontweight="bold")
         zmax = max(zmax, float(ys[:, 2].max()) + 0.5)
         st = s["settings"]
-        rows.append([i, s.get("label", ""), s.get("zone", ""), H.num(s["target"]["x"], 2), H.num(s["target"]["y"], 2),
-                     H.num(st["height_m"], 1), H.num(st["speed_kmh"], 0), H.num(st["elevation_deg"], 0),
+        rows.append([i, s.get("label", ""), s.get("zone", ""),
+                     f'{H.num(s["target"]["x"], 2)}, {H.num(s["target"]["y"], 2)}', H.num(st["height_m"], 1),
+                     H.num(st["speed_kmh"], 0), H.num(st["elevation_deg"], 0),
                      H.num(st["heading_deg"], 0), H.num(st["spin_rpm"], 0), H.num(st["spin_axis_deg"], 0),
                      H.num(s["rollers"]["rpm1"], 0), H.num(s["rollers"]["rpm2"], 0),
-                     H.num(s["landing"]["x"], 2), H.num(s["landing"]["y"], 2), H.num(s["miss_mm"], 0),
+                     f'{H.num(s["landing"]["x"], 2)}, {H.num(s["landing"]["y"], 2)}', H.num(s["miss_mm"], 0),
                      H.num(s["net_clearance_m"], 2)])
     ax_side.set_ylim(0, zmax)
     ax_side.legend(loc="upper right", fontsize=8)
@@ -103,8 +104,8 @@ def drill(ctx) -> None:
                    "launcher's aero model; the table gives what to dial on the machine and where the ball lands."),
             H.figure(ctx.save(fig, "launcher_drill.png"), f"Drill \u201c{name}\u201d on the court"),
             H.para(summary),
-            H.table(["#", "shot", "zone", "target x [m]", "target y [m]", "height [m]", "speed [km/h]", "elevation [deg]",
+            H.table(["#", "shot", "zone", "target x, y [m]", "height [m]", "speed [km/h]", "elevation [deg]",
                      "heading [deg]", "spin [rpm]", "spin axis [deg]", "roller 1 [rpm]", "roller 2 [rpm]",
-                     "landing x [m]", "landing y [m]", "miss [mm]", "net clearance [m]"], rows, left_cols=3),
+                     "landing x, y [m]", "miss [mm]", "net clearance [m]"], rows, left_cols=3),
             H.para("Spin axis: 0 = topspin, 180 = backspin (slice), +90 = sidespin curving left. Roller speeds "
                    "from seed 002 eqs 14-17 (deformed ball radius in the nip).", "note"))

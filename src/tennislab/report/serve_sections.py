@@ -13,8 +13,6 @@ between sections through ``ctx.shared``).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from tennislab.app.services import require
@@ -33,7 +31,11 @@ def _windows(ctx) -> dict:
     """Serve windows of the three players (1 deg step), computed once per report."""
     if "windows" not in ctx.shared:
         from tennislab.serve.window import serve_window
-        ctx.shared["windows"] = {p: serve_window(p, step=1.0) for p in PLAYERS}
+        ws = {}
+        for p in PLAYERS:
+            ws[p] = serve_window(p, step=1.0)
+            ctx.log(f"serve window {p}: {ws[p].success.size} serves, {int(ws[p].success.sum())} successful")
+        ctx.shared["windows"] = ws
     return ctx.shared["windows"]
 
 
@@ -63,6 +65,10 @@ def table1_rows(windows, published) -> tuple[list, list]:
                 rows.append(["", "", "paper", pap["n"]] + [_range_cell(pap[k], d) for k, _, d in TABLE1_COLS])
                 classes.append("paper")
     return rows, classes
+
+
+def _paper_n(pub, cat: str) -> int:
+    return sum(pub.TABLE1[p][cat]["n"] for p in PLAYERS)
 
 
 def windows(ctx) -> None:
@@ -99,7 +105,8 @@ def windows(ctx) -> None:
                    "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."),
             H.Raw(H.kpi("successful flat serves (3 players)", f"{n_flat}") +
                   H.kpi("successful topspin serves", f"{n_top}") +
-                  (H.kpi("paper", "42 flat / 572 topspin") if pub else "")).html,
+                  (H.kpi("paper", f"{_paper_n(pub, 'flat')} flat / {_paper_n(pub, 'topspin')} topspin")
+                   if pub else "")).html,
             H.figure(ctx.save(fig, "serve_windows.png"),
                      "Serve windows: successful serves by category over impact angle α and face angle β"),
             "<h3>Table 1: successful serves, tennislab beside the paper</h3>",
@@ -177,6 +184,8 @@ def peak_spin(ctx) -> None:
             n = w.summary()[cat]["n"]
             wb = w.widest_beta(cat)
             res = None if opt is None else _mc(ctx, p, opt)
+            if res is not None:
+                ctx.log(f"Monte Carlo {p} {cat}: {MC_N} serves, P(success) = {100 * res['p_success']:.1f} %")
             if res is None and opt is not None:
                 missing = True
             mrows.append([p, cat, n, H.num(wb, 0), "–" if opt is None else f"α {opt['alpha']:g}, β {opt['beta']:g}",
@@ -194,16 +203,9 @@ def peak_spin(ctx) -> None:
 
 
 def _trajectory(player, serve: dict):
-    """The 2-D optimum serve flown with the seed's constants (court frame), from its alpha and beta."""
-    from tennislab.core.flight import fly
-    from tennislab.core.impact import impact, to_court
-    from tennislab.serve import seed_flight_params, seed_impact_params
-    from tennislab.serve.players import get_player
-    pl = get_player(player)
-    fp = seed_flight_params()
-    imp = impact(pl.racket_speed, math.radians(min(serve["alpha"], 89.999)), seed_impact_params(ball=fp.ball))
-    vx, vz = to_court(imp.v_n, imp.v_t, math.radians(serve["beta"]))
-    return fly((-11.885, 0.0, pl.impact_height), (vx, 0.0, vz), (0.0, imp.omega, 0.0), fp)
+    """The 2-D optimum serve flown with the seed's constants (:func:`tennislab.serve.single.simulate_serve`)."""
+    from tennislab.serve.single import simulate_serve
+    return simulate_serve(player, min(serve["alpha"], 89.999), serve["beta"], trajectory=True)["_trajectory"]
 
 
 def optimum(ctx) -> None:

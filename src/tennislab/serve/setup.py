@@ -19,7 +19,6 @@ it stopped its flight at (see docs/serve.md for the sensitivity).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +27,6 @@ from tennislab.core.ball import Ball
 from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams, to_court
 from tennislab.errors import check_range
-from tennislab.units import RPM
 
 SEED_MASS = 0.059          #: ball mass [kg] (seed sec. 2.3)
 SEED_RADIUS = 0.033        #: ball radius [m] (seed sec. 2.3)
@@ -117,17 +115,5 @@ def evaluate_2d(table, criteria: SeedCriteria) -> dict[str, np.ndarray]:
     return {"landing_x": X, "net_height": Y, "success": success}
 
 
-def spin_rpm(omega):
-    return np.asarray(omega, float) / RPM
-
-
-def deg(x):
-    return np.degrees(x)
-
-
-def rad(x):
-    return np.radians(x)
-
-
 __all__ = ["SeedCriteria", "seed_flight_params", "seed_impact_params", "launch_states_2d",
-           "evaluate_2d", "CATEGORIES", "BASELINE_X", "math"]
+           "evaluate_2d", "CATEGORIES", "BASELINE_X"]

@@ -41,21 +41,33 @@ def flight_options(params: FlightParams) -> dict:
 
 
 def window_chunk(inputs: dict, *, flight: dict | None = None, net_top: float = 0.943,
-                 service_line: float = 18.318, server_x: float = -11.885) -> dict:
-    """Per-chunk worker: 2-D serves from racket-frame impact results to the seed's outcome.
+                 service_line: float = 18.318, server_x: float = -11.885, target: str | None = None,
+                 server_y: float = 0.0, azimuth: float = 0.0, brush: float = 0.0) -> dict:
+    """Per-chunk worker: serves from racket-frame impact results to their outcome.
 
     inputs: equal-length arrays ``height`` [m], ``v_n``, ``v_t`` [m/s], ``omega`` [rad/s],
-    ``beta`` [rad].  Returns per-row ``landing_x`` (from the impact point) [m],
-    ``net_height`` [m], ``success`` (bool), ``status``.
+    ``beta`` [rad].  2-D (``target`` None): the seed's criteria.  3-D (``target`` ``deuce``
+    or ``ad``): served from (server_x, server_y) with the face turned by ``azimuth`` and
+    brushed along ``brush`` [rad], judged by the real net and box.  Returns per-row
+    ``landing_x`` (from the impact point) [m], ``landing_y`` (court) [m], ``net_height`` [m],
+    ``success`` (bool), ``status``.
     """
     params = FlightParams.from_options(**(flight or {})) if not isinstance(flight, FlightParams) else flight
     crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
-    states = launch_states_2d(inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"],
-                              server_x)
-    table = fly_batch(states, params)
-    ev = evaluate_2d(table, crit)
-    return {"landing_x": ev["landing_x"], "net_height": ev["net_height"], "success": ev["success"],
-            "status": table["status"]}
+    if target is None:
+        states = launch_states_2d(inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"],
+                                  inputs["beta"], server_x)
+        table = fly_batch(states, params)
+        ev = evaluate_2d(table, crit)
+    else:
+        from tennislab.serve.single import judge, launch_3d
+        vel, spin = launch_3d(inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], azimuth, brush)
+        n = vel.shape[0]
+        states = np.column_stack([np.full(n, server_x), np.full(n, server_y), inputs["height"], vel, spin])
+        table = fly_batch(states, params)
+        ev = judge(table, crit, target)
+    return {"landing_x": ev["landing_x"], "landing_y": table["land_y"], "net_height": ev["net_height"],
+            "success": ev["success"], "status": table["status"]}
 
 
 @dataclass(frozen=True)
@@ -79,6 +91,7 @@ class ServeWindow:
     success: np.ndarray        #: bool
     category: np.ndarray       #: 0 flat, 1 topspin, 2 other
     criteria: SeedCriteria = field(repr=False, default_factory=SeedCriteria)
+    mode: str = "seed-2d"      #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
 
     def grid(self, name: str) -> np.ndarray:
         """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
@@ -147,10 +160,18 @@ class ServeWindow:
         """The JSON object of ``tennislab serve-window``."""
         return {"player": {"name": self.player.name, "impact_height": self.player.impact_height,
                            "racket_speed": self.player.racket_speed},
-                "n_serves": int(self.success.size), "n_success": int(self.success.sum()),
+                "criteria": self.mode, "n_serves": int(self.success.size), "n_success": int(self.success.sum()),
                 "summary": self.summary(), "peak_spin_alpha": self.peak_spin_alpha,
                 "optimum": {"flat": self.optimum("flat"), "topspin": self.optimum("topspin")},
-                "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")}}
+                "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")},
+                "alpha_range_by_beta": {c: self.alpha_range_by_beta(c) for c in ("flat", "topspin")},
+                "by_alpha": {"alpha": self.alpha_deg, "speed": self.speed, "spin_rpm": self.spin_rpm,
+                             "contact_time_ms": self.contact_time * 1e3,
+                             "regime": [("slide", "roll")[int(r)] for r in self.regime]}}
+
+    def alpha_range_by_beta(self, category: str) -> list[list[float]]:
+        """Seed fig 6 as data: [beta, min alpha, max alpha, n] for every beta with successes."""
+        return [[b, min(a), max(a), len(a)] for b, a in self.alpha_ranges(category) if a]
 
     def rows(self):
         """Flat table rows (dicts) of every serve, for CSV output."""
@@ -171,8 +192,13 @@ def angle_grid(step: float, lo: float = 0.0, hi: float = 90.0) -> np.ndarray:
 
 def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, flight: FlightParams | None = None,
                  impact: ImpactParams | None = None, criteria: SeedCriteria | None = None, steps: int = 400,
-                 dt: float = 0.0, method: str = "rk4", mapper=None) -> ServeWindow:
+                 dt: float = 0.0, method: str = "rk4", target: str | None = None, server_y: float = 0.0,
+                 azimuth_deg: float = 0.0, brush_deg: float = 0.0, mapper=None) -> ServeWindow:
     """Simulate every serve of the alpha x beta grid (default 0-90 deg at ``step``) for ``player``.
+
+    ``target`` None: the seed's 2-D criteria.  ``target="deuce"|"ad"``: 3-D serves from
+    (baseline, ``server_y``) with the face azimuth and brush angle [deg], judged by the real
+    net and service box (:mod:`tennislab.serve.single`).
 
     ``steps``/``dt``/``method`` set the impact integration (:func:`impact_batch`).
     ``mapper(fn, inputs) -> outputs`` runs :func:`window_chunk` (default: in process);
@@ -197,14 +223,28 @@ def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, fl
               "v_t": np.broadcast_to(imp["v_t"][None, :], BB.shape).ravel().copy(),
               "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
               "beta": BB.ravel().copy()}
+    if target is None and (server_y != 0 or azimuth_deg != 0 or brush_deg != 0):
+        raise InputError("azimuth/brush/server_y: 3-D options need --target deuce or ad")
+    if target is not None and target not in ("deuce", "ad"):
+        raise InputError(f"target: unknown {target!r}; choose from deuce, ad")
+    check_range("server_y", server_y, -10.0, 10.0, "m")
     fn = functools.partial(window_chunk, flight=flight_options(flight), net_top=crit.net_top,
-                           service_line=crit.service_line, server_x=crit.server_x)
+                           service_line=crit.service_line, server_x=crit.server_x, target=target,
+                           server_y=float(server_y), azimuth=float(np.radians(azimuth_deg)),
+                           brush=float(np.radians(brush_deg)))
     out = fn(inputs) if mapper is None else mapper(fn, inputs)
     shape = BB.shape
     spin = imp["omega"] / RPM
-    gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
+    if target is None:
+        gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
+    else:
+        from tennislab.serve.single import launch_3d
+        vel, _ = launch_3d(imp["v_n"][None, :], imp["v_t"][None, :], imp["omega"][None, :], B[:, None],
+                           np.radians(azimuth_deg), np.radians(brush_deg))
+        gamma = np.degrees(np.arctan2(vel[..., 2], np.hypot(vel[..., 0], vel[..., 1])))
     return ServeWindow(player, a, b, imp["speed"], spin, imp["contact_time"], imp["regime"].astype(int),
                        gamma, np.asarray(out["landing_x"]).reshape(shape),
                        np.asarray(out["net_height"]).reshape(shape),
                        np.asarray(out["success"]).astype(bool).reshape(shape),
-                       np.broadcast_to(crit.category(spin)[None, :], shape).copy(), crit)
+                       np.broadcast_to(crit.category(spin)[None, :], shape).copy(), crit,
+                       "seed-2d" if target is None else f"{target}-box")

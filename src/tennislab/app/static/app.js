@@ -6,15 +6,30 @@ const state = {meta: null, drill: [], lastAim: null, serveView: null, flightView
 function $(sel) { return document.querySelector(sel); }
 function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
 
-/* ---------- field validation (mirrors tennislab.app.fields.Field.parse) ---------- */
+/* ---------- field validation (mirrors tennislab.app.fields.Field.parse and errors.check_range) ---------- */
+function fmtG(v) {            /* Python's format(v, "g") */
+  if (v === 0) return "0";
+  const e = Math.floor(Math.log10(Math.abs(v)));
+  if (e < -4 || e >= 6) {
+    return v.toExponential(5).replace(/\.?0+e/, "e").replace(/e([+-])(\d)$/, "e$10$2");
+  }
+  let s = v.toPrecision(6);
+  if (s.includes(".")) s = s.replace(/\.?0+$/, "");
+  return s;
+}
+function pyFloat(x) { return Number.isInteger(x) ? x.toFixed(1) : String(x); }   /* str(float) */
 function fieldError(f, raw) {
-  if (f.kind === "choice") return f.choices.includes(raw) ? "" : `${f.name}: ${JSON.stringify(raw)} is not one of ${f.choices.join(", ")}`;
+  if (f.kind === "choice") return f.choices.includes(raw) ? "" : `${f.name}: '${raw}' is not one of ${f.choices.join(", ")}`;
   if (raw === "" || raw === null || raw === undefined) return f.optional ? "" : `${f.name}: a value is required`;
   const v = Number(raw);
-  if (!Number.isFinite(v) || String(raw).trim() === "") return `${f.name}: expected a number, got '${raw}'`;
+  if (String(raw).trim() === "" || Number.isNaN(v)) return `${f.name}: expected a number, got '${raw}'`;
+  if (!Number.isFinite(v)) return `${f.name}: must be a finite number, got '${raw}'`;
   const u = f.unit ? " " + f.unit : "";
   const badLo = f.lo !== null && (f.lo_open ? v <= f.lo : v < f.lo), badHi = f.hi !== null && v > f.hi;
-  if (badLo || badHi) return `${f.name}: ${v} is outside the allowed range ${f.lo_open ? "(" : "["}${f.lo}, ${f.hi}]${u}`;
+  if (badLo || badHi) {
+    const lo = f.lo === null ? "-inf" : pyFloat(f.lo), hi = f.hi === null ? "inf" : pyFloat(f.hi);
+    return `${f.name}: ${fmtG(v)}${u} is outside the allowed range ${f.lo_open ? "(" : "["}${lo}, ${hi}]${u}`;
+  }
   if (f.kind === "int" && !Number.isInteger(v)) return `${f.name}: expected a whole number, got '${raw}'`;
   return "";
 }
@@ -251,7 +266,7 @@ async function runCall(text) {
   if (r.line_rect) zoom.rect(r.line_rect[0], r.line_rect[1], r.line_rect[2], r.line_rect[3], {class: "cline called"}, "data");
   const g = P.svgEl("g", {id: "call-mark", class: "mark " + (r.call === "in" ? "in" : "out")}, zoom.layers.front);
   for (const d of r.mark.discs) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
-  zoom.dot(bx, by, 2, {fill: "#000"}, "front");
+  zoom.dot(r.bounce.x, r.bounce.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
   const side = P.courtSide($("#call-side"), court, {zmax: 4});
   for (const p of r.track) side.dot(p[1], p[3], 1.2, {fill: "#888"});
   side.path(r.fitted.map(p => [p[0], p[2]]), {stroke: "#d62828", "stroke-width": 2, class: "traj"});

@@ -4,7 +4,7 @@
 "use strict";
 
 const SVGNS = "http://www.w3.org/2000/svg";
-const COLORS = ["#ffd400", "#ff6b35", "#4cc9f0", "#f72585", "#b5e48c", "#ffffff", "#c77dff", "#90be6d"];
+const COLORS = ["#f3722c", "#ffd400", "#4cc9f0", "#f72585", "#b5e48c", "#ffffff", "#c77dff", "#90be6d"];
 
 function svgEl(tag, attrs, parent) {
   const e = document.createElementNS(SVGNS, tag);
