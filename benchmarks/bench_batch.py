@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import functools
 import json
-import logging
 import os
 import resource
 import shutil
@@ -52,12 +51,10 @@ def _timed(run, n: int):
 
 
 def _start_cluster(n_workers: int):
-    import distributed
-    from tennislab.batch.schedulers import worker_environment
-    with worker_environment(NUMBA_NUM_THREADS="1"):
-        cluster = distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                           dashboard_address=":0", silence_logs=40)
-    return cluster, distributed.Client(cluster, set_as_default=False)
+    """The ``processes`` scheduler's own LocalCluster (1 thread per worker, NUMBA_NUM_THREADS=1)."""
+    from tennislab.batch.schedulers import get_runner
+    runner = get_runner("processes", n_workers)
+    return runner, runner.client
 
 
 def throughput(n: int, rounds: int = 3) -> dict:
@@ -87,8 +84,8 @@ def throughput(n: int, rounds: int = 3) -> dict:
                 rate, outs[k] = _timed(run, n)
                 best[k] = max(best[k], rate)
     finally:
-        for obj in (cl1, c1, cl2, c2):
-            obj.close()
+        c1.close()
+        c2.close()
     base, rate_local, r1, r2 = best["base"], best["local"], best["w1"], best["w2"]
     ref, local, out1, out2 = outs["base"], outs["local"], outs["w1"], outs["w2"]
     same = all(np.array_equal(o[k], ref[k]) for k in COLUMNS for o in (local, out1, out2))
@@ -213,7 +210,6 @@ def memory(sizes, fn_name: str = "flight", scheduler: str = "local") -> list[dic
 
 
 def main(argv=()) -> dict:
-    logging.getLogger("distributed").setLevel(logging.WARNING)  # no INFO lines from cluster shutdown
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--full", action="store_true", help="also measure the 10^8-shot run")
     p.add_argument("--n-throughput", type=int, default=400_000)

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy import stats
 
-from tennislab.batch import (GridSpec, StreamSource, add_scheduler_flag, batch_options_from_args,
+from tennislab.batch import (GridSpec, RowRange, StreamSource, add_scheduler_flag, batch_options_from_args,
                              default_chunk_size, map_chunks, read_manifest, read_output, run_batch)
 from tennislab.batch import rng
 from tennislab.batch.progress import ProgressBar, progress_enabled
@@ -228,6 +228,13 @@ def test_parquet_roundtrip_keeps_shapes_and_dtypes(tmp_path):
     for k in a:
         assert a[k].dtype == b[k].dtype and a[k].shape == b[k].shape and np.array_equal(a[k], b[k]), k
     assert b["states2"].shape == (50, 9) and b["m"].shape == (50, 2, 3) and b["name"][0] in ("far", "near")
+    c = map_chunks(_labels, {"x": np.array([1.0, 2.0, -1.0, -2.0])}, chunk_size=2, out=str(tmp_path / "l"),
+                   progress=False)
+    assert c["side"].tolist() == ["far", "far", "near", "near"] == read_output(str(tmp_path / "l"))["side"].tolist()
+
+
+def _labels(chunk):
+    return {"side": np.array(["far" if x > 0 else "near" for x in chunk["x"]])}  # <U3 then <U4
 
 
 # --------------------------------------------------------------- validation
@@ -368,3 +375,20 @@ def test_two_runs_never_share_an_output_directory(tmp_path, data):
     finally:
         held.close()
     assert run_batch(affine, data, out=out, progress=False).skipped == 5
+
+
+def mc_rows(chunk, seed=3):
+    return {"v": chunk["v0"] + rng.normal(seed, chunk["row"])}
+
+
+def test_row_range_monte_carlo_is_lazy_and_chunking_free(tmp_path):
+    src = RowRange(10_000, constants={"v0": 50.0})
+    assert src.chunk(3, 4096)["row"].size == 0
+    last = src.chunk(2, 4096)
+    assert last["row"][0] == 8192 and last["row"][-1] == 9999 and np.all(last["v0"] == 50.0)
+    a = map_chunks(mc_rows, src, chunk_size=4096, progress=False)
+    b = map_chunks(mc_rows, src, chunk_size=999, out=str(tmp_path / "mc"), progress=False)
+    assert np.array_equal(a["v"], b["v"]) and np.array_equal(a["v"], 50.0 + rng.normal(3, np.arange(10_000)))
+    assert RowRange(10 ** 12).n_chunks(65536) == -(-10 ** 12 // 65536)  # nothing of size N is built
+    with pytest.raises(InputError, match="fingerprint differs"):
+        map_chunks(mc_rows, RowRange(10_001, constants={"v0": 50.0}), out=str(tmp_path / "mc"), progress=False)

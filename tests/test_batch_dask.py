@@ -17,7 +17,7 @@ import pytest
 distributed = pytest.importorskip("distributed")
 pytest.importorskip("pyarrow")
 
-from tennislab.batch import GridSpec, map_chunks, read_output, run_batch  # noqa: E402
+from tennislab.batch import GridSpec, RowRange, map_chunks, read_output, run_batch  # noqa: E402
 from tennislab.batch import rng  # noqa: E402
 from tennislab.batch.schedulers import worker_environment  # noqa: E402
 from tennislab.batch.tasks import fly_chunk  # noqa: E402
@@ -113,6 +113,14 @@ def test_grid_chunks_built_on_workers(address):
     for k in local:
         assert np.array_equal(local[k], remote[k])
     assert len(local["reach"]) == g.size
+    src = RowRange(5000, constants={"v0": 50.0})
+    a = map_chunks(rows_mc, src, chunk_size=1000, progress=False)
+    b = map_chunks(rows_mc, src, chunk_size=700, scheduler=address, progress=False)
+    assert np.array_equal(a["v"], b["v"])
+
+
+def rows_mc(chunk):
+    return {"v": chunk["v0"] + rng.normal(9, chunk["row"])}
 
 
 def test_worker_input_error_surfaces(address):

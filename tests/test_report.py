@@ -181,3 +181,15 @@ def test_html_helpers_escape():
                                          '<tr><td class="l">&lt;b&gt;</td></tr>\n</table></div>')
     assert H.num(float("nan")) == "–" and H.num(None) == "–" and H.num(1.234, 1) == "1.2"
     assert H.rng((1, 2.5), 1) == "1.0 – 2.5"
+
+
+def test_report_without_the_optional_modules(tmp_path, monkeypatch):
+    """Serve, line calling and launcher missing: their sections say so, the rest is built."""
+    monkeypatch.setenv("TENNISLAB_APP_DISABLE", "serve,linecall,launcher")
+    summary = B.build_report(str(tmp_path), progress=None, strict=True)
+    assert summary["sections"] == {"serve-windows": "unavailable", "peak-spin": "unavailable",
+                                   "optimum-serves": "unavailable", "line-calling": "unavailable",
+                                   "launcher-drill": "unavailable", "flight": "ok"}
+    doc = check_self_contained(tmp_path)
+    assert doc.imgs == ["flight_models.png"]
+    assert open(tmp_path / "index.html").read().count("Not available in this installation") == 5

@@ -42,15 +42,15 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.fixture(scope="session")
-def server():
-    """``tennislab app`` started as a subprocess on a free loopback port; yields its base URL."""
+def start_server(env_extra: dict | None = None):
+    """Start ``tennislab app`` on a free loopback port; returns (process, base URL) once it answers."""
     pytest.importorskip("fastapi")
     pytest.importorskip("uvicorn")
     port = _free_port()
-    log = open(ROOT / "out" / "e2e-server.log", "w") if (ROOT / "out").is_dir() else subprocess.DEVNULL
+    env = {k: v for k, v in os.environ.items() if k != "TENNISLAB_APP_DISABLE"}
+    env.update(env_extra or {})
     proc = subprocess.Popen([sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", str(port)],
-                            stdout=log, stderr=subprocess.STDOUT)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     url = f"http://127.0.0.1:{port}"
     deadline = time.time() + 90
     while True:
@@ -62,12 +62,31 @@ def server():
                 proc.kill()
                 pytest.fail(f"tennislab app did not start (exit code {proc.poll()})")
             time.sleep(0.3)
-    yield url
+    return proc, url
+
+
+def stop_server(proc):
     proc.terminate()
     try:
         proc.wait(10)
     except subprocess.TimeoutExpired:
         proc.kill()
+
+
+@pytest.fixture(scope="session")
+def server():
+    """``tennislab app`` started as a subprocess on a free loopback port; yields its base URL."""
+    proc, url = start_server()
+    yield url
+    stop_server(proc)
+
+
+@pytest.fixture(scope="session")
+def degraded_server():
+    """The same with serve, line calling and the launcher switched off (``TENNISLAB_APP_DISABLE``)."""
+    proc, url = start_server({"TENNISLAB_APP_DISABLE": "serve,linecall,launcher"})
+    yield url
+    stop_server(proc)
 
 
 @pytest.fixture(scope="session")
@@ -82,17 +101,31 @@ def browser():
         b.close()
 
 
-@pytest.fixture
-def page(browser, server):
-    """A fresh page with JS errors collected (a test fails on any uncaught error)."""
+def _page(browser, base):
     ctx = browser.new_context(viewport={"width": 1300, "height": 1000}, accept_downloads=True)
     pg = ctx.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
     pg.on("console", lambda m: errors.append(m.text) if m.type == "error" and "status of 4" not in m.text
           and "status of 5" not in m.text else None)
-    pg.base = server
+    pg.base = base
     pg.snap = lambda name: screenshot(pg, name)
+    return ctx, pg, errors
+
+
+@pytest.fixture
+def page(browser, server):
+    """A fresh page with JS errors collected (a test fails on any uncaught error)."""
+    ctx, pg, errors = _page(browser, server)
+    yield pg
+    ctx.close()
+    assert not errors, errors
+
+
+@pytest.fixture
+def degraded_page(browser, degraded_server):
+    """A page of the server without serve, line calling and launcher."""
+    ctx, pg, errors = _page(browser, degraded_server)
     yield pg
     ctx.close()
     assert not errors, errors

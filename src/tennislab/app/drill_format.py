@@ -33,11 +33,11 @@ def zone_for(target, landing) -> object:
 
 def document(name: str, forms: list[dict], spin_axis) -> dict:
     """The drill mapping for validated aim forms (each aimed here, never trusting the page's result)."""
-    from tennislab.app.launcher_adapter import _solve
+    from tennislab.app.launcher_adapter import solve
     shots, program = {}, []
     for i, v in enumerate(forms, 1):
         try:
-            sol, _, _ = _solve(v)
+            sol, _, _ = solve(v)
         except InputError as exc:
             raise InputError(f"shots[{i - 1}]: {exc}") from None
         key = f"shot-{i}"

@@ -7,7 +7,6 @@ by the same code as ``tennislab launcher drill FILE``.
 """
 from __future__ import annotations
 
-import importlib
 import json
 import re
 
@@ -26,7 +25,8 @@ def spin_axis(v: dict) -> float:
     return SHOT_AXIS.get(v["shot"], v["spin_axis_deg"])
 
 
-def _solve(v: dict):
+def solve(v: dict):
+    """The quantised :class:`AimSolution` of an aim form, with the machine spec and flight params."""
     from tennislab.launcher.aim import aim, launcher_params
     spec = _spec(v)
     params = launcher_params()
@@ -39,7 +39,7 @@ def _solve(v: dict):
 def aim(v: dict) -> dict:
     """``launcher aim`` JSON (settings, rollers, landing, miss_mm, net_clearance_m, ...) plus the flight."""
     from tennislab.launcher.aim import aim_result_dict, fly_settings
-    sol, spec, params = _solve(v)
+    sol, spec, params = solve(v)
     out = aim_result_dict(sol, spec, params)
     tr = fly_settings(sol.settings, spec, params)
     out["flight"] = S.flight_result(tr)
@@ -85,11 +85,11 @@ def drill(shots, name=None) -> dict:
 
 def drill_document(name: str, forms: list[dict]) -> dict:
     """The drill file's content (the launcher's drill format; see ``docs/launcher.md``)."""
-    mod = importlib.import_module("tennislab.app.drill_format")
-    return mod.document(name, forms, spin_axis)
+    from tennislab.app import drill_format
+    return drill_format.document(name, forms, spin_axis)
 
 
 def check_drill_text(text: str) -> dict:
-    """Compile a drill file's text with the launcher's own reader (None if that reader is missing)."""
-    mod = importlib.import_module("tennislab.app.drill_format")
-    return mod.check(text)
+    """Compile a drill file's text with the launcher's own reader."""
+    from tennislab.app import drill_format
+    return drill_format.check(text)

@@ -16,7 +16,7 @@ from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 
 
-def _pipeline(text: str, surface: str = "hard", line: str | None = None, target: str | None = None):
+def pipeline(text: str, surface: str = "hard", line: str | None = None, target: str | None = None):
     from tennislab.core.mark import ball_mark
     from tennislab.io.track import parse_track
     from tennislab.linecall.decide import call_mark
@@ -31,7 +31,7 @@ def _pipeline(text: str, surface: str = "hard", line: str | None = None, target:
     return track, fit, mark, res
 
 
-def _summary(fit, mark, res) -> dict:
+def summary(fit, mark, res) -> dict:
     out = {
         "bounce": {"x": float(fit.bounce_xy[0]), "y": float(fit.bounce_xy[1]), "t": fit.t_bounce,
                    "sigma_mm": fit.sigma_bounce * 1e3},
@@ -48,8 +48,8 @@ def _summary(fit, mark, res) -> dict:
 
 def reference_call(text: str, surface: str = "hard", line: str | None = None, target: str | None = None) -> dict:
     """The call of a track's text by the Python API (what the page must show)."""
-    _, fit, mark, res = _pipeline(text, surface, line, target)
-    return _summary(fit, mark, res)
+    _, fit, mark, res = pipeline(text, surface, line, target)
+    return summary(fit, mark, res)
 
 
 def _closest_line(res: dict, mark) -> str | None:
@@ -64,8 +64,8 @@ def call(v: dict, text: str) -> dict:
     """The page's line call (form ``linecall``)."""
     line = None if v["line"] == "auto" else v["line"]
     target = None if v["target"] == "auto" else v["target"]
-    track, fit, mark, res = _pipeline(text, v["surface"], line, target)
-    out = _summary(fit, mark, res)
+    track, fit, mark, res = pipeline(text, v["surface"], line, target)
+    out = summary(fit, mark, res)
     drawn = line or _closest_line(res, mark)
     lines = ITF_COURT.lines()
     out["line"] = drawn

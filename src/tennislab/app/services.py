@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import os
 
 import numpy as np
 
@@ -44,18 +45,24 @@ def _check(reqs) -> str | None:
     return None
 
 
+def _disabled(feature: str) -> str | None:
+    """Features switched off by ``TENNISLAB_APP_DISABLE=serve,linecall,...`` (to check the degraded pages)."""
+    off = {f.strip() for f in os.environ.get("TENNISLAB_APP_DISABLE", "").split(",")}
+    return "disabled by TENNISLAB_APP_DISABLE" if feature in off else None
+
+
 def availability() -> dict[str, dict]:
     """``{feature: {"available": bool, "reason": str}}`` for serve, linecall and launcher."""
     out = {}
     for name, reqs in REQUIREMENTS.items():
-        why = _check(reqs)
+        why = _disabled(name) or _check(reqs)
         out[name] = {"available": why is None, "reason": why or ""}
     return out
 
 
 def require(feature: str) -> None:
     """Raise :class:`Unavailable` if a feature's module is missing."""
-    why = _check(REQUIREMENTS[feature])
+    why = _disabled(feature) or _check(REQUIREMENTS[feature])
     if why:
         raise Unavailable(f"{feature}: not available in this installation ({why})")
 

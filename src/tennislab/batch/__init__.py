@@ -7,7 +7,7 @@ See :func:`map_chunks` and docs/batch.md.  Pieces:
 
 * :mod:`~tennislab.batch.api` -- :func:`map_chunks`, :func:`run_batch`, :class:`BatchResult`
 * :mod:`~tennislab.batch.grid` -- :class:`GridSpec`, a lazy Cartesian grid (10^10 rows, never materialised)
-* :mod:`~tennislab.batch.sources` -- array / stream chunk sources
+* :mod:`~tennislab.batch.sources` -- array / stream chunk sources, :class:`RowRange` (lazy Monte Carlo rows)
 * :mod:`~tennislab.batch.store` -- resumable Parquet output (:func:`read_output`, :func:`iter_output`)
 * :mod:`~tennislab.batch.schedulers` -- ``local``, ``processes``, ``tcp://`` (registry)
 * :mod:`~tennislab.batch.rng` -- per-row counter-based random numbers (chunking-independent)
@@ -17,10 +17,10 @@ from tennislab.batch.api import BatchResult, execute_chunk, map_chunks, run_batc
 from tennislab.batch.cli import add_scheduler_flag, batch_options_from_args
 from tennislab.batch.grid import GridSpec
 from tennislab.batch.schedulers import register_scheduler, register_url_scheme, scheduler_names
-from tennislab.batch.sources import ArraySource, StreamSource, default_chunk_size
+from tennislab.batch.sources import ArraySource, RowRange, StreamSource, default_chunk_size
 from tennislab.batch.store import iter_output, read_manifest, read_output
 
 __all__ = ["map_chunks", "run_batch", "BatchResult", "execute_chunk", "add_scheduler_flag",
-           "batch_options_from_args", "GridSpec", "ArraySource", "StreamSource", "default_chunk_size",
+           "batch_options_from_args", "GridSpec", "RowRange", "ArraySource", "StreamSource", "default_chunk_size",
            "register_scheduler", "register_url_scheme", "scheduler_names",
            "read_output", "iter_output", "read_manifest"]

@@ -172,17 +172,31 @@ class DaskRunner:
                 fut.cancel()
 
     def close(self):
-        for obj in self._owned:
-            try:
-                obj.close()
-            except Exception:  # pragma: no cover - best effort shutdown
-                pass
+        with _quiet_distributed():  # no INFO lines from the cluster shutting down
+            for obj in self._owned:
+                try:
+                    obj.close()
+                except Exception:  # pragma: no cover - best effort shutdown
+                    pass
 
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
         self.close()
+
+
+@contextlib.contextmanager
+def _quiet_distributed(level: int = logging.ERROR):
+    names = [n for n in logging.root.manager.loggerDict if n == "distributed" or n.startswith("distributed.")]
+    old = {n: logging.getLogger(n).level for n in names}
+    for n in names:
+        logging.getLogger(n).setLevel(level)
+    try:
+        yield
+    finally:
+        for n, lv in old.items():
+            logging.getLogger(n).setLevel(lv)
 
 
 @contextlib.contextmanager

@@ -141,3 +141,40 @@ def as_source(inputs):
         return StreamSource(inputs)
     raise InputError("inputs: expected a dict of equal-length arrays, a chunk source (e.g. GridSpec) "
                      f"or an iterable of chunk dicts, got {type(inputs).__name__}")
+
+
+class RowRange:
+    """N rows that are just their indices: the lazy input of a Monte Carlo of N draws.
+
+    ``map_chunks(partial(simulate, seed=7), RowRange(10**8))`` gives ``fn`` the
+    chunk ``{"row": int64 indices}``; ``fn`` draws its per-row random numbers
+    with :mod:`tennislab.batch.rng` and nothing of size N is ever built.
+    ``constants`` (small arrays or scalars) are repeated into every chunk.
+    """
+
+    kind = "rows"
+    remote = True  # workers build their own chunks
+
+    def __init__(self, n: int, key: str = "row", constants: dict | None = None):
+        n = int(n)
+        if n < 0:
+            raise InputError(f"n: {n} is outside the allowed range [0, inf]")
+        self.n_rows = n
+        self.key = str(key)
+        self.constants = {k: np.asarray(v) for k, v in (constants or {}).items()}
+        if self.key in self.constants:
+            raise InputError(f"constants: {self.key!r} is the row key")
+
+    def n_chunks(self, chunk_size: int) -> int:
+        return -(-self.n_rows // int(chunk_size))
+
+    def chunk(self, i: int, chunk_size: int) -> dict[str, np.ndarray]:
+        lo = int(i) * int(chunk_size)
+        idx = np.arange(lo, min(self.n_rows, lo + int(chunk_size)), dtype=np.int64)
+        out = {self.key: idx}
+        for k, v in self.constants.items():
+            out[k] = np.broadcast_to(v, (len(idx),) + v.shape).copy()
+        return out
+
+    def fingerprint(self) -> str:
+        return f"rows:{self.n_rows}:{self.key}:" + hash_arrays(self.constants)

@@ -43,9 +43,9 @@ def register(sub) -> None:
     p.add_argument("--sigma", type=float, help="per-axis track noise [m] if the CSV has no sigma column "
                                                "(default: estimated from the residuals)")
     p.add_argument("--fit-drag", action="store_true", help="also fit a drag scale factor")
-    p.add_argument("--contact-sigma", type=float, default=10.0, metavar="MM",
-                   help="prior sigma [mm] of the ball's travel during the contact around the contact model "
-                        "(default 10; 0 = trust the contact and bounce models exactly)")
+    p.add_argument("--contact-sigma", type=float, default=0.0, metavar="MS",
+                   help="prior sigma [ms] of the contact time: frees the ball's travel during the contact "
+                        "around the contact model (default 0: trust it; 0.3 spans Brody's 4-5 ms)")
     p.add_argument("--window", type=float, nargs=2, default=(0.6, 0.3), metavar=("BEFORE", "AFTER"),
                    help="fit only points this long before/after the bounce [s] (default 0.6 0.3)")
     add_physics_flags(p)
@@ -103,8 +103,8 @@ def _from_track(args, params, surface, t, xyz, sigma):
     w = args.window
     if not (0 < w[0] <= 100 and 0 <= w[1] <= 100):
         raise InputError(f"--window: ({w[0]:g}, {w[1]:g}) s is outside the allowed range (0, 100] x [0, 100] s")
-    if not (0 <= args.contact_sigma <= 1000):
-        raise InputError(f"--contact-sigma: {args.contact_sigma:g} mm is outside the allowed range [0, 1000] mm")
+    if not (0 <= args.contact_sigma <= 10):
+        raise InputError(f"--contact-sigma: {args.contact_sigma:g} ms is outside the allowed range [0, 10] ms")
     t0 = time.perf_counter()
     fit = fit_track(t, xyz, sigma, params, surface, fit_drag=args.fit_drag, window=tuple(w),
                     contact_prior=args.contact_sigma / 1000.0)

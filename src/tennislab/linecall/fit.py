@@ -5,11 +5,16 @@ Unknowns (see :mod:`tennislab.linecall.model`): the first-contact point and time
 the ground (when there are points after the bounce) and optionally a drag
 scale.  The bounce point is found jointly from both segments: they share
 (x_b, y_b, t_b), the post-bounce flight starting where the contact model puts
-it.  The contact model (travel of the centre during the contact, spin out of
-the bounce model for ``surface``) enters as a prior, not a constraint: an
-offset of the travel (prior sigma 10 mm: T_c = 4-5 ms at 10-35 m/s) and of the
-spin out (prior sigma 150 rad/s) are fitted with the other unknowns, which
-makes the bounce point insensitive to a wrong surface (docs/linecall.md).
+it.  The post-bounce flight starts where the contact model puts it: the
+centre travels during the contact (T_c = 4.5 ms) by the closed form of
+:func:`~tennislab.core.mark.contact_displacement`, and the spin out follows
+from the fitted velocities by the impulse relation of the bounce model, so the
+surface enters only through mu, and only for a ball that grips (a fitted
+bounce that slid throughout uses the mu its velocities imply).  With
+``contact_prior`` > 0 [s] the travel gets a free offset (prior sigma
+contact_prior x horizontal speed, i.e. an uncertain T_c) and the spin out a
+free offset (prior sigma 150 rad/s): robust to a wrong contact model, at the
+cost of most of the post-bounce information (docs/linecall.md).
 
 Procedure:
 
@@ -45,11 +50,12 @@ from tennislab.errors import InputError
 from tennislab.linecall import model as M
 
 SPIN_PRIOR = 500.0          #: [rad/s] sigma of the weak zero-mean prior on each spin component
-CONTACT_PRIOR = 0.01        #: [m] sigma of the contact-travel offset (T_c +- 0.5 ms at 20 m/s)
+CONTACT_PRIOR = 0.3e-3      #: [s] suggested sigma of T_c (4-5 ms, Brody [S]: uniform -> 0.29 ms)
 SPIN_OUT_PRIOR = 150.0      #: [rad/s] sigma of the offset of the spin out from the bounce model
 #: zero-mean Gaussian priors (sigma) on parameters, by parameter index
-PRIOR_SIGMA = {6: SPIN_PRIOR, 7: SPIN_PRIOR, 8: SPIN_PRIOR, 13: CONTACT_PRIOR, 14: CONTACT_PRIOR,
-               15: SPIN_OUT_PRIOR, 16: SPIN_OUT_PRIOR, 17: SPIN_OUT_PRIOR}
+PRIOR_SIGMA = {6: SPIN_PRIOR, 7: SPIN_PRIOR, 8: SPIN_PRIOR, 15: SPIN_OUT_PRIOR, 16: SPIN_OUT_PRIOR,
+               17: SPIN_OUT_PRIOR}
+MIN_CONTACT_SIGMA = 1e-3    #: [m] floor of the contact-travel prior (slow balls)
 OUTLIER_SIGMA = 4.0         #: normalised 3-D residual above which a point is an outlier
 MIN_PRE_POINTS = 6          #: fewest points before the bounce
 MIN_POST_POINTS = 4         #: fewest points after the bounce to fit the outgoing velocity
@@ -150,7 +156,7 @@ def _robust_poly(t, y, deg=2):
 
 
 def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float):
-    """Starting parameters (13,) and whether there are usable post-bounce points."""
+    """Starting parameters (NPARAM,) and whether there are usable post-bounce points."""
     r = params.ball.radius
     z = _running_median(xyz[:, 2])
     i_min = int(np.argmin(z))
@@ -285,17 +291,18 @@ def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_id
 
 
 def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="hard", *,
-              fit_drag: bool = False, mark_params: MarkParams = MarkParams(), step: float = 4e-3,
+              fit_drag: bool = False, mark_params: MarkParams = MarkParams(), step: float = 8e-3,
               max_rounds: int = 5, window: tuple | None = (0.6, 0.3),
-              contact_prior: float = CONTACT_PRIOR) -> TrackFit:
+              contact_prior: float = 0.0) -> TrackFit:
     """Fit the flight model to a track (see the module docstring).
 
     t : (N,) strictly increasing times [s]; xyz : (N, 3) ball-centre positions [m];
     sigma : (N,) per-point 1-sigma 3-D noise per axis [m] or None (estimated);
     params : :class:`FlightParams`; surface : bounce surface (spin out, contact
-    displacement); fit_drag : also fit a drag scale; contact_prior : sigma [m] of the
-    offset of the contact travel from the contact model (0: trust the contact model and
-    the bounce model's spin out exactly); window : (before, after) [s]
+    displacement); fit_drag : also fit a drag scale; contact_prior : sigma [s] of the
+    contact time, which sets the prior of the offset of the contact travel from the
+    contact model (sigma = contact_prior x mean horizontal speed, at least 1 mm; 0: trust
+    the contact model and the bounce model's spin out exactly); window : (before, after) [s]
     around the first bounce estimate: only points in it are fitted (None: all).
     Points outside the window get segment -1 and residual NaN.
     """
@@ -333,8 +340,9 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     spin_idx = np.array([j for j, f in enumerate(free_list) if 6 <= f <= 8], dtype=np.int64)
     prior_idx = np.array([j for j, f in enumerate(free_list) if f in PRIOR_SIGMA], dtype=np.int64)
     psig = dict(PRIOR_SIGMA)
-    if contact_prior > 0:
-        psig[13] = psig[14] = float(contact_prior)
+    if contact_prior > 0:   # travel = T_c x mean horizontal speed: its sigma scales with the speed
+        vmean = 0.5 * (np.hypot(p[3], p[4]) + np.hypot(p[9], p[10]))
+        psig[13] = psig[14] = max(float(contact_prior) * vmean, MIN_CONTACT_SIGMA)
     prior_sig = np.array([psig[free_list[j]] for j in prior_idx])
 
     def solve(x0, seg, w, robust):
@@ -404,7 +412,11 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     rms = float(math.sqrt(np.mean(r3[used] ** 2))) if used.any() else float("nan")
     # bounce-point covariance, including t_b's correlation (the point is at fixed t_b)
     bc = cov[:2, :2].copy()
-    spin_out = bounce(p[3:6], p[6:9], s, params.ball).spin_out + p[15:18]
+    if not has_post:    # no data after the bounce: the bounce model gives the outgoing velocity
+        p[9:12] = bounce(p[3:6], p[6:9], s, params.ball).velocity_out
+    y_out = np.empty(9)
+    M.post_start(p, consts, y_out)
+    spin_out = y_out[6:9].copy()
     seg_all = np.full(n_all, M.SEG_OFF, dtype=np.int64)
     seg_all[rows] = state["seg"]
     out_all = np.zeros(n_all, dtype=bool)

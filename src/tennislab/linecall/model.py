@@ -8,28 +8,30 @@ Parameter vector (NPARAM = 18), all SI:
     9-11  v_out              velocity leaving the ground (time t_b + T_c)
     12    drag scale         multiplies the drag constant k (1 = nominal)
     13-14 contact offset     added to the modelled travel of the centre during the contact
-    15-17 spin-out offset    added to the bounce model's outgoing spin
+    15-17 spin-out offset    added to the outgoing spin implied by the impulse
 
 Before the bounce the flight is integrated *backward* from (x_b, y_b, r, v_in,
 w_in) at t_b, after it forward from (x_b + d, y_b + d', r, v_out, w_out) at
-t_b + T_c, where w_out comes from the bounce model (:func:`bounce_kernel`) and
-(d, d') is the centre's travel during the contact (:func:`contact_displacement`).
+t_b + T_c, where w_out follows from v_in, w_in and v_out by the impulse relation
+of the bounce model and (d, d') is the centre's travel during the contact
+(:func:`contact_displacement`).
 Parametrising by the bounce itself makes its covariance a block of the fit's.
 
-Integration: classical RK4 with a fixed step (default 2 ms) on
+Integration: classical RK4 with a fixed step (8 ms in the fit) on
 :func:`tennislab.core.dynamics.derivative`, positions at the sample times by
 cubic Hermite interpolation on each step from the positions and velocities at
-its ends (error well below 1 um for tennis flights; tests/test_linecall.py
+its ends (error below 0.01 um for the shot library at 8 ms; tests/test_linecall.py
 checks against :func:`tennislab.core.flight.fly`).
 """
 from __future__ import annotations
+
+import math
 
 import numba as nb
 import numpy as np
 from numba import types
 
 from tennislab.core.aero import AERO_FUNCTION_TYPE
-from tennislab.core.bounce import bounce_kernel
 from tennislab.core.dynamics import derivative
 from tennislab.core.mark import contact_displacement
 
@@ -123,21 +125,41 @@ def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
 
 @nb.njit(cache=True)
 def post_start(p, consts, y0):
-    """State leaving the ground (9,) and its time, from the parameters."""
+    """State leaving the ground (9,) and its time, from the parameters.
+
+    The outgoing spin follows from the fitted velocities by the rigid-ball impulse relation
+    of :mod:`tennislab.core.bounce` (dw = (P_y, -P_x, 0)/(alpha r), P = v_t,out - v_t,in),
+    whatever the friction law; the travel during the contact uses the data's
+    P_n = v_z,out - v_z,in, and the surface's mu only to time a grip (when the fitted
+    velocities say the ball slid throughout, the mu they imply, |P|/P_n).
+    """
     r = consts[C_R]
-    vin = p[3:6].copy()
-    win = p[6:9].copy()
-    vtmp = np.empty(3)
-    wout = np.empty(3)
-    bounce_kernel(vin, win, r, consts[C_ALPHA], consts[C_E], consts[C_MU], consts[C_EX], vtmp, wout)
+    alpha = consts[C_ALPHA]
+    px = p[9] - p[3]
+    py = p[10] - p[4]
+    vz_in = p[5]
+    e_data = p[11] / -vz_in if vz_in < 0.0 else consts[C_E]
+    # did the ball slide throughout?  Then the friction acted over the whole contact whatever
+    # the surface's mu: use the mu the data imply, |P| / P_n.
+    uix = p[3] - r * p[7]
+    uiy = p[4] + r * p[6]
+    k = 1.0 + 1.0 / alpha
+    uox = uix + k * px
+    uoy = uiy + k * py
+    mu = consts[C_MU]
+    pn = (1.0 + e_data) * abs(vz_in)
+    if uox * uix + uoy * uiy > 0.05 * (uix * uix + uiy * uiy) and pn > 0.0:
+        mu = math.sqrt(px * px + py * py) / pn
     d = np.empty(2)
-    contact_displacement(p[3], p[4], p[9], p[10], p[5], consts[C_MU], consts[C_E], consts[C_TC], d)
+    contact_displacement(p[3], p[4], p[9], p[10], vz_in, mu, e_data, consts[C_TC], d)
     y0[0] = p[0] + d[0] + p[13]
     y0[1] = p[1] + d[1] + p[14]
     y0[2] = r
     for i in range(3):
         y0[3 + i] = p[9 + i]
-        y0[6 + i] = wout[i] + p[15 + i]
+    y0[6] = p[6] + py / (alpha * r) + p[15]
+    y0[7] = p[7] - px / (alpha * r) + p[16]
+    y0[8] = p[8] + p[17]
     return p[2] + consts[C_TC]
 
 
@@ -200,9 +222,9 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
         j = free[jj]
         q = p.copy()
         q[j] += steps[j]
-        pre_dep = not (j >= 9 and j <= 11)
+        pre_dep = j < 9 or j == 12
         if not pre_dep:
-            # v_out does not move the pre-bounce segment: reuse the base residuals there
+            # v_out and the contact offsets do not move the pre-bounce segment: reuse the base residuals
             model_positions(q, t, seg, aero, ap, consts, pos, False, True)
         else:
             model_positions(q, t, seg, aero, ap, consts, pos, True, True)

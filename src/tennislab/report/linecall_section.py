@@ -23,14 +23,14 @@ def linecall(ctx) -> None:
     from matplotlib.patches import Circle, Ellipse, Rectangle
 
     from tennislab.app import features
-    from tennislab.app.linecall_adapter import _pipeline, _summary
+    from tennislab.app.linecall_adapter import pipeline, summary
     from tennislab.core.court import ITF_COURT
     from tennislab.plot.court import draw_court_side
     sec = ctx.section
     data, truth = features.synthetic_track(seed=7)
     text = "t,x,y,z,sigma\n" + "\n".join(f"{r[0]:.6f},{r[1]:.5f},{r[2]:.5f},{r[3]:.5f},0.003" for r in data)
-    track, fit, mark, res = _pipeline(text, "hard", None, TARGET)
-    out = _summary(fit, mark, res)
+    track, fit, mark, res = pipeline(text, "hard", None, TARGET)
+    out = summary(fit, mark, res)
     err_mm = 1e3 * math.hypot(out["bounce"]["x"] - truth[0], out["bounce"]["y"] - truth[1])
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5), width_ratios=[1, 1.5])

@@ -112,8 +112,9 @@ function unavailable(page, feature) {
   const m = state.meta.modules[feature];
   if (m && m.available) return false;
   const box = document.getElementById(`${page}-body`);
-  box.innerHTML = `<p class="unavailable" id="${page}-unavailable">${feature}: not available in this installation` +
-    `${m && m.reason ? " (" + m.reason.replace(/</g, "&lt;") + ")" : ""}.</p>`;
+  const p = document.createElement("p"); p.className = "unavailable"; p.id = `${page}-unavailable`;
+  p.textContent = `${feature}: not available in this installation${m && m.reason ? " (" + m.reason + ")" : ""}.`;
+  box.replaceChildren(p);
   return true;
 }
 
@@ -162,7 +163,7 @@ async function runServe() {
     ["net height (ball centre)", r.net_height, "net_height", "m", 3],
     ["landing x (from the server)", r.landing_x, "landing_x", "m", 3], ["landing y", r.landing_y, "landing_y", "m", 3],
     ["category", r.category, "category"], ["success", r.success ? "yes" : "no", "success"],
-    ["impact regime", r.regime ?? "–", "regime"],
+    ["impact regime", r.regime ?? "–", "regime"], ["contact time", r.contact_time_ms, "contact_time_ms", "ms", 2],
   ]);
   if (r.flight) { drawFlight("serve", [r.flight]); state.serveView.setTracks([{points: r.flight.points}]); }
   if (state.heat && state.heat.data) state.heat.select(body.impact_angle, body.face_angle);
@@ -216,6 +217,9 @@ async function runAim() {
     ["roller 1", r.rollers.rpm1, "rollers.rpm1", "rpm", 0], ["roller 2", r.rollers.rpm2, "rollers.rpm2", "rpm", 0],
     ["landing x", r.landing.x, "landing.x", "m", 3], ["landing y", r.landing.y, "landing.y", "m", 3],
     ["miss", r.miss_mm, "miss_mm", "mm", 0], ["net clearance", r.net_clearance_m, "net_clearance_m", "m", 3],
+    ["exact elevation", r.exact ? r.exact.elevation_deg : null, "exact.elevation_deg", "deg", 2],
+    ["exact heading", r.exact ? r.exact.heading_deg : null, "exact.heading_deg", "deg", 2],
+    ["flight time", r.flight_time_s, "flight_time_s", "s", 2],
   ]);
   drawLauncherCourt(ax => {
     ax.path(r.flight.points.map(p => [p[0], p[1]]), {stroke: P.COLORS[0], "stroke-width": 2.5, class: "traj"});
@@ -332,6 +336,9 @@ async function init() {
   }
   window.addEventListener("hashchange", showPage);
   showPage();
+  // first paint: the default flight and serve (fast), so the pages open with something to look at
+  await runFlight();
+  if (state.meta.modules.serve.available) await runServe();
   document.body.dataset.ready = "1";
 }
 document.addEventListener("DOMContentLoaded", init);
