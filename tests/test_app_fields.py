@@ -30,7 +30,7 @@ def test_validate_raises_only_input_error(form, body, known):
     except InputError as exc:
         msg = str(exc)
         assert msg and "\n" not in msg
-        assert len(msg) < 300, msg
+        assert len(msg) < 500, msg  # bounded: user text is cut to 40 characters
         from tennislab.app.fields import field_label
         field = msg.split(": ", 1)[0]
         assert field in {field_label(k) for k in data} | {"body"}, msg

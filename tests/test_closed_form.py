@@ -128,3 +128,11 @@ def test_cli_closed_form(capsys):
     for k in ("call", "p_in", "distance_mm"):
         assert k in d
     assert np.isfinite(d["mark"]["length"])
+
+
+def test_cli_closed_form_refuses_horizontal_spin(capsys):
+    from tennislab.cli import main
+    rc = main(["call", "--position", "-10", "0", "1", "--velocity", "18", "0", "3", "--spin", "0", "100", "0",
+               "--method", "closed-form"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "vertical axis" in err and len(err.strip().splitlines()) == 1

@@ -4,9 +4,8 @@ Unknowns (see :mod:`tennislab.linecall.model`): the first-contact point and time
 (x_b, y_b, t_b), the velocity and spin arriving there, the velocity leaving
 the ground (when there are points after the bounce) and optionally a drag
 scale.  The bounce point is found jointly from both segments: they share
-(x_b, y_b, t_b), the post-bounce flight starting where the contact model puts
-it.  The post-bounce flight starts where the contact model puts it: the
-centre travels during the contact (T_c = 4.5 ms) by the closed form of
+(x_b, y_b, t_b), and the post-bounce flight starts where the contact model puts
+it: the centre travels during the contact (T_c = 4.5 ms) by the closed form of
 :func:`~tennislab.core.mark.contact_displacement`, and the spin out follows
 from the fitted velocities by the impulse relation of the bounce model, so the
 surface enters only through mu, and only for a ball that grips (a fitted
@@ -332,7 +331,6 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     free_list = (list(range(9)) + ([9, 10, 11] if has_post else []) + ([12] if fit_drag else [])
                  + (list(range(13, 18)) if has_post and contact_prior > 0 else []))
     free = np.array(free_list, dtype=np.int64)
-    spin_cols = [j for j, f in enumerate(free_list) if 6 <= f <= 8]
     pos = np.empty((n, 3))
     seg = _segments(t, p[2], tc, has_post, outlier)
     n_iter = 0
@@ -410,7 +408,7 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     M.model_positions(p, t, nat, kern, ap, consts, pos_all, True, True)
     r3 = np.linalg.norm(pos_all - xyz, axis=1)
     rms = float(math.sqrt(np.mean(r3[used] ** 2))) if used.any() else float("nan")
-    # bounce-point covariance, including t_b's correlation (the point is at fixed t_b)
+    # bounce-point covariance (marginal over every other parameter, t_b included)
     bc = cov[:2, :2].copy()
     if not has_post:    # no data after the bounce: the bounce model gives the outgoing velocity
         p[9:12] = bounce(p[3:6], p[6:9], s, params.ball).velocity_out

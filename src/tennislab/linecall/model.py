@@ -251,8 +251,11 @@ def make_consts(params, surface, contact_time: float, step: float = 2e-3) -> np.
 def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
     """Python wrapper: model positions (N, 3) for parameters p (13,) at times t with labels seg."""
     t = np.ascontiguousarray(t, dtype=np.float64)
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    if p.shape != (NPARAM,):
+        raise ValueError(f"positions: p must have {NPARAM} entries, got shape {p.shape}")
     out = np.full((t.size, 3), np.nan)
-    model_positions(np.ascontiguousarray(p, dtype=np.float64), t, np.ascontiguousarray(seg, dtype=np.int64),
+    model_positions(p, t, np.ascontiguousarray(seg, dtype=np.int64),
                     params.aero.kernel, params.aero.params, make_consts(params, surface, contact_time, step),
                     out, True, True)
     return out

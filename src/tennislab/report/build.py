@@ -46,6 +46,15 @@ SECTIONS = [
 ]
 
 
+INTRO = H.para(
+    "How to read this report: the serve sections reproduce a published study of which racket angles make a "
+    "serve go in (Grosen, Kousted & Treichel 2021), for a professional, a recreational and a junior player, and "
+    "put our numbers beside the paper's; the line-calling section shows how a Hawk-Eye-style system decides a "
+    "close ball and how sure it can be; the launcher section is a ready training drill with the machine "
+    "settings to dial. Every number was computed by tennislab when this page was made; angles in degrees, "
+    "speeds in m/s or km/h, spin in rpm.", "note")
+
+
 @dataclass
 class Context:
     """What a section function gets: the output directory, its section, shared results, progress."""
@@ -117,7 +126,7 @@ def build_report(out: str, *, progress=_stderr, strict: bool = False, only: list
     footer = (f"tennislab {__version__} - generated in {total:.1f} s - "
               f"sections: " + ", ".join(f"{s.key} {s.status}" for s in sections))
     doc = H.page("tennislab report", "Serve windows, spin, line calling and launcher drills - "
-                 "computed by tennislab from the seed papers' models", sections, footer)
+                 "computed by tennislab from the seed papers' models", sections, footer, INTRO)
     index = os.path.join(out, "index.html")
     atomic_write(index, lambda fh: fh.write(doc))
     if progress:

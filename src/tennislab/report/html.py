@@ -116,7 +116,7 @@ class Section:
                 + "\n".join(self.parts) + "\n</section>")
 
 
-def page(title: str, subtitle: str, sections: list[Section], footer: str) -> str:
+def page(title: str, subtitle: str, sections: list[Section], footer: str, intro: str = "") -> str:
     toc = " ".join(f'<a href="#{esc(s.key)}">{esc(s.title)}</a>' for s in sections)
     body = "\n".join(s.render() for s in sections)
     return f"""<!doctype html>
@@ -131,6 +131,7 @@ def page(title: str, subtitle: str, sections: list[Section], footer: str) -> str
 <header><h1>{esc(title)}</h1><p>{esc(subtitle)}</p></header>
 <main>
 <nav class="toc">{toc}</nav>
+{intro}
 {body}
 <footer>{esc(footer)}</footer>
 </main>

@@ -145,7 +145,7 @@ def peak_spin(ctx) -> None:
     sec = ctx.section
     ws = _windows(ctx)
     pub = _published()
-    fig, ax1 = plt.subplots(figsize=(10, 5))
+    fig, ax1 = plt.subplots(figsize=(10, 6))
     ax2 = ax1.twinx()
     colors = {"professional": "tab:blue", "recreational": "tab:orange", "junior": "tab:green"}
     rows = []
@@ -157,6 +157,8 @@ def peak_spin(ctx) -> None:
         i = int(np.argmax(w.spin_rpm))
         ax2.plot(w.alpha_deg[i], w.spin_rpm[i], "s", ms=9, mfc="none", mec=c, mew=2)
         paper_alpha = pub.PEAK_SPIN_ALPHA[p] if pub else None
+        if paper_alpha is not None:
+            ax1.axvline(paper_alpha, color=c, ls=":", lw=1.2, label=f"{p}: paper's peak-spin α")
         rows.append([p, H.num(w.peak_spin_alpha, 0), "–" if paper_alpha is None else paper_alpha,
                      H.num(w.spin_rpm[i], 0), H.num(pub.OPTIMUM[p]["topspin"]["spin_rpm"], 0) if pub else "–",
                      H.num(w.speed[i], 1)])
@@ -166,8 +168,8 @@ def peak_spin(ctx) -> None:
     ax1.grid(alpha=0.3)
     h1, l1 = ax1.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
-    ax1.legend(h1 + h2, l1 + l2, fontsize=8, loc="center left", ncol=2)
-    fig.tight_layout()
+    fig.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower center", ncol=3, frameon=False)
+    fig.tight_layout(rect=(0, 0.14, 1, 1))
     sec.add(H.para("Ball speed and spin after impact as the impact angle α grows (the paper's Figure 5): spin "
                    "rises to a peak and then falls as the ball starts to slide across the strings, while speed "
                    "falls ever faster. The peak-spin angle is where a coach would tell a player to brush the ball."),
