@@ -88,17 +88,17 @@ def build(path: str, rows: float, real: bool, chunk: int = 50_000) -> None:
     else:
         conn = db.open_db(path)
         db.bind_config(conn, db.config_dict(spec, params), path)
-        fid, done = db.begin_fill(conn, grid.to_json(), grid.size, chunk)
+        fid, done = T.begin_fill(conn, grid.to_json(), grid.size, chunk)
         n_chunks = -(-grid.size // chunk)
         for i in range(n_chunks):
             if i in done:
                 continue
             rows_i = _synthetic_rows(grid.chunk(i, chunk), spec, params)
-            db.store_chunk(conn, fid, i, T.select_hits(rows_i, spec, params.court))
+            T.store_chunk(conn, fid, i, T.select_hits(rows_i, spec, params.court))
             if i % 50 == 0:
                 print(f"  chunk {i}/{n_chunks}: {db.count_hits(conn):,} hits, {time.perf_counter() - t0:.0f} s",
                       flush=True)
-        db.finish_fill(conn, fid)
+        T.finish_fill(conn, fid)
         conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
         conn.close()
     print(f"built in {time.perf_counter() - t0:.0f} s; {os.path.getsize(path) / 1e9:.2f} GB", flush=True)
@@ -140,19 +140,26 @@ def main(argv=None) -> int:
     # warm the page cache (both methods read the same file)
     conn.execute("SELECT count(*) FROM hits_rtree").fetchone()
     results = {}
+    from tennislab.errors import InputError
+    steps = {"speed_kmh": DEFAULT_SPEC.speed.step, "spin_rpm": DEFAULT_SPEC.spin.step}
+    db.table_stats(conn)  # read once per connection, as a controller would
     for label, kw in (("speed+spin", lambda s, w: {"speed_kmh": s, "spin_rpm": w}),
                       ("speed only", lambda s, w: {"speed_kmh": s}),
                       ("any speed/spin", lambda s, w: {})):
         xs, ys, ss, ws = targets(args.lookups)
-        ms, reads = [], []
+        ms, reads, misses = [], [], 0
         for x, y, s, w in zip(xs, ys, ss, ws):
             t = time.perf_counter()
-            hit = db.nearest_hit(conn, x, y, **kw(float(s), float(w)))
+            try:  # the path of `launcher lookup` (max miss 1 m)
+                hit = db.lookup(conn, x, y, steps=steps, **kw(float(s), float(w)))
+                reads.append(hit["n_candidates"])
+            except InputError:
+                misses += 1
             ms.append((time.perf_counter() - t) * 1e3)
-            reads.append(hit["n_candidates"] if hit else 0)
         results[label] = _stats(ms)
         print(f"R*Tree lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
-              f"rows read median {int(np.median(reads))}  [{args.lookups} lookups]")
+              f"rows read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
+              f"[{args.lookups} lookups]")
     xs, ys, ss, ws = targets(args.scans)
     ms = []
     for x, y, s, w in zip(xs, ys, ss, ws):

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import json
-import os
 import sqlite3
 import subprocess
 import sys
@@ -172,11 +171,16 @@ def test_grid_ranges_and_strides():
     assert full.size == 30 * 171 * 2001 * 361 * 101 * 81
 
 
-def test_spin_zero_flown_once_per_axis(params):
+def test_spin_zero_stored_once(params, tmp_path):
     g = T.make_grid(DEFAULT_SPEC, {"height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0),
                                    "spin_axis_deg": (-10, 10), "elevation_deg": (10, 10), "heading_deg": (0, 0)})
     hits = T.fill_chunk(g.chunk(0, 1000), DEFAULT_SPEC, params)
     assert len(hits["id"]) == 1 and hits["spin_axis_deg"][0] == 0.0
+    # a grid without the 0 deg rotation still stores its zero-spin flight once
+    g = T.make_grid(DEFAULT_SPEC, {"height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0),
+                                   "spin_axis_deg": (85, 95), "elevation_deg": (10, 10), "heading_deg": (0, 0)})
+    rep = T.fill_table(str(tmp_path / "z.sqlite"), DEFAULT_SPEC, params, g)
+    assert rep.grid_rows == 11 and rep.hits_total == 1
 
 
 # ------------------------------------------------------------------ lookup
@@ -305,19 +309,17 @@ def test_parquet_out_dir_beside_the_db(tmp_path, params):
     assert np.all(rows["elevation_deg"] >= -20) and set(np.unique(rows["net_status"])) <= {0, 1, 2}
 
 
-def test_lookup_while_table_fills(tmp_path, params):
-    """WAL: a read-only lookup answers while another process fills the same file."""
+def test_lookup_while_table_fills(tmp_path, params, capsys):
+    """WAL: `launcher lookup` (read-only) answers while `launcher table` in another process fills the file."""
+    from tennislab.cli import main
     path = str(tmp_path / "live.sqlite")
     T.fill_table(path, DEFAULT_SPEC, params, T.make_grid(DEFAULT_SPEC, {
         "height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0), "spin_axis_deg": (0, 0)}),
         chunk_size=4000)
-    code = ("import sys; from tennislab.launcher import table as T; "
-            "from tennislab.launcher.aim import launcher_params; "
-            "from tennislab.launcher.machine import DEFAULT_SPEC as S; "
-            "g = T.make_grid(S, {'height_m': (1, 1), 'speed_kmh': (80, 120), 'spin_rpm': (0, 0), "
-            "'spin_axis_deg': (0, 0)}, {'speed_kmh': 4}); "
-            "T.fill_table(sys.argv[1], S, launcher_params(), g, chunk_size=1500)")
-    proc = subprocess.Popen([sys.executable, "-c", code, path], stderr=subprocess.PIPE)
+    cmd = [sys.executable, "-m", "tennislab", "launcher", "table", "--db", path, "--height", "1",
+           "--speed-kmh", "80", "120", "--step", "speed", "4", "--spin-rpm", "0", "0", "--spin-axis-deg", "0", "0",
+           "--chunk-size", "1500", "--no-progress"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     answers, counts = 0, []
     deadline = time.time() + 120
     try:
@@ -326,11 +328,14 @@ def test_lookup_while_table_fills(tmp_path, params):
             conn.execute("BEGIN")  # one snapshot: hits and chunk marks agree
             n = db.count_hits(conn)
             marked = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
-            assert n == marked
-            hit = db.lookup(conn, 8.0, 1.0, speed_kmh=100.0, spin_rpm=0.0)
-            assert hit["miss_m"] < 0.5
+            assert n == marked == conn.execute("SELECT count(*) FROM hits_xy").fetchone()[0]
             conn.execute("COMMIT")
             conn.close()
+            rc = main(["launcher", "lookup", "--db", path, "--target", "8", "1", "--speed-kmh", "100",
+                       "--spin-rpm", "0", "--json"])
+            out, err = capsys.readouterr()
+            assert rc == 0, err
+            assert json.loads(out)["miss_mm"] < 500
             answers += 1
             counts.append(n)
             time.sleep(0.02)

@@ -254,7 +254,8 @@ def _result_dict(hit: dict, target, spec, params, h: str, path: str) -> dict:
                "miss_mm": hit["miss_m"] * 1e3, "net_clearance_m": clr}
     out["bounce_spin_rpm"] = float(hit["bounce_spin_rpm"])
     out["lookup_ms"] = float(hit["lookup_ms"])
-    out["db"] = {"path": path, "hash": h, "hit_id": int(hit["id"]), "rows_read": int(hit["n_candidates"])}
+    out["db"] = {"path": path, "hash": h, "hit_id": int(hit["id"]), "index_entries_read": int(hit["n_candidates"]),
+                "hits_read": int(hit["n_read"])}
     return out
 
 
@@ -299,8 +300,9 @@ def _run_drills(args) -> int:
             emit_json({"drills": rows})
         else:
             for r in rows:
-                print(f"{r['name']}  rev {r['revision']}  {r['n_shots']} shots  format {r['format_version']}  "
-                      f"{r['filename']}  {r['imported_utc']}")
+                fmt = f"  format {r['format_version']}" if r["format_version"] else ""
+                print(f"{r['name']}  rev {r['revision']}  {r['n_shots']} shots{fmt}  {r['filename']}  "
+                      f"{r['imported_utc']}")
             if not rows:
                 print("no drills stored")
         return 0

@@ -261,7 +261,8 @@ def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str 
             a, b = jf(v, w)
             return float(a), float(b)
     except Exception as exc:  # numba raises many error types
-        raise InputError(f"aero: callable {name!r} cannot be compiled by Numba ({type(exc).__name__})") from None
+        first = str(exc).strip().splitlines()[0][:160] if str(exc).strip() else ""
+        raise InputError(f"aero: callable {name!r} cannot be compiled by Numba ({type(exc).__name__}: {first})") from None
     return AeroModel(name, _wrapped, _params(0.0), "user callable")
 
 

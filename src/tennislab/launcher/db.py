@@ -466,14 +466,10 @@ def count_hits_fast(conn: sqlite3.Connection) -> int:
 
 
 # -------------------------------------------------------------------- lookup
-_COLS_SQL = ("SELECT h.id, h.height_m, h.speed_kmh, h.elevation_deg, h.heading_deg, h.spin_rpm, "
-             "h.spin_axis_deg, h.land_x, h.land_y, h.net_clearance_m, h.flight_time_s, h.bounce_speed_ms, "
-             "h.bounce_spin_rpm, h.apex_z_m ")
-_BOX_SQL = (_COLS_SQL + "FROM hits_rtree r JOIN hits h ON h.id = r.id "
-            "WHERE r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ? "
-            "AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?")
-_BOX_XY_SQL = (_COLS_SQL + "FROM hits_xy r JOIN hits h ON h.id = r.id "
-               "WHERE r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?")
+_COLS_SQL = ("SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
+             "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits ")
+_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
+_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
 
 #: Two candidates whose misses differ by less than this are a tie [m]; the one
 #: with the larger net clearance wins (a safer ball for the same landing).
@@ -495,9 +491,12 @@ def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: floa
     hit matches; once the nearest candidate is at distance d_min, a box of
     half-width d_min + ``tie_m`` contains every point that could be nearer (or
     tie), so one more query at most makes the answer exact.  Ties (misses
-    within ``tie_m``) go to the larger net clearance.  Returns a dict (columns
-    of ``hits`` plus ``miss_m`` and ``n_candidates``, the rows the last query
-    read) or None when no matching hit lands within ``max_m`` of the target.
+    within ``tie_m``) go to the larger net clearance.  Each query reads the
+    index alone (float32 boxes bound the distances); only the hits that can be
+    nearest or tie are then read from ``hits``.  Returns a dict (columns of
+    ``hits`` plus ``miss_m``, ``n_candidates`` (index entries of the last box)
+    and ``n_read`` (hits rows read)) or None when no matching hit lands within
+    ``max_m`` of the target.
     ``where`` {column: (lo, hi)} filters on other settings (e.g. ``height_m``)
     in the join, after the index.
     """
@@ -507,34 +506,75 @@ def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: floa
     s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
     w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
     free = speed_kmh is None and spin_rpm is None
+    # phase 1 reads the index only: its boxes are float32-rounded points, so distances are bounded
+    sql = (f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
+           + (" JOIN hits h ON h.id = r.id" if extra else "") + " WHERE " + _BOX
+           + ("" if free else _SPEED_SPIN) + extra)
+    fixed = ([] if free else [s_lo, s_hi, w_lo, w_hi]) + xargs
     limit = max_m + tie_m   # a box this wide holds every point within max_m, and its ties
     d = min(start_m, limit)
     while True:
-        if free:
-            rows = conn.execute(_BOX_XY_SQL + extra, [x - d, x + d, y - d, y + d] + xargs).fetchall()
-        else:
-            rows = conn.execute(_BOX_SQL + extra, [x - d, x + d, y - d, y + d, s_lo, s_hi, w_lo, w_hi]
-                                + xargs).fetchall()
+        rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
         if rows:
-            a = np.array([r[7:9] for r in rows])
-            miss = np.hypot(a[:, 0] - x, a[:, 1] - y)
-            dmin = float(miss.min())
-            if dmin + tie_m <= d:
+            b = np.array(rows)
+            lo = np.hypot(np.maximum(np.maximum(b[:, 1] - x, x - b[:, 2]), 0.0),
+                          np.maximum(np.maximum(b[:, 3] - y, y - b[:, 4]), 0.0))
+            hi = np.hypot(np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)),
+                          np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y)))
+            dmin_hi = float(hi.min())
+            if dmin_hi + tie_m <= d or d >= limit:
                 break
-            if d >= limit:      # then dmin > max_m: nothing within reach
-                return None
-            d = min(dmin + tie_m, limit)
+            d = min(dmin_hi + tie_m, limit)
             continue
         if d >= limit:
             return None
         d = min(2.0 * d, limit)
+    # phase 2: exact distances of the few hits that can be nearest or tie
+    ids = [int(i) for i in b[lo <= dmin_hi + tie_m, 0]]
+    hits = conn.execute(_COLS_SQL + f"WHERE id IN ({','.join('?' * len(ids))})", ids).fetchall()
+    miss = np.hypot(np.array([h[7] for h in hits]) - x, np.array([h[8] for h in hits]) - y)
+    dmin = float(miss.min())
+    if dmin > max_m:
+        return None
     cand = np.flatnonzero(miss <= dmin + tie_m)
-    clear = np.array([rows[i][9] for i in cand])
-    best = int(cand[int(np.argmax(clear))])
-    out = dict(zip(HIT_COLUMNS, rows[best]))
-    out["miss_m"] = float(miss[best])
-    out["n_candidates"] = len(rows)
+    best = int(cand[int(np.argmax([hits[i][9] for i in cand]))])
+    out = dict(zip(HIT_COLUMNS, hits[best]))
+    out.update(miss_m=float(miss[best]), n_candidates=len(rows), n_read=len(hits))
     return out
+
+
+_STATS: dict = {}
+#: Expected rows in a lookup's first box; its half-width follows from the table's density.
+FIRST_BOX_ROWS = 8.0
+
+
+def table_stats(conn: sqlite3.Connection) -> dict:
+    """Hits stored and speed/spin values per grid (from ``fill_chunks``/``fills``; cached per connection)."""
+    key = id(conn)
+    if key in _STATS and _STATS[key][0] is conn:
+        return _STATS[key][1]
+    n = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
+    ns = nw = 1
+    for (g,) in conn.execute("SELECT grid_json FROM fills"):
+        gj = json.loads(g)
+        ns, nw = max(ns, len(gj.get("speed_kmh", ()))), max(nw, len(gj.get("spin_rpm", ())))
+    stats = {"n": int(n), "n_speed": ns, "n_spin": nw}
+    if len(_STATS) > 16:
+        _STATS.clear()
+    _STATS[key] = (conn, stats)
+    return stats
+
+
+def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float = 170.0) -> float:
+    """Half-width [m] of a box expected to hold :data:`FIRST_BOX_ROWS` matching hits.
+
+    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin);
+    a given speed (spin) keeps about 1/``n_speed`` (1/``n_spin``) of them.
+    """
+    n = stats["n"] / (stats["n_speed"] if speed_given else 1) / (stats["n_spin"] if spin_given else 1)
+    if n <= 0:
+        return 0.05
+    return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
 
 
 def has_hits(conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3,
@@ -610,16 +650,19 @@ def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin
     """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
 
     ``steps`` (grid step per setting, from the machine spec) sets how close a
-    requested speed/spin must be to a stored one (a third of a step).  Raises
+    requested speed/spin must be to a stored one (a third of a step).  The first
+    box is sized from the table's density (:func:`first_box`; the statistics are
+    read once per connection, before the timed ``lookup_ms``).  Raises
     :class:`InputError` when nothing matches or the nearest landing misses by
     more than ``max_miss_m``.
     """
     steps = steps or {}
+    d0 = first_box(table_stats(conn), speed_kmh is not None, spin_rpm is not None)
     t0 = time.perf_counter()
     st = _half_window(speed_kmh, steps.get("speed_kmh"))
     wt = _half_window(spin_rpm, steps.get("spin_rpm"))
     hit = nearest_hit(conn, x, y, speed_kmh=speed_kmh, spin_rpm=spin_rpm, speed_tol=st, spin_tol=wt,
-                      max_m=max_miss_m, where=where)
+                      max_m=max_miss_m, where=where, start_m=d0)
     ms = (time.perf_counter() - t0) * 1e3
     if hit is None:
         if count_hits_fast(conn) == 0:
@@ -635,52 +678,6 @@ def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin
                          f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)")
     hit["lookup_ms"] = ms
     return hit
-
-
-# -------------------------------------------------------------------- fills
-def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int) -> tuple[int, set]:
-    """Register (or find) a fill of one settings grid; return (fill id, set of finished chunks)."""
-    gh = hashlib.sha256(grid_json.encode()).hexdigest()
-    n_chunks = -(-int(n_rows) // int(chunk_size))
-    conn.execute("BEGIN IMMEDIATE")
-    try:
-        row = conn.execute("SELECT id, chunk_size FROM fills WHERE grid_hash = ?", (gh,)).fetchone()
-        if row is None:
-            cur = conn.execute("INSERT INTO fills (grid_hash, grid_json, n_rows, chunk_size, n_chunks, "
-                               "started_utc) VALUES (?, ?, ?, ?, ?, ?)",
-                               (gh, grid_json, int(n_rows), int(chunk_size), n_chunks, _now()))
-            fid = cur.lastrowid
-        else:
-            fid = row[0]
-            if row[1] != chunk_size:
-                raise InputError(f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
-                                 f"resume with the same size (got {chunk_size})")
-        done = {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))}
-        conn.execute("COMMIT")
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
-    return fid, done
-
-
-def store_chunk(conn: sqlite3.Connection, fill_id: int, chunk: int, hits: dict) -> int:
-    """Insert one chunk's hits and mark the chunk finished, in one transaction."""
-    conn.execute("BEGIN IMMEDIATE")
-    try:
-        n = insert_hits(conn, hits)
-        conn.execute("INSERT OR REPLACE INTO fill_chunks VALUES (?, ?, ?)", (fill_id, int(chunk), n))
-        conn.execute("COMMIT")
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
-    return n
-
-
-def finish_fill(conn: sqlite3.Connection, fill_id: int) -> None:
-    with conn:
-        conn.execute("UPDATE fills SET finished_utc = ? WHERE id = ? AND "
-                     "(SELECT count(*) FROM fill_chunks WHERE fill_id = ?) = n_chunks",
-                     (_now(), fill_id, fill_id))
 
 
 # -------------------------------------------------------------------- drills

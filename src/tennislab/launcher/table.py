@@ -24,9 +24,11 @@ inserts each setting once.
 """
 from __future__ import annotations
 
+import hashlib
 import itertools
 import json
 import math
+import sqlite3
 import time
 from dataclasses import dataclass
 
@@ -182,16 +184,18 @@ def fly_chunk(indices: dict, spec, params) -> dict:
     return out
 
 
-def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M) -> dict:
+def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M, axis0: float | None = None) -> dict:
     """The rows of a flown chunk that go into ``hits`` (module docstring), as :data:`db.HIT_COLUMNS`.
 
     Kept: landed, cleared the net, landing in the doubles area of the half
     opposite the machine (the far half for a machine at x < 0) + margin;
-    with zero spin only the spin-axis rotation nearest 0 deg.
+    with zero spin only the spin-axis rotation ``axis0`` (default: the machine's
+    step nearest 0 deg; a fill passes its grid's rotation nearest 0 deg).
     """
     from tennislab.core.events import NET_OVER, STATUS_OK
-    ax = spec.range_of("spin_axis_deg")
-    axis0 = axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1)))
+    if axis0 is None:
+        ax = spec.range_of("spin_axis_deg")
+        axis0 = axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1)))
     side = 1.0 if spec.position[0] < 0 else -1.0  # the half opposite the machine
     x, y = side * np.asarray(rows["land_x"]), rows["land_y"]
     with np.errstate(invalid="ignore"):
@@ -204,6 +208,52 @@ def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M) -> 
 def fill_chunk(indices: dict, spec, params, keep_margin: float = KEEP_MARGIN_M) -> dict:
     """:func:`fly_chunk` then :func:`select_hits`: the hits of one chunk."""
     return select_hits(fly_chunk(indices, spec, params), spec, params.court, keep_margin)
+
+
+# ------------------------------------------------------------ fill bookkeeping
+def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int) -> tuple[int, set]:
+    """Register (or find) a fill of one settings grid; return (fill id, set of finished chunks)."""
+    gh = hashlib.sha256(grid_json.encode()).hexdigest()
+    n_chunks = -(-int(n_rows) // int(chunk_size))
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        row = conn.execute("SELECT id, chunk_size FROM fills WHERE grid_hash = ?", (gh,)).fetchone()
+        if row is None:
+            cur = conn.execute("INSERT INTO fills (grid_hash, grid_json, n_rows, chunk_size, n_chunks, "
+                               "started_utc) VALUES (?, ?, ?, ?, ?, ?)",
+                               (gh, grid_json, int(n_rows), int(chunk_size), n_chunks, _db._now()))
+            fid = cur.lastrowid
+        else:
+            fid = row[0]
+            if row[1] != chunk_size:
+                raise InputError(f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
+                                 f"resume with the same size (got {chunk_size})")
+        done = {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))}
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    return fid, done
+
+
+def store_chunk(conn: sqlite3.Connection, fill_id: int, chunk: int, hits: dict) -> int:
+    """Insert one chunk's hits and mark the chunk finished, in one transaction."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        n = _db.insert_hits(conn, hits)
+        conn.execute("INSERT OR REPLACE INTO fill_chunks VALUES (?, ?, ?)", (fill_id, int(chunk), n))
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    return n
+
+
+def finish_fill(conn: sqlite3.Connection, fill_id: int) -> None:
+    with conn:
+        conn.execute("UPDATE fills SET finished_utc = ? WHERE id = ? AND "
+                     "(SELECT count(*) FROM fill_chunks WHERE fill_id = ?) = n_chunks",
+                     (_db._now(), fill_id, fill_id))
 
 
 def _fly_task(i, indices, spec, params):
@@ -252,7 +302,7 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
     try:
         cfg = _db.config_dict(spec, params)
         h = _db.bind_config(conn, cfg, path)
-        fid, done = _db.begin_fill(conn, grid.to_json(), grid.size, chunk_size)
+        fid, done = begin_fill(conn, grid.to_json(), grid.size, chunk_size)
         n_chunks = -(-grid.size // chunk_size)
         store = _parquet_store(out_dir, h, grid, chunk_size) if out_dir else None
         if store is not None:
@@ -266,6 +316,8 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
             bar = ProgressBar(n_chunks, desc=f"launcher table -> {path}", enabled=progress_enabled(progress))
             bar.skip(len(done))
         payloads = ((i, (i, grid.chunk(i, chunk_size), spec, params)) for i in todo)
+        axes = axis_values(spec.range_of("spin_axis_deg"), grid.indices["spin_axis_deg"])
+        axis0 = float(axes[np.argmin(np.abs(axes))])  # the one rotation stored for zero spin
         run = runner.run if runner is not None else _local_run
         inserted = 0
         try:
@@ -273,8 +325,8 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
                 if store is not None:
                     lo = ci * chunk_size
                     store.write(ci, rows, {"rows": [lo, lo + len(rows["id"])], "input_hash": None})
-                hits = select_hits(rows, spec, params.court, keep_margin)
-                inserted += _db.store_chunk(conn, fid, ci, hits)
+                hits = select_hits(rows, spec, params.court, keep_margin, axis0)
+                inserted += store_chunk(conn, fid, ci, hits)
                 if bar is not None:
                     bar.update(len(rows["id"]))
                 if on_chunk is not None:
@@ -282,7 +334,7 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
         finally:
             if bar is not None:
                 bar.close()
-        _db.finish_fill(conn, fid)
+        finish_fill(conn, fid)
         if store is not None and len(store.done()) == n_chunks:
             store.finish(n_chunks, grid.size)
         total = _db.count_hits(conn)
@@ -293,11 +345,11 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
 
 def _parquet_store(out_dir: str, config_hash: str, grid: TableGrid, chunk_size: int):
     """The batch layer's resumable Parquet store for this fill (same manifest identity keys)."""
-    import hashlib
     from tennislab.batch.store import ChunkStore
     manifest = {"fn": {"name": f"{__name__}.fly_chunk", "config": config_hash[:24]},
                 "tag": {"launcher_table": config_hash},
-                "source": "grid", "fingerprint": "launcher-grid:" + hashlib.sha256(grid.to_json().encode()).hexdigest()[:32],
+                "source": "grid",
+                "fingerprint": "launcher-grid:" + hashlib.sha256(grid.to_json().encode()).hexdigest()[:32],
                 "n_rows": grid.size, "row_key": None, "include_inputs": True, "chunk_size": int(chunk_size)}
     return ChunkStore(out_dir, manifest)
 

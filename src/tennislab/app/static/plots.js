@@ -171,12 +171,22 @@ class View3D {
 class HeatMap {
   constructor(canvas, onPick) {
     this.c = canvas; this.onPick = onPick; this.data = null; this.sel = null;
+    const cellOf = e => {
+      const r = canvas.getBoundingClientRect();
+      return this.cellAt((e.clientX - r.left) * canvas.width / r.width, (e.clientY - r.top) * canvas.height / r.height);
+    };
     canvas.addEventListener("click", e => {
       if (!this.data) return;
-      const r = canvas.getBoundingClientRect();
-      const px = (e.clientX - r.left) * canvas.width / r.width, py = (e.clientY - r.top) * canvas.height / r.height;
-      const cell = this.cellAt(px, py);
+      const cell = cellOf(e);
       if (cell) { this.sel = cell; this.draw(); this.onPick(this.data.alpha[cell[0]], this.data.beta[cell[1]]); }
+    });
+    canvas.addEventListener("mousemove", e => {
+      if (!this.data) return;
+      const cell = cellOf(e);
+      if (!cell) { canvas.title = ""; return; }
+      const d = this.data, code = d.code[cell[1]][cell[0]];
+      const lab = (d.legend.find(l => l.code === code) || {}).label || "";
+      canvas.title = `alpha ${d.alpha[cell[0]]} deg, beta ${d.beta[cell[1]]} deg: ${lab}`;
     });
   }
   geom() { const pad = [40, 10, 10, 34]; return {l: pad[0], t: pad[1], w: this.c.width - pad[0] - pad[2], h: this.c.height - pad[1] - pad[3]}; }
