@@ -407,3 +407,10 @@ def test_concurrent_requests_give_the_same_answers(client):
         outs = list(ex.map(one, range(8)))
     for kind, out in outs:
         assert out == (ref if kind == "w" else aim_ref)
+
+
+@pytest.mark.parametrize("path", ["/static/../server.py", "/static/%2e%2e/server.py", "/static/..%2fserver.py",
+                                  "/static/../../errors.py", "/server.py", "/api/../app/server.py"])
+def test_no_file_outside_static_is_served(client, path):
+    r = client.get(path)
+    assert r.status_code in (404, 400, 405) and "def create_app" not in r.text

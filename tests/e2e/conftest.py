@@ -49,8 +49,10 @@ def start_server(env_extra: dict | None = None):
     port = _free_port()
     env = {k: v for k, v in os.environ.items() if k != "TENNISLAB_APP_DISABLE"}
     env.update(env_extra or {})
+    import tempfile
+    log = tempfile.TemporaryFile()
     proc = subprocess.Popen([sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", str(port)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+                            stdout=log, stderr=subprocess.STDOUT, env=env)
     url = f"http://127.0.0.1:{port}"
     deadline = time.time() + 90
     while True:
@@ -60,7 +62,9 @@ def start_server(env_extra: dict | None = None):
         except OSError:
             if proc.poll() is not None or time.time() > deadline:
                 proc.kill()
-                pytest.fail(f"tennislab app did not start (exit code {proc.poll()})")
+                log.seek(0)
+                tail = log.read().decode(errors="replace")[-2000:]
+                pytest.fail(f"tennislab app did not start (exit code {proc.poll()}):\n{tail}")
             time.sleep(0.3)
     return proc, url
 

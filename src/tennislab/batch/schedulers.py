@@ -211,8 +211,19 @@ def worker_environment(**env: str):
     import dask
     key = "distributed.nanny.pre-spawn-environ"
     merged = dict(dask.config.get(key, default={}) or {}, **env)
-    with dask.config.set({key: merged}):
-        yield
+    saved = {k: os.environ.get(k) for k in env}
+    try:
+        with dask.config.set({key: merged}):
+            yield
+    finally:
+        # the nanny writes pre-spawn-environ into this process's os.environ too; restore it so
+        # that numba in this process does not see a changed NUMBA_NUM_THREADS (it then refuses
+        # to compile anything new)
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
 @register_scheduler("processes")
