@@ -17,6 +17,20 @@ from _shots import mixed_shots  # noqa: E402
 from tennislab.core.flight import FlightParams, fly, fly_batch  # noqa: E402
 
 
+def _ratio_for_model(name: str, S, n_scipy: int) -> tuple[float, float]:
+    """(batch traj/s, SciPy RK45 traj/s) for one aero model on the same shots."""
+    from tennislab.core.aero import get_aero_model
+    p = FlightParams(aero=get_aero_model(name))
+    fly_batch(S[:1000], p)
+    t0 = time.perf_counter()
+    fly_batch(S, p)
+    rb = len(S) / (time.perf_counter() - t0)
+    t0 = time.perf_counter()
+    for i in range(n_scipy):
+        fly(S[i, :3], S[i, 3:6], S[i, 6:], p, method="RK45", rtol=1e-8, atol=1e-8)
+    return rb, n_scipy / (time.perf_counter() - t0)
+
+
 def main(n_batch: int = 1_000_000, n_scipy: int = 150) -> dict:
     import numba
     p = FlightParams()
@@ -52,6 +66,10 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 150) -> dict:
     print(f"flight: ratio batch/SciPy = {res['ratio']:,.0f}x (target >= 2000x)")
     print(f"flight: max landing error vs DOP853 rtol 1e-10 reference = {res['max_landing_error_mm']:.5f} mm "
           f"(target 0.01 mm)")
+    for name in ("launcher2015", "constant"):
+        rb, rs = _ratio_for_model(name, S[:300_000], n_scipy // 2)
+        res[f"ratio_{name}"] = rb / rs
+        print(f"flight [{name}]: batch {rb:,.0f} traj/s, SciPy {rs:,.1f} traj/s, ratio {rb / rs:,.0f}x")
     return res
 
 

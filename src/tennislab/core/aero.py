@@ -74,12 +74,12 @@ class AeroModel:
 
 
 # ---------------------------------------------------------------- kernels
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _constant_kernel(v, w, r, p):
     return p[0], p[1]
 
 
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _stepanek_kernel(v, w, r, p):
     # Seed 000 eqs 3-4 (Stepanek 1988).  p = (C_D0, a, b, h, q): C_D = C_D0 + 1/(a + b (v/rw)^h)^q
     rw = r * w
@@ -94,7 +94,7 @@ def _stepanek_kernel(v, w, r, p):
     return cd, cl
 
 
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _linear_lift_kernel(v, w, r, p):
     # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
     if v <= 0.0:
@@ -105,7 +105,7 @@ def _linear_lift_kernel(v, w, r, p):
     return p[0], cl
 
 
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _table_kernel(v, w, r, p):
     # p = [nv, nw, v_0..v_nv-1, w_0..w_nw-1, cd (nv*nw, row-major in v), cl (same)]
     nv = int(p[0])

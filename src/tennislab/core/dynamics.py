@@ -28,7 +28,7 @@ DERIVATIVE_SIGNATURE = types.void(
     _F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
 
 
-@nb.njit(DERIVATIVE_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(DERIVATIVE_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     """Fill ``out`` with dy/dt.
 

@@ -72,7 +72,7 @@ _iNET_T = COL["net_t"]
 _iAPEX_T = COL["apex_t"]
 
 
-@nb.njit(cache=True, error_model="numpy", inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
 def _dense_comp(theta, c, y0, K, h, P):
     s = 0.0
     for k in range(7):
@@ -81,13 +81,13 @@ def _dense_comp(theta, c, y0, K, h, P):
     return y0[c] + h * s
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _dense_full(theta, y0, K, h, P, out):
     for c in range(9):
         out[c] = _dense_comp(theta, c, y0, K, h, P)
 
 
-@nb.njit(cache=True, error_model="numpy", inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
 def _dense_comp_d(theta, c, y0, K, h, P):
     """The interpolant's component c and its derivative d/dtheta at theta."""
     s = 0.0
@@ -101,7 +101,7 @@ def _dense_comp_d(theta, c, y0, K, h, P):
     return y0[c] + h * s, h * ds
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _root(c, target, y0, K, h, P, f0, f1):
     """theta in [0, 1] where the interpolant's component c equals target.
 
@@ -134,7 +134,7 @@ def _root(c, target, y0, K, h, P, f0, f1):
     return x
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def integrate_one(y_init, aero, aero_p, consts, row, work):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
 
@@ -270,7 +270,7 @@ _F = types.float64
 BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], _F[::1], _F[:, ::1])
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", parallel=True)
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, parallel=True)
 def batch_kernel(states, aero, aero_p, consts, out):
     """Integrate every row of ``states`` (N, 9) and fill the event table ``out`` (N, NCOLS)."""
     n = states.shape[0]
@@ -281,7 +281,7 @@ def batch_kernel(states, aero, aero_p, consts, out):
             integrate_one(states[i], aero, aero_p, consts, out[i], work)
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy")
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def serial_kernel(states, aero, aero_p, consts, out):
     """As :func:`batch_kernel`, on one thread (for callers that parallelise themselves)."""
     work = np.empty((12, 9))

@@ -7,13 +7,18 @@ of the impact angle alpha, the face angle beta and the face azimuth psi (sd
 or a real service box with ``target``), the mean and covariance of the landing
 points (court frame, x along, y across [m]) and the 95 % landing ellipse.
 
-Draws come from ``numpy.random.default_rng(seed)`` in a fixed order (alpha,
-beta, psi, speed, height), so a run is reproducible for a given seed and n,
-whatever the scheduler and chunking.  Impacts are interpolated (bilinear)
-from a table on a (V, alpha) grid spanning the drawn values (:func:`impact_table`; 41 x 81
-points, interpolation error checked in tests/test_serve_mc.py); flights use
-the compiled batch integrator.  :func:`simulate_chunk` is the per-chunk worker
-(module level, for ``tennislab.batch.map_chunks``).
+Memory is bounded for any n (up to 10^8): the serves are simulated in blocks
+(:func:`block_size`, at most 65536 serves) by :func:`mc_blocks`, which keeps
+only per-block sufficient statistics (counts, means, centred co-moments of the
+landing points); :func:`combine_blocks` merges them in block order.  Each draw
+is a pure function of (seed, stream, row) (:mod:`tennislab.batch.rng`, streams
+:data:`STREAMS`), so a run is reproducible for a given seed and n and
+bit-identical whatever the scheduler and chunking.  Impacts are interpolated
+(bilinear) from one 81 x 161 table on a (V, alpha) grid spanning every value
+the draws can take (nominal +- :data:`Z_MAX` sd; :func:`scatter_table`,
+interpolation error checked in tests/test_serve_mc.py); flights use the
+compiled batch integrator.  :func:`mc_blocks` is the batch worker (module
+level, for ``tennislab.batch.map_chunks`` over a ``RowRange`` of blocks).
 """
 from __future__ import annotations
 
@@ -133,55 +138,172 @@ def simulate_chunk(inputs: dict, *, flight: dict | None = None, target: str | No
             "net_height": j["net_height"], "success": j["success"], "landed": table.ok}
 
 
-def draw_serves(player, alpha_deg, beta_deg, *, n: int, seed: int, sd_angle: float, sd_speed: float,
-                sd_height: float, sd_azimuth: float | None, azimuth_deg: float = 0.0,
-                impact_params: ImpactParams, server_x: float, server_y: float, impact_kw=None) -> dict:
-    """The launched states of n scattered serves (inputs of :func:`simulate_chunk`)."""
-    rng = np.random.default_rng(seed)
-    sd_az = sd_angle if sd_azimuth is None else sd_azimuth
-    a = np.radians(alpha_deg + sd_angle * rng.standard_normal(n))
-    b = np.radians(beta_deg + sd_angle * rng.standard_normal(n))
-    psi = np.radians(azimuth_deg + sd_az * rng.standard_normal(n))
-    V = player.racket_speed + sd_speed * rng.standard_normal(n)
-    h = player.impact_height + sd_height * rng.standard_normal(n)
-    V = np.clip(V, 1.0, None)
-    a = np.clip(a, -math.radians(89.0), math.radians(89.0))
-    tab = impact_table((V.min(), V.max()), (a.min(), a.max()), impact_params, **(impact_kw or {}))
+#: Largest |z| a normal of :mod:`tennislab.batch.rng` can take: Box-Muller with u1 >= 2^-54
+#: (53-bit uniforms offset by half a step), sqrt(-2 ln 2^-54) = 8.652.  The impact table spans
+#: nominal +- Z_MAX sd, so no draw is ever outside it (no clamping), whatever n and seed.
+Z_MAX = math.sqrt(-2.0 * math.log(2.0 ** -54))
+#: rng streams of the five scattered quantities (tennislab.batch.rng, keyed by (seed, stream, row))
+STREAMS = {"alpha": 0, "beta": 1, "psi": 2, "speed": 3, "height": 4}
+_STATE_KEYS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
+_A_LIM = math.radians(89.0)
+
+
+def block_size(n: int) -> int:
+    """Serves per statistics block: the batch layer's default chunk for n rows (clip(n/64, 1024, 65536)).
+
+    Depends on n only, so the per-block statistics -- and their fixed-order
+    combination -- never depend on the scheduler or ``--chunk-size``.
+    """
+    from tennislab.batch.sources import default_chunk_size
+    return default_chunk_size(n)
+
+
+def scatter_table(player, alpha_deg, sd_angle, sd_speed, impact_params, impact_kw=None, nv=81, na=161) -> dict:
+    """Impact table over every (V, alpha) the draws can take (nominal +- Z_MAX sd, clipped as the draws)."""
+    V0, a0 = player.racket_speed, math.radians(alpha_deg)
+    v_lo, v_hi = max(1.0, V0 - Z_MAX * sd_speed), max(1.0, V0 + Z_MAX * sd_speed)
+    da = math.radians(Z_MAX * sd_angle)
+    a_lo, a_hi = (min(max(a0 - da, -_A_LIM), _A_LIM), min(max(a0 + da, -_A_LIM), _A_LIM))
+    tab = impact_table((v_lo, v_hi), (a_lo, a_hi), impact_params, nv=nv, na=na, **(impact_kw or {}))
     T = np.ascontiguousarray(np.stack([tab.vals[k] for k in ("v_n", "v_t", "omega")]))
-    S = np.empty((n, 9))
-    _launch_kernel(a, b, psi, V, h, tab.V, tab.A, T, float(server_x), float(server_y), S)
-    return {k: S[:, i] for i, k in enumerate(("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"))}
+    return {"V": tab.V, "A": tab.A, "T": T}
 
 
-def landing_stats(x, y) -> dict:
-    """Mean, covariance and 95 % ellipse (semi-axes [m], angle of the major axis to x [deg])."""
-    if x.size < 2:
-        return {"mean": [float(np.mean(x)) if x.size else None, float(np.mean(y)) if y.size else None],
-                "cov": None, "ellipse_95": None}
-    P = np.stack([x, y])
-    cov = np.cov(P)
+def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, server_y: float) -> dict:
+    """Launched states of the serves at global row indices ``rows`` (inputs of :func:`simulate_chunk`).
+
+    Each draw is a pure function of (seed, stream, row) (:mod:`tennislab.batch.rng`), so a serve is
+    the same whichever block, chunk or worker computes it.  ``nominal``: alpha, beta, azimuth [deg],
+    speed [m/s], height [m] and their sd ``sd_angle``, ``sd_azimuth`` [deg], ``sd_speed``, ``sd_height``.
+    """
+    from tennislab.batch import rng
+    rows = np.asarray(rows, dtype=np.int64)
+    nm = nominal
+    a = np.radians(nm["alpha"] + nm["sd_angle"] * rng.normal(seed, rows, STREAMS["alpha"]))
+    b = np.radians(nm["beta"] + nm["sd_angle"] * rng.normal(seed, rows, STREAMS["beta"]))
+    psi = np.radians(nm["azimuth"] + nm["sd_azimuth"] * rng.normal(seed, rows, STREAMS["psi"]))
+    V = np.clip(nm["speed"] + nm["sd_speed"] * rng.normal(seed, rows, STREAMS["speed"]), 1.0, None)
+    h = nm["height"] + nm["sd_height"] * rng.normal(seed, rows, STREAMS["height"])
+    a = np.clip(a, -_A_LIM, _A_LIM)
+    S = np.empty((rows.size, 9))
+    _launch_kernel(a, b, psi, V, h, table["V"], table["A"], table["T"], float(server_x), float(server_y), S)
+    return {k: S[:, i] for i, k in enumerate(_STATE_KEYS)}
+
+
+def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, table: dict, server_y: float,
+              flight: dict | None, target: str | None, net_top: float, service_line: float,
+              server_x: float) -> dict:
+    """Batch worker: sufficient statistics of whole blocks of serves (one output row per block).
+
+    ``chunk["block"]``: block indices; block b = serves [b*block, min(n, (b+1)*block)).  Only one
+    block of serves is in memory at a time.  Per block: ``n`` (serves), ``n_success``, ``n_landed``,
+    the landed serves' means ``mean_x``, ``mean_y`` (court frame [m]), ``mean_landing_x`` (from the
+    impact point [m]) and centred sums of products ``m2_xx``, ``m2_xy``, ``m2_yy`` [m^2] (NaN
+    where nothing landed); :func:`combine_blocks` merges them.
+    """
+    blocks = np.asarray(chunk["block"], dtype=np.int64)
+    cols = ("n", "n_success", "n_landed", "mean_x", "mean_y", "mean_landing_x", "m2_xx", "m2_xy", "m2_yy")
+    out = {k: np.zeros(blocks.size, np.int64 if k.startswith("n") else np.float64) for k in cols}
+    for j, b in enumerate(blocks):
+        rows = np.arange(int(b) * block, min(n, (int(b) + 1) * block), dtype=np.int64)
+        r = _simulate_rows(rows, seed=seed, nominal=nominal, table=table, server_y=server_y, flight=flight,
+                           target=target, net_top=net_top, service_line=service_line, server_x=server_x)
+        landed = np.asarray(r["landed"], bool)
+        x, y, lx = r["land_x"][landed], r["land_y"][landed], r["landing_x"][landed]
+        out["n"][j], out["n_success"][j], out["n_landed"][j] = rows.size, int(r["success"].sum()), x.size
+        if x.size:
+            mx, my = x.mean(), y.mean()
+            dx, dy = x - mx, y - my
+            out["mean_x"][j], out["mean_y"][j], out["mean_landing_x"][j] = mx, my, lx.mean()
+            out["m2_xx"][j], out["m2_xy"][j], out["m2_yy"][j] = dx @ dx, dx @ dy, dy @ dy
+        else:
+            for k in cols[3:]:
+                out[k][j] = np.nan
+    return out
+
+
+def _simulate_rows(rows, *, seed, nominal, table, server_y, flight, target, net_top, service_line, server_x):
+    inputs = draw_rows(rows, seed=seed, nominal=nominal, table=table, server_x=server_x, server_y=server_y)
+    return simulate_chunk(inputs, flight=flight, target=target, net_top=net_top, service_line=service_line,
+                          server_x=server_x)
+
+
+def combine_blocks(stats: dict) -> dict:
+    """Merge per-block statistics in block order (Chan, Golub & LeVeque 1979, pairwise update of
+    means and centred co-moments; stable where raw sums of squares would cancel).
+
+    Returns ``n``, ``n_success``, ``n_landed``, ``mean`` [x, y], ``m2`` (2 x 2), ``mean_landing_x``.
+    """
+    n = int(np.sum(stats["n"]))
+    ns = int(np.sum(stats["n_success"]))
+    N, mx, my, ml, sxx, sxy, syy = 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(len(stats["n"])):
+        nb = int(stats["n_landed"][i])
+        if nb == 0:
+            continue
+        bx, by, bl = float(stats["mean_x"][i]), float(stats["mean_y"][i]), float(stats["mean_landing_x"][i])
+        tot = N + nb
+        dx, dy, f = bx - mx, by - my, nb / tot
+        sxx += float(stats["m2_xx"][i]) + dx * dx * N * f
+        sxy += float(stats["m2_xy"][i]) + dx * dy * N * f
+        syy += float(stats["m2_yy"][i]) + dy * dy * N * f
+        mx, my, ml = mx + dx * f, my + dy * f, ml + (bl - ml) * f
+        N = tot
+    return {"n": n, "n_success": ns, "n_landed": N, "mean": [mx, my] if N else [None, None],
+            "m2": [[sxx, sxy], [sxy, syy]], "mean_landing_x": ml if N else None}
+
+
+def landing_stats_from_moments(n: int, mean, m2) -> dict:
+    """Mean, covariance (ddof 1) and 95 % ellipse (semi-axes [m], major axis angle to x [deg])."""
+    if n < 2:
+        return {"mean": [float(m) if m is not None else None for m in mean], "cov": None, "ellipse_95": None}
+    cov = np.asarray(m2, float) / (n - 1)
     w, v = np.linalg.eigh(cov)
     w = np.clip(w, 0.0, None)
     major = v[:, 1]
     ang = math.degrees(math.atan2(major[1], major[0]))
     ang = ang - 180.0 if ang > 90.0 else (ang + 180.0 if ang <= -90.0 else ang)  # axis: (-90, 90]
-    return {"mean": [float(x.mean()), float(y.mean())], "cov": cov.tolist(),
+    return {"mean": [float(mean[0]), float(mean[1])], "cov": cov.tolist(),
             "ellipse_95": {"semi_axes": [float(math.sqrt(CHI2_95_2DOF * w[1])), float(math.sqrt(CHI2_95_2DOF * w[0]))],
                            "angle_deg": ang}}
+
+
+def landing_stats(x, y) -> dict:
+    """Mean, covariance and 95 % ellipse of landing points given as arrays (see :func:`landing_stats_from_moments`)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if x.size == 0:
+        return landing_stats_from_moments(0, [None, None], None)
+    mx, my = x.mean(), y.mean()
+    dx, dy = x - mx, y - my
+    return landing_stats_from_moments(x.size, [mx, my], [[dx @ dx, dx @ dy], [dx @ dy, dy @ dy]])
+
+
+def _in_process(fn, source):
+    """Default mapper: the blocks one after another in this process (same numbers as any scheduler)."""
+    return fn(source.chunk(0, max(source.n_rows, 1)))
 
 
 def run_mc(player, alpha_deg: float, beta_deg: float, *, n: int = 10000, seed: int = 0, sd_angle: float = 1.0,
            sd_speed: float = 1.0, sd_height: float = 0.0, sd_azimuth: float | None = None,
            target: str | None = None, azimuth_deg: float = 0.0, server_y: float = 0.0,
            flight: FlightParams | None = None, impact_params: ImpactParams | None = None,
-           criteria: SeedCriteria | None = None, mapper=None, return_samples: bool = False, dt: float = 0.0,
+           criteria: SeedCriteria | None = None, mapper=None, return_samples: bool | int = False, dt: float = 0.0,
            method: str = "rk4") -> dict:
     """Monte Carlo of a nominal serve; returns the ``tennislab serve-mc`` JSON object.
 
     Angles and their sd in degrees, speeds [m/s], heights [m].  ``sd_azimuth``
-    defaults to ``sd_angle``.  ``mapper(fn, inputs)`` runs :func:`simulate_chunk`
-    (default in process; e.g. ``functools.partial(map_chunks, scheduler="processes")``).
+    defaults to ``sd_angle``.  Memory is bounded whatever n: the serves are
+    simulated in blocks of :func:`block_size` ``(n)`` by :func:`mc_blocks`, which
+    keeps only per-block sufficient statistics, merged in block order by
+    :func:`combine_blocks`.  ``mapper(fn, source)`` runs ``fn`` over the
+    :class:`~tennislab.batch.RowRange` of block indices ``source`` (key ``"block"``)
+    and returns its outputs (default: in process; e.g.
+    ``functools.partial(map_chunks, scheduler="processes", chunk_size=1)`` --
+    chunk sizes there count blocks).  The result is identical for any mapper and chunking.
+    ``return_samples``: True (20000) or a count m: also return the landing points of the
+    first min(n, m) serves (the same serves as in the statistics) under ``_samples``.
     """
+    from tennislab.batch.sources import RowRange
     player = get_player(player)
     n = int(check_range("n", n, 1, 1e8))
     for nm, v in (("sd_angle", sd_angle), ("sd_speed", sd_speed), ("sd_height", sd_height)):
@@ -189,26 +311,31 @@ def run_mc(player, alpha_deg: float, beta_deg: float, *, n: int = 10000, seed: i
     flight = flight or seed_flight_params()
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
-    inputs = draw_serves(player, alpha_deg, beta_deg, n=n, seed=seed, sd_angle=sd_angle, sd_speed=sd_speed,
-                         sd_height=sd_height, sd_azimuth=sd_azimuth, azimuth_deg=azimuth_deg,
-                         impact_params=impact_params, server_x=crit.server_x, server_y=server_y,
-                         impact_kw={"dt": dt, "method": method})
-    fn = functools.partial(simulate_chunk, flight=flight_options(flight), target=target, net_top=crit.net_top,
-                           service_line=crit.service_line, server_x=crit.server_x)
-    out = fn(inputs) if mapper is None else mapper(fn, inputs)
-    success = np.asarray(out["success"], bool)
-    landed = np.asarray(out["landed"], bool)
-    lx, ly = np.asarray(out["land_x"])[landed], np.asarray(out["land_y"])[landed]
-    p = float(success.mean())
+    sd_az = sd_angle if sd_azimuth is None else sd_azimuth
+    nominal = {"alpha": float(alpha_deg), "beta": float(beta_deg), "azimuth": float(azimuth_deg),
+               "speed": float(player.racket_speed), "height": float(player.impact_height),
+               "sd_angle": float(sd_angle), "sd_azimuth": float(sd_az), "sd_speed": float(sd_speed),
+               "sd_height": float(sd_height)}
+    table = scatter_table(player, alpha_deg, sd_angle, sd_speed, impact_params, {"dt": dt, "method": method})
+    common = dict(seed=int(seed), nominal=nominal, table=table, server_y=float(server_y),
+                  flight=flight_options(flight), target=target, net_top=crit.net_top,
+                  service_line=crit.service_line, server_x=crit.server_x)
+    block = block_size(n)
+    fn = functools.partial(mc_blocks, n=n, block=block, **common)
+    source = RowRange(-(-n // block), key="block")
+    stats = (mapper or _in_process)(fn, source)
+    tot = combine_blocks(stats)
+    p = tot["n_success"] / n
     res = {"player": player.name, "nominal": {"alpha": alpha_deg, "beta": beta_deg, "azimuth": azimuth_deg},
-           "scatter": {"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height,
-                       "sd_azimuth": sd_angle if sd_azimuth is None else sd_azimuth},
+           "scatter": {"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
            "n": n, "seed": seed, "criteria": "seed-2d" if target is None else f"{target}-box",
            "p_success": p, "p_success_se": math.sqrt(max(p * (1 - p), 0.0) / n),
-           "landing": landing_stats(lx, ly),
-           "landing_x": {"mean": float(np.mean(np.asarray(out["landing_x"])[landed])) if landed.any() else None},
-           "n_landed": int(landed.sum())}
+           "landing": landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
+           "landing_x": {"mean": tot["mean_landing_x"]},
+           "n_landed": tot["n_landed"]}
     if return_samples:
-        res["_samples"] = {"land_x": np.asarray(out["land_x"]), "land_y": np.asarray(out["land_y"]),
-                           "success": success}
+        m = min(n, 20000 if return_samples is True else int(return_samples))
+        r = _simulate_rows(np.arange(m, dtype=np.int64), **common)
+        res["_samples"] = {"land_x": np.asarray(r["land_x"]), "land_y": np.asarray(r["land_y"]),
+                           "success": np.asarray(r["success"], bool), "landed": np.asarray(r["landed"], bool)}
     return res
