@@ -242,6 +242,19 @@ def run_window(args) -> int:
     return 0
 
 
+def _mc_mapper(args):
+    """``map_chunks`` over blocks of serves (:func:`tennislab.serve.mc.block_size`): ``--chunk-size``
+    (serves) is rounded to whole blocks, one block per chunk by default; the numbers never change."""
+    if map_chunks is None:
+        return None
+    from tennislab.serve.mc import block_size
+    opts = batch_options_from_args(args)
+    block = block_size(args.n)
+    opts["chunk_size"] = max(1, round(opts["chunk_size"] / block)) if opts.get("chunk_size") else 1
+    opts["desc"] = f"serve-mc (chunks of {opts['chunk_size'] * block} serves; rows/s = blocks/s)"
+    return functools.partial(map_chunks, **opts)
+
+
 def run_mc(args) -> int:
     from tennislab.serve.mc import run_mc as _run
     flight, imp = seed_physics_from_args(args)
@@ -250,7 +263,7 @@ def run_mc(args) -> int:
     res = _run(_player(args), args.impact_angle, args.face_angle, n=args.n, seed=args.seed, sd_angle=args.sd_angle,
                sd_speed=args.sd_speed, sd_height=args.sd_height, sd_azimuth=args.sd_azimuth, target=args.target,
                azimuth_deg=args.azimuth, server_y=args.server_y, flight=flight, impact_params=imp,
-               mapper=_mapper(args), return_samples=bool(args.plot), **_impact_kw(args))
+               mapper=_mc_mapper(args), return_samples=bool(args.plot), **_impact_kw(args))
     samples = res.pop("_samples", None)
     if args.plot:
         from tennislab.plot.serve import plot_mc
