@@ -6,13 +6,18 @@ straightforward vectorised NumPy implementation of the seed's model (explicit Eu
 seed's dt = 1e-4 s for the impact and the flight, all alpha x beta serves of a window as one
 array).  Prints times and the ratio baseline / tennislab.
 
-    python benchmarks/bench_serve.py [--quick] [--mc N]
+    python benchmarks/bench_serve.py [--quick] [--mc N] [--mem 1e6,1e7]
+
+``--mem`` runs ``serve-mc``'s Monte Carlo (pro, alpha 40, beta 19, sd 1 deg / 1 m/s) once per N
+in a fresh child process and prints its peak RSS (``ru_maxrss``) next to the RSS after the
+imports and a 1000-serve warm-up (the job's share is the difference): memory must be flat in N.
 """
 from __future__ import annotations
 
 import argparse
 import math
 import os
+import subprocess
 import sys
 import time
 
@@ -107,11 +112,50 @@ def best_of(fn, repeat=3):
     return min(ts)
 
 
+def _rss_mb() -> float:
+    """Current resident set size [MB] (Linux /proc; NaN elsewhere)."""
+    try:
+        with open("/proc/self/status") as fh:
+            return next(int(l.split()[1]) for l in fh if l.startswith("VmRSS:")) / 1024
+    except (OSError, StopIteration):
+        return float("nan")
+
+
+def _mem_child(n: int) -> None:
+    import resource
+    run_mc("pro", 40, 19, n=1000, seed=0)  # imports, compilation, caches
+    base = _rss_mb()
+    t = time.perf_counter()
+    r = run_mc("pro", 40, 19, n=n, seed=0)
+    dt = time.perf_counter() - t
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
+    print(f"{n} {dt:.1f} {base:.0f} {peak:.0f} {r['p_success']:.5f}")
+
+
+def memory(ns) -> None:
+    """Peak RSS of the Monte Carlo for each n, each in a fresh process."""
+    print("Monte Carlo memory (fresh process per N; RSS after warm-up -> peak RSS):")
+    for n in ns:
+        out = subprocess.run([sys.executable, __file__, "--mem-child", str(n)], capture_output=True, text=True,
+                             check=True).stdout.split()
+        n_, dt, base, peak, p = out[-5:]
+        print(f"  N = {int(n_):.0e}: {float(dt):7.1f} s, RSS {base} MB -> peak {peak} MB "
+              f"(+{int(peak) - int(base)} MB), P(success) = {p}")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="baseline on one player only (x3 extrapolated)")
     ap.add_argument("--mc", type=int, default=1_000_000, help="Monte Carlo serves (default 10^6)")
+    ap.add_argument("--mem", metavar="N1,N2", help="only the memory check: peak RSS per N (e.g. 1e6,1e7)")
+    ap.add_argument("--mem-child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.mem_child:
+        _mem_child(args.mem_child)
+        return 0
+    if args.mem:
+        memory([int(float(v)) for v in args.mem.split(",")])
+        return 0
 
     for p in PLAYERS:  # warm-up (compile / load caches)
         serve_window(p, step=10)

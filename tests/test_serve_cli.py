@@ -97,7 +97,22 @@ def test_serve_mc_scheduler_flag(capsys):
                      "--n", "1000", "--scheduler", "local", "--chunk-size", "300", "--json")
     rc0, out0, _ = run(capsys, "serve-mc", "--player", "junior", "--impact-angle", "45", "--face-angle", "10",
                        "--n", "1000", "--json")
-    assert rc == rc0 == 0 and json.loads(out)["p_success"] == json.loads(out0)["p_success"]
+    assert rc == rc0 == 0 and json.loads(out) == json.loads(out0)
+
+
+def test_serve_mc_json_keys_and_resume(capsys, tmp_path):
+    """Contract keys stay; --out-dir stores per-block statistics (3 blocks of 1024 serves), a rerun resumes
+    them and prints the same JSON."""
+    pytest.importorskip("pyarrow")
+    args = ("serve-mc", "--player", "rec", "--impact-angle", "40", "--face-angle", "15", "--n", "2500",
+            "--seed", "9", "--out-dir", str(tmp_path / "mc"), "--no-progress", "--json")
+    rc, out, _ = run(capsys, *args)
+    d = json.loads(out)
+    assert rc == 0 and {"p_success", "p_success_se", "landing", "landing_x", "n_landed", "n", "seed"} <= set(d)
+    assert {"mean", "cov", "ellipse_95"} <= set(d["landing"]) and d["n"] == 2500
+    assert len(list((tmp_path / "mc").glob("part-*.parquet"))) == 3
+    rc, out2, _ = run(capsys, *args)
+    assert rc == 0 and json.loads(out2) == d
 
 
 @pytest.mark.parametrize("args, field", [

@@ -215,7 +215,8 @@ def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, tabl
             mx, my = x.mean(), y.mean()
             dx, dy = x - mx, y - my
             out["mean_x"][j], out["mean_y"][j], out["mean_landing_x"][j] = mx, my, lx.mean()
-            out["m2_xx"][j], out["m2_xy"][j], out["m2_yy"][j] = dx @ dx, dx @ dy, dy @ dy
+            # plain numpy sums, not BLAS dot: deterministic, and no BLAS threads spinning against numba's
+            out["m2_xx"][j], out["m2_xy"][j], out["m2_yy"][j] = np.sum(dx * dx), np.sum(dx * dy), np.sum(dy * dy)
         else:
             for k in cols[3:]:
                 out[k][j] = np.nan
@@ -275,7 +276,8 @@ def landing_stats(x, y) -> dict:
         return landing_stats_from_moments(0, [None, None], None)
     mx, my = x.mean(), y.mean()
     dx, dy = x - mx, y - my
-    return landing_stats_from_moments(x.size, [mx, my], [[dx @ dx, dx @ dy], [dx @ dy, dy @ dy]])
+    sxy = np.sum(dx * dy)
+    return landing_stats_from_moments(x.size, [mx, my], [[np.sum(dx * dx), sxy], [sxy, np.sum(dy * dy)]])
 
 
 def _in_process(fn, source):
