@@ -21,11 +21,11 @@ import glob
 import json
 import os
 import re
-import tempfile
 
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import atomic_path
 
 MANIFEST = "manifest.json"
 FORMAT = "tennislab.batch/1"
@@ -43,19 +43,6 @@ def _pa():
     except ImportError:  # pragma: no cover - depends on the environment
         raise InputError("out: Parquet output needs pyarrow (pip install 'tennislab[batch]')") from None
     return pa, pq
-
-
-def _atomic_bytes(path: str, write_fn) -> None:
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.basename(path))
-    os.close(fd)
-    try:
-        write_fn(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def outputs_to_table(outputs: dict[str, np.ndarray], meta: dict):
@@ -162,7 +149,7 @@ class ChunkStore:
             with open(tmp, "w") as fh:
                 json.dump(self.manifest, fh, indent=2, sort_keys=True)
                 fh.write("\n")
-        _atomic_bytes(os.path.join(self.path, MANIFEST), w)
+        atomic_path(os.path.join(self.path, MANIFEST), w)
 
     def part_path(self, i: int) -> str:
         return os.path.join(self.path, f"part-{i:05d}.parquet")
@@ -179,7 +166,7 @@ class ChunkStore:
     def write(self, i: int, outputs: dict[str, np.ndarray], meta: dict) -> None:
         _, pq = _pa()
         table = outputs_to_table(outputs, dict(meta, chunk=i))
-        _atomic_bytes(self.part_path(i), lambda tmp: pq.write_table(table, tmp))
+        atomic_path(self.part_path(i), lambda tmp: pq.write_table(table, tmp))
 
     def read_meta(self, i: int) -> dict:
         _, pq = _pa()

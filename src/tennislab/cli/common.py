@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 
 import numpy as np
 
 from tennislab.core.flight import FlightParams
+from tennislab.io.files import atomic_write  # noqa: F401  (re-exported for commands)
+from tennislab.plot.save import save_figure  # noqa: F401  (re-exported for commands)
 
 
 def add_physics_flags(p, default_aero: str = "stepanek1988") -> None:
@@ -70,25 +70,3 @@ def _clean(obj):
 def emit_json(obj) -> None:
     """Print one JSON object (NaN -> null)."""
     print(json.dumps(_clean(obj), indent=2))
-
-
-def atomic_write(path: str, write_fn, mode: str = "w") -> None:
-    """Write a file atomically: ``write_fn(fh)`` into a temp file, then rename (nothing half-written)."""
-    d = os.path.dirname(os.path.abspath(path)) or "."
-    os.makedirs(d, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=os.path.splitext(path)[1])
-    try:
-        with os.fdopen(fd, mode) as fh:
-            write_fn(fh)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
-def save_figure(fig, path: str) -> None:
-    """Save a Matplotlib figure atomically."""
-    def _w(fh):
-        fig.savefig(fh, dpi=130, bbox_inches="tight", format=os.path.splitext(path)[1][1:] or "png")
-    atomic_write(path, _w, mode="wb")

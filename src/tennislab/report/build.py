@@ -32,7 +32,8 @@ matplotlib.use("Agg")
 
 from tennislab import __version__  # noqa: E402
 from tennislab.app.services import Unavailable  # noqa: E402
-from tennislab.cli.common import atomic_write, save_figure  # noqa: E402
+from tennislab.io.files import atomic_write  # noqa: E402
+from tennislab.plot.save import save_figure  # noqa: E402
 from tennislab.report import html as H  # noqa: E402
 
 #: (key, title, "module:function") in report order
