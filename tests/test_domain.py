@@ -154,3 +154,79 @@ def test_callable_model_used_by_batch_path():
     tb = fly_batch(s, p)
     tr = fly(s[:3], s[3:6], s[6:], p)
     assert tb["land_x"][0] == pytest.approx(tr.landing.x, abs=1e-5)
+
+
+# ----------------------------------------------------------------- inlined aero kernels
+def _shots(n=60, seed=4):
+    g = np.random.default_rng(seed)
+    s = np.zeros((n, 9))
+    s[:, 0], s[:, 1], s[:, 2] = -11.885, g.uniform(-3, 3, n), g.uniform(0.5, 2.8, n)
+    sp, el = g.uniform(15, 60, n), np.radians(g.uniform(-6, 40, n))
+    s[:, 3], s[:, 5] = sp * np.cos(el), sp * np.sin(el)
+    s[:, 6:] = g.normal(size=(n, 3)) * 200.0
+    return s
+
+
+@pytest.mark.parametrize("model", [
+    get_aero_model("stepanek1988"), get_aero_model("constant", cd=0.6, cl=0.1),
+    get_aero_model("launcher2015"), get_aero_model("cross2014"),
+    get_aero_model("table", speed=[5.0, 40.0], spin=[0.0, 600.0], cd=[[0.6, 0.7], [0.55, 0.65]],
+                   cl=[[0.0, 0.3], [0.0, 0.1]])])
+def test_inlined_kernels_agree_with_first_class_path(model):
+    """The per-model kernels (formula inlined) compute what the shared pointer-calling kernel does."""
+    from tennislab.core.aero import inline_tag
+    from tennislab.core.events import COL, NCOLS
+    from tennislab.core.flight import FlightParams, fly_batch
+    from tennislab.core.integrators import batch_kernel_fp, serial_kernel_fp
+    p = FlightParams(aero=model)
+    assert inline_tag(model.kernel) is not None
+    s = _shots()
+    inl = fly_batch(s, p).data
+    # serial and parallel kernels are separate compilations: equal up to the last bits
+    assert np.nanmax(np.abs(inl - fly_batch(s, p, parallel=False).data)) < 1e-12
+    for kern in (batch_kernel_fp, serial_kernel_fp):
+        fp = np.empty((len(s), NCOLS))
+        kern(s, model.kernel, model.params, p.consts(5e-7, 5e-7), fp)
+        assert np.array_equal(inl[:, COL["status"]], fp[:, COL["status"]])
+        assert np.array_equal(inl[:, COL["n_steps"]], fp[:, COL["n_steps"]])
+        # same arithmetic up to floating-point contraction: far below the integration tolerance
+        assert np.nanmax(np.abs(inl - fp)) < 1e-9
+
+
+def test_user_kernels_have_no_inline_tag():
+    from tennislab.core.aero import inline_tag
+    assert inline_tag(get_aero_model(lambda v, w: (0.6, 0.0)).kernel) is None
+    assert inline_tag(None) is None
+
+
+def test_inline_tag_survives_pickling_to_a_fresh_process():
+    """A model shipped to a worker process keeps its tag (else workers would take another kernel)."""
+    import pickle
+    import subprocess
+    import sys
+    blob = pickle.dumps(get_aero_model("stepanek1988")).hex()
+    code = ("import pickle,sys; from tennislab.core.aero import inline_tag; "
+            f"m = pickle.loads(bytes.fromhex('{blob}')); print(type(inline_tag(m.kernel)).__name__)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.startswith("InlineStepanekKernel_")
+
+
+def test_tag_classes_of_other_versions_unpickle():
+    """A Numba cache index naming a tag class of another source version still loads."""
+    import pickle
+    from tennislab.core import aero
+    with pytest.raises(AttributeError):
+        aero.NoSuchThing  # noqa: B018
+    ghost = aero.InlineStepanekKernel_0000000000
+    assert ghost._fields == ("unused",)
+    data = pickle.dumps(aero.inline_tag(aero.get_aero_model("stepanek1988").kernel))
+    stale = data.replace(aero._DIGEST.encode(), b"0000000000")
+    assert type(pickle.loads(stale)).__name__ == "InlineStepanekKernel_0000000000"
+
+
+def test_aero_coefficients_from_python_matches_kernel():
+    from tennislab.core.aero import aero_coefficients, inline_tag
+    m = get_aero_model("stepanek1988")
+    want = m.kernel(20.0, 300.0, 0.033, m.params)
+    assert aero_coefficients(inline_tag(m.kernel), 20.0, 300.0, 0.033, m.params) == want
+    assert aero_coefficients(m.kernel, 20.0, 300.0, 0.033, m.params) == want

@@ -9,8 +9,9 @@ product, so spin along the velocity gives no lift).
 A model is an :class:`AeroModel`: a Numba kernel ``kernel(v, w, r, p) ->
 (cd, cl)`` with the fixed signature :data:`AERO_SIGNATURE` plus its parameter
 array ``p``.  The same kernel serves the SciPy dense path and the compiled batch
-path (it is passed to the batch kernel as a first-class function, so the batch
-kernel is compiled and cached once for all models).
+path: tennislab's own kernels are compiled into a batch kernel per model (via
+their inline tags, below); any other kernel is passed to one shared batch
+kernel as a first-class function.
 
 Registered models (``get_aero_model(name, **params)``):
 
@@ -34,13 +35,17 @@ Registered models (``get_aero_model(name, **params)``):
 """
 from __future__ import annotations
 
+import collections
+import hashlib
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Callable
 
 import numba as nb
 import numpy as np
 from numba import types
+from numba.extending import overload
 
 from tennislab.errors import InputError, check_range
 
@@ -73,12 +78,94 @@ class AeroModel:
         return cd, cl
 
 
+# ---------------------------------------------------------------- inlining in compiled kernels
+# A kernel reaches compiled code either as a first-class function (one compiled
+# caller serves every kernel, through an indirect call) or as its *inline tag*:
+# a one-field namedtuple whose class names the kernel, so that Numba compiles
+# a caller specialised on it, with the formula inlined.  Tags exist for
+# tennislab's own kernels only: their classes live in this module, so Numba's
+# on-disk cache can key the specialised callers on them.
+_INLINE_KERNEL: dict = {}     # tag class -> kernel
+_INLINE_TAG: dict = {}        # kernel's (module, qualname) -> tag instance (not the dispatcher
+                              # itself: one unpickled in a worker process is a new object)
+
+
+def _kernel_key(kernel):
+    f = getattr(kernel, "py_func", None)
+    return None if f is None else (f.__module__, f.__qualname__)
+
+
+def _core_digest() -> str:
+    """Short hash of the sources of :mod:`tennislab.core`.
+
+    It is part of the tag classes' names, hence of the cache keys of every
+    kernel compiled for a tag: Numba only checks the date of the file that
+    holds a cached function, not of the kernels compiled into it, so without
+    this an edited C_D formula or right-hand side could run from a stale cache.
+    """
+    h = hashlib.sha256()
+    for f in sorted(Path(__file__).parent.glob("*.py")):
+        h.update(f.read_bytes())
+    return h.hexdigest()[:10]
+
+
+_DIGEST = _core_digest()
+
+
+def _inlinable(kernel):
+    """Give one of this module's kernels an inline tag (decorator)."""
+    name = "Inline" + kernel.py_func.__name__.title().replace("_", "") + "_" + _DIGEST
+    cls = collections.namedtuple(name, ["unused"], module=__name__)
+    globals()[name] = cls                    # importable by name, hence picklable
+    _INLINE_KERNEL[cls] = kernel
+    _INLINE_TAG[_kernel_key(kernel)] = cls(0.0)
+    return kernel
+
+
+def __getattr__(name: str):
+    """Placeholder for tag classes named in an on-disk Numba cache by another
+    version of this module, so that the cache index still loads (its entries
+    for the missing class then simply never match and are recompiled)."""
+    if name.startswith("Inline"):
+        return collections.namedtuple(name, ["unused"], module=__name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def inline_tag(kernel):
+    """The inline tag of ``kernel`` (a namedtuple), or ``None`` for kernels without one."""
+    return _INLINE_TAG.get(_kernel_key(kernel))
+
+
+def aero_coefficients(aero, v, w, r, p):
+    """(C_D, C_L) from ``aero`` (a kernel or its inline tag) at speed v, spin w, radius r."""
+    kernel = _INLINE_KERNEL.get(type(aero), aero)
+    return kernel(v, w, r, p)
+
+
+@overload(aero_coefficients)
+def _aero_coefficients_compiled(aero, v, w, r, p):
+    if isinstance(aero, types.BaseNamedTuple):
+        kernel = _INLINE_KERNEL.get(aero.instance_class)
+        if kernel is None:
+            return None
+
+        def tagged(aero, v, w, r, p):
+            return kernel(v, w, r, p)
+        return tagged
+
+    def first_class(aero, v, w, r, p):
+        return aero(v, w, r, p)
+    return first_class
+
+
 # ---------------------------------------------------------------- kernels
+@_inlinable
 @nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _constant_kernel(v, w, r, p):
     return p[0], p[1]
 
 
+@_inlinable
 @nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _stepanek_kernel(v, w, r, p):
     # Seed 000 eqs 3-4 (Stepanek 1988).  p = (C_D0, a, b, h, q): C_D = C_D0 + 1/(a + b (v/rw)^h)^q
@@ -94,6 +181,7 @@ def _stepanek_kernel(v, w, r, p):
     return cd, cl
 
 
+@_inlinable
 @nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _linear_lift_kernel(v, w, r, p):
     # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
@@ -105,6 +193,7 @@ def _linear_lift_kernel(v, w, r, p):
     return p[0], cl
 
 
+@_inlinable
 @nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _table_kernel(v, w, r, p):
     # p = [nv, nw, v_0..v_nv-1, w_0..w_nw-1, cd (nv*nw, row-major in v), cl (same)]

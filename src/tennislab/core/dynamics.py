@@ -21,14 +21,14 @@ import math
 import numba as nb
 from numba import types
 
-from tennislab.core.aero import AERO_FUNCTION_TYPE
+from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 
 _F = types.float64
 DERIVATIVE_SIGNATURE = types.void(
     _F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
 
 
-@nb.njit(DERIVATIVE_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     """Fill ``out`` with dy/dt.
 
@@ -36,7 +36,9 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     ----------
     y : state (9,) [m, m/s, rad/s]
     out : output (9,)
-    aero : aero kernel (v, w, r, p) -> (C_D, C_L)
+    aero : aero kernel (v, w, r, p) -> (C_D, C_L) as a first-class function,
+        or its inline tag (:func:`tennislab.core.aero.inline_tag`: the formula
+        is compiled into the caller)
     aero_p : its parameters
     k : 1/2 rho A / m [1/m]
     g : gravity [m/s^2]
@@ -52,7 +54,7 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     wz = y[8]
     u = math.sqrt(ux * ux + uy * uy + uz * uz)
     w = math.sqrt(wx * wx + wy * wy + wz * wz)
-    cd, cl = aero(u, w, r, aero_p)
+    cd, cl = aero_coefficients(aero, u, w, r, aero_p)
     d = -k * cd * u
     ax = d * ux
     ay = d * uy
@@ -71,3 +73,13 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     out[6] = -decay * wx
     out[7] = -decay * wy
     out[8] = -decay * wz
+
+
+@nb.njit(DERIVATIVE_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+def derivative_call(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
+    """:func:`derivative` with a fixed signature, for calls from Python (the SciPy path).
+
+    The aero kernel arrives as a first-class function, so this one compiled
+    (and cached) entry point serves every model without recompiling.
+    """
+    derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay)

@@ -18,14 +18,15 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from tennislab.core.aero import AeroModel, get_aero_model
+from tennislab.core.aero import AeroModel, get_aero_model, inline_tag
 from tennislab.core.atmosphere import Atmosphere
 from tennislab.core.ball import Ball
 from tennislab.core.court import ITF_COURT, Court
-from tennislab.core.dynamics import derivative
+from tennislab.core.dynamics import derivative_call
 from tennislab.core.events import (COL, COLUMNS, NCOLS, NET_RESULTS, STATUS_OK, Apex,
                                    Landing, NetCrossing)
-from tennislab.core.integrators import NCONSTS, batch_kernel, serial_kernel
+from tennislab.core.integrators import (NCONSTS, batch_kernel, batch_kernel_fp, serial_kernel,
+                                        serial_kernel_fp)
 from tennislab.errors import InputError, check_range, check_vector
 
 
@@ -91,7 +92,7 @@ class FlightParams:
 
         def f(t, y):
             out = np.empty(9)
-            derivative(np.ascontiguousarray(y, dtype=np.float64), out, kern, p, k, g, r, wx, wy, wz, lam)
+            derivative_call(np.ascontiguousarray(y, dtype=np.float64), out, kern, p, k, g, r, wx, wy, wz, lam)
             return out
         return f
 
@@ -236,6 +237,10 @@ def fly_batch(states, params: FlightParams | None = None, *, rtol: float = 5e-7,
     if s.ndim != 2 or s.shape[1] != 9:
         raise InputError(f"states: expected an (N, 9) array, got shape {np.shape(states)}")
     out = np.empty((s.shape[0], NCOLS))
-    kern = batch_kernel if parallel else serial_kernel
-    kern(s, params.aero.kernel, params.aero.params, params.consts(rtol, atol), out)
+    tag = inline_tag(params.aero.kernel)
+    if tag is not None:     # one of tennislab's models: its own compiled kernel, formula inlined
+        kern, aero = (batch_kernel if parallel else serial_kernel), tag
+    else:                   # any other kernel: the shared kernel, called through a pointer
+        kern, aero = (batch_kernel_fp if parallel else serial_kernel_fp), params.aero.kernel
+    kern(s, aero, params.aero.params, params.consts(rtol, atol), out)
     return FlightTable(out, params.ball.radius)

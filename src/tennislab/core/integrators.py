@@ -5,8 +5,8 @@ with the adaptive Dormand & Prince (1980) 5(4) pair (J. Comput. Appl. Math.
 6:19), its free 4th-order continuous extension (Shampine 1986, Math. Comp.
 46:135; the coefficients SciPy's RK45 uses) for locating events, and the
 standard step-size controller (Hairer, Norsett & Wanner, Solving ODEs I,
-section II.4).  Events are found by Illinois regula falsi on the interpolant,
-to ~1e-13 s, never at a step end.  The right-hand side is
+section II.4).  Events are found by safeguarded Newton iteration on the
+interpolant, to ~1e-14 in the step fraction, never at a step end.  The right-hand side is
 :func:`tennislab.core.dynamics.derivative`, the same one the SciPy path uses.
 """
 from __future__ import annotations
@@ -71,8 +71,10 @@ _iLAND_T = COL["land_t"]
 _iNET_T = COL["net_t"]
 _iAPEX_T = COL["apex_t"]
 
+_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
+
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
 def _dense_comp(theta, c, y0, K, h, P):
     s = 0.0
     for k in range(7):
@@ -81,13 +83,13 @@ def _dense_comp(theta, c, y0, K, h, P):
     return y0[c] + h * s
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def _dense_full(theta, y0, K, h, P, out):
     for c in range(9):
         out[c] = _dense_comp(theta, c, y0, K, h, P)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
 def _dense_comp_d(theta, c, y0, K, h, P):
     """The interpolant's component c and its derivative d/dtheta at theta."""
     s = 0.0
@@ -101,7 +103,7 @@ def _dense_comp_d(theta, c, y0, K, h, P):
     return y0[c] + h * s, h * ds
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def _root(c, target, y0, K, h, P, f0, f1):
     """theta in [0, 1] where the interpolant's component c equals target.
 
@@ -134,11 +136,13 @@ def _root(c, target, y0, K, h, P, f0, f1):
     return x
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def integrate_one(y_init, aero, aero_p, consts, row, work):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
 
-    ``work`` is a (12, 9) scratch array (reused across trajectories of a chunk).
+    ``aero`` is the aero kernel as a first-class function or its inline tag
+    (see the batch kernels below); ``work`` is a (12, 9) scratch array (reused
+    across trajectories of a chunk).
     """
     k = consts[K_K]
     g = consts[K_G]
@@ -266,11 +270,13 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
     row[_c_status] = STATUS_OK if landed else STATUS_NO_LANDING
 
 
-_F = types.float64
-BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], _F[::1], _F[:, ::1])
-
-
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, parallel=True)
+# ---------------------------------------------------------------- batch kernels
+# ``aero`` is either the model's inline tag (tennislab's own models: Numba
+# compiles one specialised, cached kernel per model with the C_D/C_L formula
+# inlined, ~1.3x faster for Stepanek's formula) or a first-class function
+# (any other kernel: one compiled kernel serves them all; see
+# :func:`tennislab.core.aero.aero_coefficients`).
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, parallel=True)
 def batch_kernel(states, aero, aero_p, consts, out):
     """Integrate every row of ``states`` (N, 9) and fill the event table ``out`` (N, NCOLS)."""
     n = states.shape[0]
@@ -281,9 +287,25 @@ def batch_kernel(states, aero, aero_p, consts, out):
             integrate_one(states[i], aero, aero_p, consts, out[i], work)
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def serial_kernel(states, aero, aero_p, consts, out):
     """As :func:`batch_kernel`, on one thread (for callers that parallelise themselves)."""
     work = np.empty((12, 9))
     for i in range(states.shape[0]):
         integrate_one(states[i], aero, aero_p, consts, out[i], work)
+
+
+_F = types.float64
+BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], _F[::1], _F[:, ::1])
+
+
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath=_FASTMATH)
+def batch_kernel_fp(states, aero, aero_p, consts, out):
+    """:func:`batch_kernel` for an aero kernel passed as a first-class function."""
+    batch_kernel(states, aero, aero_p, consts, out)
+
+
+@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath=_FASTMATH)
+def serial_kernel_fp(states, aero, aero_p, consts, out):
+    """:func:`serial_kernel` for an aero kernel passed as a first-class function."""
+    serial_kernel(states, aero, aero_p, consts, out)
