@@ -102,3 +102,31 @@ def test_pure_magnus_circle():
     assert np.allclose(dist, R, rtol=1e-9)
     assert np.allclose(np.hypot(st[3], st[4]), v0, rtol=1e-7)  # dense-output error, long steps
     assert np.allclose(st[2], 1.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("vz", [0.01, 0.06, 0.5, 3.0, 12.0])
+def test_flight_starting_on_the_ground_lands_after_its_hop(vz):
+    """A flight starting at z = r going up (a segment after a bounce) lands at 2 vz / g, not at t0.
+
+    SciPy sees the ground event's sign change from 0 at the start, and the batch kernel skipped
+    contacts in a step starting at z = r; both are handled (low hops fit inside the first step).
+    """
+    p = params(rho=0.0)
+    r, g = BALL.radius, 9.81
+    x0, v = np.array([-5.0, 0.2, r]), np.array([15.0, 1.0, vz])
+    t_land = 2 * vz / g
+    tr = fly(x0, v, (0, 0, 0), p)
+    tb = fly_batch(initial_state(x0, v), p)
+    assert tr.landing.t == pytest.approx(t_land, rel=1e-9)
+    assert tb["status"][0] == 0
+    assert tb["land_t"][0] == pytest.approx(t_land, rel=1e-6)
+    assert tb["land_x"][0] == pytest.approx(x0[0] + v[0] * t_land, abs=1e-6)
+
+
+@pytest.mark.parametrize("vz", [0.0, -2.0])
+def test_flight_starting_on_the_ground_not_going_up_lands_at_once(vz):
+    p = params(rho=0.0)
+    x0, v = np.array([-5.0, 0.0, BALL.radius]), np.array([10.0, 0.0, vz])
+    assert fly(x0, v, (0, 0, 0), p).landing.t == pytest.approx(0.0, abs=1e-12)
+    tb = fly_batch(initial_state(x0, v), p)
+    assert tb["status"][0] == 0 and tb["land_t"][0] == 0.0 and tb["land_x"][0] == -5.0

@@ -155,7 +155,10 @@ def fly(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightParams | None = 
     side = -1.0 if y0[0] < 0 else (1.0 if y0[0] > 0 else -np.sign(y0[3]) or -1.0)
 
     def ev_ground(t, y):
-        return y[2] - r
+        # at the start the ball may sit exactly at z = r (a flight chained after a
+        # bounce): count that as "above", so that the sign change SciPy sees at the
+        # end of the first step is bracketed by the real contact, not taken at t0
+        return y[2] - r if t > t0 else max(y[2] - r, 1e-300)
     ev_ground.terminal = True
     ev_ground.direction = -1
 

@@ -104,20 +104,21 @@ def _dense_comp_d(theta, c, y0, K, h, P):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
-def _root(c, target, y0, K, h, P, f0, f1):
-    """theta in [0, 1] where the interpolant's component c equals target.
+def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
+    """theta in [lo, 1] where the interpolant's component c equals target.
 
-    Safeguarded Newton on the interpolant polynomial (bracket [0, 1] with
-    f0 * f1 <= 0, bisection when a Newton step leaves the bracket); stops when
-    the step is below 1e-15 of the interval or the residual below 1e-14.
+    Safeguarded Newton on the interpolant polynomial (bracket [lo, 1] with
+    f(lo) = f0, f(1) = f1, f0 * f1 <= 0; bisection when a Newton step leaves
+    the bracket); stops when the step is below 1e-15 of the interval or the
+    residual below 1e-14.
     """
-    a, fa = 0.0, f0
+    a, fa = lo, f0
     b = 1.0
     if fa == 0.0:
-        return 0.0
+        return lo
     if f1 == 0.0:
         return 1.0
-    x = f0 / (f0 - f1)                      # secant first guess
+    x = lo + (1.0 - lo) * f0 / (f0 - f1)    # secant first guess
     for _ in range(60):
         fx, dfx = _dense_comp_d(x, c, y0, K, h, P)
         fx -= target
@@ -231,8 +232,16 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
         nsteps += 1
         # ---- events within [t, t + h]
         th_land = 2.0
-        if y[2] - r > 0.0 and ynew[2] - r <= 0.0:
-            th_land = _root(2, r, y, K, h, P, y[2] - r, ynew[2] - r)
+        if ynew[2] - r <= 0.0:
+            if y[2] - r > 0.0:
+                th_land = _root(2, r, y, K, h, P, y[2] - r, ynew[2] - r)
+            elif nsteps == 1 and y[5] > 0.0 and ynew[5] <= 0.0:
+                # started on the ground (z = r) going up and hopped within the first
+                # step: the contact is the root after the hop's apex
+                ta = _root(5, 0.0, y, K, h, P, y[5], ynew[5])
+                th_land = _root(2, r, y, K, h, P, _dense_comp(ta, 2, y, K, h, P) - r, ynew[2] - r, ta)
+            elif nsteps == 1:
+                th_land = 0.0               # started on the ground, not going up
         if not net_done and side * y[0] > 0.0 and side * ynew[0] <= 0.0:
             th = _root(0, 0.0, y, K, h, P, y[0], ynew[0])
             if th <= th_land:

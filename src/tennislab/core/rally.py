@@ -25,8 +25,6 @@ from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range
 
 MIN_VZ = 0.05  #: [m/s] below this vertical take-off speed the ball is considered rolling
-LIFT_OFF = 1e-9  #: [m] start height above r of a segment after a bounce, so that the landing
-#: event's sign change is not taken at the start (low bounces: SciPy would report t0)
 
 
 @dataclass(frozen=True)
@@ -92,7 +90,7 @@ def fly_bounces(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightParams |
         bnc.append(b)
         if b.velocity_out[2] < MIN_VZ:
             break
-        p0 = (b.x + b.mark.displacement[0], b.y + b.mark.displacement[1], params.ball.radius + LIFT_OFF)
+        p0 = (b.x + b.mark.displacement[0], b.y + b.mark.displacement[1], params.ball.radius)
         tr = fly(p0, b.velocity_out, b.spin_out, params, rtol=rtol, atol=atol,
                  t0=b.t + mark_params.contact_time)
         segs.append(tr)
@@ -145,7 +143,7 @@ def fly_bounces_batch(states, params: FlightParams | None = None, *, surface="ha
             contact_displacement(vin[i, 0], vin[i, 1], vout[i, 0], vout[i, 1], vin[i, 2], s.mu, s.e,
                                  contact_time, disp[i])
         new = np.column_stack([out["x"][idx, j] + disp[:, 0], out["y"][idx, j] + disp[:, 1],
-                               np.full(idx.size, r + LIFT_OFF), vout, wout])
+                               np.full(idx.size, r), vout, wout])
         keep = vout[:, 2] >= MIN_VZ
         st[idx[keep]] = new[keep]
         t0[idx] = tl + contact_time
