@@ -318,3 +318,31 @@ def batch_kernel_fp(states, aero, aero_p, consts, out):
 def serial_kernel_fp(states, aero, aero_p, consts, out):
     """:func:`serial_kernel` for an aero kernel passed as a first-class function."""
     serial_kernel(states, aero, aero_p, consts, out)
+
+
+@nb.njit(cache=True)
+def rk4_step(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
+    """One classical Runge-Kutta 4 step of size ``h`` [s] (negative: backward) from ``y`` into ``out``.
+
+    For fixed-step integrations whose results must vary smoothly with their
+    inputs (the line-calling track fit, :mod:`tennislab.linecall.model`).
+    Arguments after ``h`` are those of :func:`tennislab.core.dynamics.derivative`;
+    ``work`` is a (5, 9) scratch array.
+    """
+    k1 = work[0]
+    k2 = work[1]
+    k3 = work[2]
+    k4 = work[3]
+    yt = work[4]
+    derivative(y, k1, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k1[i]
+    derivative(yt, k2, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k2[i]
+    derivative(yt, k3, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + h * k3[i]
+    derivative(yt, k4, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])

@@ -17,8 +17,10 @@ of the bounce model and (d, d') is the centre's travel during the contact
 (:func:`contact_displacement`).
 Parametrising by the bounce itself makes its covariance a block of the fit's.
 
-Integration: classical RK4 with a fixed step (8 ms in the fit) on
-:func:`tennislab.core.dynamics.derivative`, positions at the sample times by
+Integration: classical RK4 with a fixed step (8 ms in the fit;
+:func:`tennislab.core.integrators.rk4_step` on the shared right-hand side),
+fixed so that the residuals are smooth functions of the parameters (an
+adaptive step would make them jump when the step sequence changes), positions at the sample times by
 cubic Hermite interpolation on each step from the positions and velocities at
 its ends (error below 0.01 um for the shot library at 8 ms; tests/test_linecall.py
 checks against :func:`tennislab.core.flight.fly`).
@@ -32,7 +34,7 @@ import numpy as np
 from numba import types
 
 from tennislab.core.aero import AERO_FUNCTION_TYPE
-from tennislab.core.dynamics import derivative
+from tennislab.core.integrators import rk4_step
 from tennislab.core.mark import contact_displacement
 
 NPARAM = 18
@@ -58,32 +60,10 @@ _M = _F[:, ::1]
 _I = types.int64[::1]
 _B = types.boolean
 _AF = AERO_FUNCTION_TYPE
-_RK4_SIG = types.void(_V, _F, _AF, _V, _F, _F, _F, _F, _F, _F, _F, _M, _V)
 _SWEEP_SIG = types.void(_V, _F, _V, _I, types.int64, _F, _AF, _V, _V, _F, _M)
 _MODEL_SIG = types.void(_V, _V, _I, _AF, _V, _V, _M, _B, _B)
 _RES_SIG = types.void(_V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
 _JAC_SIG = types.void(_V, _I, _V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
-
-
-@nb.njit(_RK4_SIG, cache=True)
-def _rk4(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    yt = work[4]
-    derivative(y, k1, aero, ap, k, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + 0.5 * h * k1[i]
-    derivative(yt, k2, aero, ap, k, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + 0.5 * h * k2[i]
-    derivative(yt, k3, aero, ap, k, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + h * k3[i]
-    derivative(yt, k4, aero, ap, k, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
 @nb.njit(_SWEEP_SIG, cache=True)
@@ -102,7 +82,7 @@ def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
     ya = y0.copy()
     yb = np.empty(9)
     ta = t0
-    _rk4(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+    rk4_step(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
     tb = t0 + h
     for j in range(n):
         ts = t[idx[j]]
@@ -110,7 +90,7 @@ def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
             for i in range(9):
                 ya[i] = yb[i]
             ta = tb
-            _rk4(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+            rk4_step(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
             tb = ta + h
         s = (ts - ta) / h
         s2 = s * s
