@@ -193,6 +193,19 @@ def _linear_lift_kernel(v, w, r, p):
     return p[0], cl
 
 
+@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
+def _locate(p, off, n, x):
+    """(cell index, fraction) of x on the grid p[off:off + n], clamped at its ends."""
+    if n == 1 or x <= p[off]:
+        return 0, 0.0
+    if x >= p[off + n - 1]:
+        return n - 2, 1.0
+    i = 0
+    while p[off + i + 1] < x:
+        i += 1
+    return i, (x - p[off + i]) / (p[off + i + 1] - p[off + i])
+
+
 @_inlinable
 @nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
 def _table_kernel(v, w, r, p):
@@ -203,29 +216,8 @@ def _table_kernel(v, w, r, p):
     ow = 2 + nv
     ocd = ow + nw
     ocl = ocd + nv * nw
-    # locate v
-    if v <= p[ov]:
-        i, tv = 0, 0.0
-    elif v >= p[ov + nv - 1]:
-        i, tv = nv - 2, 1.0
-    else:
-        i = 0
-        while p[ov + i + 1] < v:
-            i += 1
-        tv = (v - p[ov + i]) / (p[ov + i + 1] - p[ov + i])
-    if w <= p[ow]:
-        j, tw = 0, 0.0
-    elif w >= p[ow + nw - 1]:
-        j, tw = nw - 2, 1.0
-    else:
-        j = 0
-        while p[ow + j + 1] < w:
-            j += 1
-        tw = (w - p[ow + j]) / (p[ow + j + 1] - p[ow + j])
-    if nv == 1:
-        i, tv = 0, 0.0
-    if nw == 1:
-        j, tw = 0, 0.0
+    i, tv = _locate(p, ov, nv, v)
+    j, tw = _locate(p, ow, nw, w)
     i1 = min(i + 1, nv - 1)
     j1 = min(j + 1, nw - 1)
     out0 = 0.0

@@ -252,6 +252,26 @@ def step_size(p, steps):
     return h
 
 
+@nb.njit(cache=True, inline="always")
+def _grip(s, r, s0, gripped, grip_t, t):
+    """(gripped, grip_time [s]) for state ``s`` at time ``t`` [s]: the contact point grips when
+    its slip velocity y1' - y2' - r omega [m/s] reaches zero or changes sign from the initial ``s0``."""
+    sl = s[6] - s[7] - r * s[8]
+    if not gripped and sl * s0 <= 0.0:
+        return True, t
+    return gripped, grip_t
+
+
+@nb.njit(cache=True, inline="always")
+def _record(hist, row, t, s, fn, ft):
+    """Write history row ``row``: time t [s], the state, F_N [N] and F_t [N]."""
+    hist[row, 0] = t
+    for i in range(NS):
+        hist[row, 1 + i] = s[i]
+    hist[row, 1 + NS] = fn
+    hist[row, 2 + NS] = ft
+
+
 @nb.njit(cache=True)
 def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
     """Integrate one impact (racket approach V_n, V_t relative to the ball at rest).
@@ -280,11 +300,7 @@ def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
     row = 0
     max_steps = 200 * steps + 1000000
     if nhist > 0:
-        hist[0, 0] = t
-        for i in range(NS):
-            hist[0, 1 + i] = s[i]
-        hist[0, 1 + NS] = 0.0
-        hist[0, 2 + NS] = rhs(s, p, k1)
+        _record(hist, 0, t, s, 0.0, rhs(s, p, k1))
         row = 1
     while nstep < max_steps:
         _step(s, p, h, method, new, k1, k2, k3, k4, tmp)
@@ -317,16 +333,9 @@ def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
             for i in range(NS):
                 s[i] = new[i]
             status = 0
-            sl = s[6] - s[7] - r * s[8]
-            if not gripped and sl * s0 <= 0.0:
-                gripped = True
-                grip_t = t
+            gripped, grip_t = _grip(s, r, s0, gripped, grip_t, t)
             if nhist > 0 and row < nhist:
-                hist[row, 0] = t
-                for i in range(NS):
-                    hist[row, 1 + i] = s[i]
-                hist[row, 1 + NS] = 0.0
-                hist[row, 2 + NS] = 0.0
+                _record(hist, row, t, s, 0.0, 0.0)
                 row += 1
             break
         t += h
@@ -334,16 +343,9 @@ def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
             s[i] = new[i]
         if fn_new > peak:
             peak = fn_new
-        sl = s[6] - s[7] - r * s[8]
-        if not gripped and sl * s0 <= 0.0:
-            gripped = True
-            grip_t = t
+        gripped, grip_t = _grip(s, r, s0, gripped, grip_t, t)
         if nhist > 0 and row < nhist:
-            hist[row, 0] = t
-            for i in range(NS):
-                hist[row, 1 + i] = s[i]
-            hist[row, 1 + NS] = fn_new
-            hist[row, 2 + NS] = rhs(s, p, k1)
+            _record(hist, row, t, s, fn_new, rhs(s, p, k1))
             row += 1
     out[0] = s[4]
     out[1] = s[7]
