@@ -3,7 +3,9 @@
 Every command that simulates flight accepts the physics flags (``--aero``,
 ``--cd``, ``--cl``, ``--mass``, ``--radius``, ``--air-density``,
 ``--gravity``, ``--wind``, ``--spin-decay``) so any study can be rerun with
-other constants.
+other constants.  The other flag groups that several commands share are added
+here too: the launcher's machine flags (:func:`add_machine_flags`) and the
+output flags ``--csv`` / ``--plot`` / ``--json`` (:func:`add_output_flags`).
 """
 from __future__ import annotations
 
@@ -31,6 +33,38 @@ def add_physics_flags(p, default_aero: str = "stepanek1988") -> None:
     g.add_argument("--gravity", type=float, help="gravity [m/s^2] (default 9.80665)")
     g.add_argument("--wind", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]")
     g.add_argument("--spin-decay", type=float, help="spin decay rate [1/s] (default 0: off)")
+
+
+def add_machine_flags(p, position: bool = True) -> None:
+    """Add the launcher's machine flags (group "machine") to an argparse parser.
+
+    ``--machine-position X Y`` [m] (only with *position*), ``--roller-radius`` [m] and
+    ``--roller-axis-distance`` [m]; read back by :func:`tennislab.cli.launcher.spec_from_args`.
+    """
+    g = p.add_argument_group("machine")
+    if position:
+        g.add_argument("--machine-position", type=float, nargs=2, metavar=("X", "Y"),
+                       help="launch point on court [m] (default -12.385 0: 0.5 m behind the near baseline)")
+    g.add_argument("--roller-radius", type=float, help="roller radius r_r [m] (default 0.1, seed 002)")
+    g.add_argument("--roller-axis-distance", type=float,
+                   help="distance between roller axes [m] (default 0.25, seed 002)")
+
+
+def add_output_flags(p, *, csv: str | None = None, plot: str | None = None, csv_metavar: str = "FILE",
+                     json_first: bool = False) -> None:
+    """Add the output flags: ``--csv`` (if *csv*, its help), ``--plot FILE.png`` (if *plot*, its help), ``--json``.
+
+    The order is ``--csv``, ``--plot``, ``--json``; with *json_first* ``--json`` comes first (the
+    launcher's sub-commands list it before the files they write).
+    """
+    if json_first:
+        p.add_argument("--json", action="store_true", help="print one JSON object")
+    if csv is not None:
+        p.add_argument("--csv", metavar=csv_metavar, help=csv)
+    if plot is not None:
+        p.add_argument("--plot", metavar="FILE.png", help=plot)
+    if not json_first:
+        p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def physics_from_args(args) -> FlightParams:

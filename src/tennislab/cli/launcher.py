@@ -6,22 +6,40 @@ rename).  Other helpers add sub-commands through ``tennislab.cli._launcher_db``.
 """
 from __future__ import annotations
 
-from tennislab.cli.common import (add_physics_flags, atomic_write, emit_json, physics_from_args,
-                                  save_figure)
+from tennislab.cli.common import (add_machine_flags, add_output_flags, add_physics_flags, atomic_write,
+                                  emit_json, physics_from_args, save_figure)
 from tennislab.units import KMH, RPM
 
+_AERO = "launcher2015"  # default aero model of every launcher sub-command (seed 002)
 
-def _machine_flags(p, position: bool = True) -> None:
-    g = p.add_argument_group("machine")
-    if position:
-        g.add_argument("--machine-position", type=float, nargs=2, metavar=("X", "Y"),
-                       help="launch point on court [m] (default -12.385 0: 0.5 m behind the near baseline)")
-    g.add_argument("--roller-radius", type=float, help="roller radius r_r [m] (default 0.1, seed 002)")
-    g.add_argument("--roller-axis-distance", type=float,
-                   help="distance between roller axes [m] (default 0.25, seed 002)")
+# (flag, help) of the optional model constants; each is a float, None = the model's default
+_ROLLER_FLAGS = (("--friction", "ball-roller friction coefficient (default 2.05)"),
+                 ("--young-modulus-mpa", "ball Young's modulus [MPa] (default 4.2)"),
+                 ("--contact-area-m2", "contact area s of eq 13 [m^2] (default 2.12e-4, implied by seed Tables 1-2)"))
+_POWER_FLAGS = (("--roller-mass", "mass of each roller [kg] (default 2.0)"),
+                ("--motor-power", "power of each motor [W] (default 45)"),
+                ("--throw-time", "time to restore the rollers after a throw [s] (default 1 = shortest interval)"))
 
 
-add_machine_flags = _machine_flags   # public name (used by the database sub-commands)
+def _speed_spin_flags(p, speed_note: str = "(30-200)", spin_note: str = "(0-2000)") -> None:
+    """``--speed-kmh`` [km/h] (required) and ``--spin-rpm`` [rpm] (default 0); the notes end their help."""
+    p.add_argument("--speed-kmh", type=float, required=True, help=f"ball speed [km/h] {speed_note}")
+    p.add_argument("--spin-rpm", type=float, default=0.0, help=f"spin [rpm] {spin_note}")
+
+
+def _float_flags(p, flags) -> None:
+    """One optional float flag (default None) per (flag, help) pair."""
+    for flag, text in flags:
+        p.add_argument(flag, type=float, default=None, help=text)
+
+
+def _model_flags(p, func, machine: bool = True, position: bool = True) -> None:
+    """The machine flags (if *machine*; ``--machine-position`` if *position*), the physics flags
+    (default aero ``launcher2015``), and *func* as the sub-command's action."""
+    if machine:
+        add_machine_flags(p, position=position)
+    add_physics_flags(p, default_aero=_AERO)
+    p.set_defaults(func=func)
 
 
 def spec_from_args(args):
@@ -55,55 +73,37 @@ def register(sub) -> None:
                                                    "point, quantised to the machine's steps.")
     a.add_argument("--target", type=float, nargs=2, required=True, metavar=("X", "Y"),
                    help="bounce point on court [m]")
-    a.add_argument("--speed-kmh", type=float, required=True, help="ball speed [km/h] (30-200, 1 km/h steps)")
-    a.add_argument("--spin-rpm", type=float, default=0.0, help="spin [rpm] (0-2000, default 0)")
+    _speed_spin_flags(a, "(30-200, 1 km/h steps)", "(0-2000, default 0)")
     a.add_argument("--spin-axis-deg", type=float, default=0.0,
                    help="spin-axis rotation [deg]: 0 topspin, 180 backspin, +90 curve to +y (default 0)")
     a.add_argument("--height", type=float, default=1.0, help="launch height [m] (0.1-3.0, default 1.0)")
     a.add_argument("--solution", choices=("low", "high"), default="low", help="low or high (lob) solution")
-    a.add_argument("--json", action="store_true", help="print one JSON object")
-    a.add_argument("--plot", metavar="FILE.png", help="draw the shot on the court")
-    _machine_flags(a)
-    add_physics_flags(a, default_aero="launcher2015")
-    a.set_defaults(func=run_aim)
+    add_output_flags(a, plot="draw the shot on the court", json_first=True)
+    _model_flags(a, run_aim)
 
     r = launcher_subparsers.add_parser("rollers", help="roller speeds, pull-in and no-slip checks (eqs 8-17)")
-    r.add_argument("--speed-kmh", type=float, required=True, help="ball speed [km/h] (30-200)")
-    r.add_argument("--spin-rpm", type=float, default=0.0, help="spin [rpm] (0-2000)")
-    r.add_argument("--friction", type=float, default=None, help="ball-roller friction coefficient (default 2.05)")
-    r.add_argument("--young-modulus-mpa", type=float, default=None, help="ball Young's modulus [MPa] (default 4.2)")
-    r.add_argument("--contact-area-m2", type=float, default=None,
-                   help="contact area s of eq 13 [m^2] (default 2.12e-4, implied by seed Tables 1-2)")
-    r.add_argument("--json", action="store_true", help="print one JSON object")
-    _machine_flags(r, position=False)
-    add_physics_flags(r, default_aero="launcher2015")
-    r.set_defaults(func=run_rollers)
+    _speed_spin_flags(r)
+    _float_flags(r, _ROLLER_FLAGS)
+    add_output_flags(r)
+    _model_flags(r, run_rollers, position=False)
 
     w = launcher_subparsers.add_parser("power", help="energy per throw, motor power, start-up time (eqs 18-31)")
-    w.add_argument("--speed-kmh", type=float, required=True, help="ball speed [km/h] (30-200)")
-    w.add_argument("--spin-rpm", type=float, default=0.0, help="spin [rpm] (0-2000)")
-    w.add_argument("--roller-mass", type=float, default=None, help="mass of each roller [kg] (default 2.0)")
-    w.add_argument("--motor-power", type=float, default=None, help="power of each motor [W] (default 45)")
-    w.add_argument("--throw-time", type=float, default=None,
-                   help="time to restore the rollers after a throw [s] (default 1 = shortest interval)")
+    _speed_spin_flags(w)
+    _float_flags(w, _POWER_FLAGS)
     w.add_argument("--slip", action="store_true",
                    help="ball starts at rest and slips (rollers give twice the ball's energy)")
-    w.add_argument("--json", action="store_true", help="print one JSON object")
-    _machine_flags(w, position=False)
-    add_physics_flags(w, default_aero="launcher2015")
-    w.set_defaults(func=run_power)
+    add_output_flags(w)
+    _model_flags(w, run_power, position=False)
 
     d = launcher_subparsers.add_parser("drill", help="compile a training program to machine settings",
                                        description="Compile and check a drill file (YAML or JSON; schema in "
                                                    "docs/launcher.md).  FILE may name a shipped drill "
                                                    "(e.g. baseline_rally).")
     d.add_argument("file", metavar="FILE", help="drill file (.yaml/.yml/.json) or name of a shipped drill")
-    d.add_argument("--json", action="store_true", help="print one JSON object")
-    d.add_argument("--csv", metavar="OUT.csv", help="write the compiled shot list as CSV")
-    d.add_argument("--plot", metavar="FILE.png", help="draw the drill on the court")
+    add_output_flags(d, csv="write the compiled shot list as CSV", csv_metavar="OUT.csv",
+                     plot="draw the drill on the court", json_first=True)
     d.add_argument("--no-check", action="store_true", help="report failed checks without exit code 1")
-    add_physics_flags(d, default_aero="launcher2015")
-    d.set_defaults(func=run_drill)
+    _model_flags(d, run_drill, machine=False)
 
     try:
         from tennislab.cli._launcher_db import register_launcher

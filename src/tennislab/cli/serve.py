@@ -10,7 +10,7 @@ from __future__ import annotations
 import csv
 import functools
 
-from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, save_figure
+from tennislab.cli.common import add_output_flags, add_physics_flags, atomic_write, emit_json, save_figure
 from tennislab.cli.impact import add_impact_flags, seed_physics_from_args
 from tennislab.errors import InputError
 
@@ -58,63 +58,60 @@ def _mapper(args):
     return functools.partial(map_chunks, **opts)
 
 
-def _add_batch(p) -> None:
-    if add_scheduler_flag is not None:
+def _angle_flags(p, alpha_help: str, beta_help: str) -> None:
+    """``--impact-angle A`` and ``--face-angle B`` [deg], both required."""
+    p.add_argument("--impact-angle", type=float, required=True, metavar="A", help=alpha_help)
+    p.add_argument("--face-angle", type=float, required=True, metavar="B", help=beta_help)
+
+
+def _brush_flag(p) -> None:
+    p.add_argument("--brush", type=float, default=0.0, metavar="DEG",
+                   help="3-D brush direction in the face: 0 topspin, -90 slice, -45 kick [deg] (needs --target)")
+
+
+def _model_flags(p, func, *, plot_help: str, csv_help: str | None = None, batch: bool = False) -> None:
+    """The 3-D, impact and physics flags (the seed's defaults), the output flags (``--plot`` / ``--csv``
+    with these helps), the batch flags (if *batch* and :mod:`tennislab.batch` is installed); run *func*."""
+    _three_d_flags(p)
+    add_impact_flags(p)
+    add_physics_flags(p)
+    add_output_flags(p, csv=csv_help, plot=plot_help)
+    if batch and add_scheduler_flag is not None:
         add_scheduler_flag(p)
+    p.set_defaults(func=func)
 
 
 def register(sub) -> None:
     p = sub.add_parser("serve", help="one serve: impact, flight, success (seed 000)",
                        description="Simulate one serve of a player profile. Angles in degrees.")
     _player_flags(p)
-    p.add_argument("--impact-angle", type=float, required=True, metavar="A", help="impact angle alpha [deg]")
-    p.add_argument("--face-angle", type=float, required=True, metavar="B", help="racket face angle beta [deg]")
-    p.add_argument("--brush", type=float, default=0.0, metavar="DEG",
-                   help="3-D brush direction in the face: 0 topspin, -90 slice, -45 kick [deg] (needs --target)")
+    _angle_flags(p, "impact angle alpha [deg]", "racket face angle beta [deg]")
+    _brush_flag(p)
     p.add_argument("--toss-velocity", type=float, default=0.0, metavar="VZ",
                    help="vertical ball velocity at impact [m/s] (negative: falling)")
-    _three_d_flags(p)
-    add_impact_flags(p)
-    add_physics_flags(p)
-    p.add_argument("--plot", metavar="FILE.png", help="side and top views of the serve")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=run_serve)
+    _model_flags(p, run_serve, plot_help="side and top views of the serve")
 
     p = sub.add_parser("serve-window", help="all (alpha, beta) serves of a player: Table 1 of seed 000",
                        description="Sweep alpha and beta over 0-90 deg; summarise successful flat and "
                                    "topspin serves next to the seed's Table 1.")
     _player_flags(p, allow_all=True)
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step [deg] (default 1)")
-    p.add_argument("--brush", type=float, default=0.0, metavar="DEG",
-                   help="3-D brush direction in the face: 0 topspin, -90 slice, -45 kick [deg] (needs --target)")
-    _three_d_flags(p)
-    add_impact_flags(p)
-    add_physics_flags(p)
-    p.add_argument("--csv", metavar="FILE", help="write every serve of the window as CSV")
-    p.add_argument("--plot", metavar="FILE.png", help="the seed's figures 5, 6 and 7-9 for this player")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    _add_batch(p)
-    p.set_defaults(func=run_window)
+    _brush_flag(p)
+    _model_flags(p, run_window, csv_help="write every serve of the window as CSV",
+                 plot_help="the seed's figures 5, 6 and 7-9 for this player", batch=True)
 
     p = sub.add_parser("serve-mc", help="Monte Carlo margin of error of a serve",
                        description="Scatter alpha, beta, azimuth (--sd-angle), racket speed (--sd-speed) and "
                                    "impact height (--sd-height); probability of success and landing ellipse.")
     _player_flags(p)
-    p.add_argument("--impact-angle", type=float, required=True, metavar="A", help="nominal alpha [deg]")
-    p.add_argument("--face-angle", type=float, required=True, metavar="B", help="nominal beta [deg]")
+    _angle_flags(p, "nominal alpha [deg]", "nominal beta [deg]")
     p.add_argument("--sd-angle", type=float, default=1.0, metavar="DEG", help="sd of alpha, beta, azimuth [deg] (1)")
     p.add_argument("--sd-azimuth", type=float, metavar="DEG", help="sd of the azimuth [deg] (default --sd-angle)")
     p.add_argument("--sd-speed", type=float, default=1.0, metavar="M/S", help="sd of racket speed [m/s] (1)")
     p.add_argument("--sd-height", type=float, default=0.0, metavar="M", help="sd of impact height [m] (0)")
     p.add_argument("--n", type=int, default=10000, metavar="N", help="number of serves (default 10000)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
-    _three_d_flags(p)
-    add_impact_flags(p)
-    add_physics_flags(p)
-    p.add_argument("--plot", metavar="FILE.png", help="landing points and 95%% ellipse on the court")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    _add_batch(p)
-    p.set_defaults(func=run_mc)
+    _model_flags(p, run_mc, plot_help="landing points and 95%% ellipse on the court", batch=True)
 
 
 def _impact_kw(args) -> dict:
