@@ -392,3 +392,93 @@ def test_row_range_monte_carlo_is_lazy_and_chunking_free(tmp_path):
     assert RowRange(10 ** 12).n_chunks(65536) == -(-10 ** 12 // 65536)  # nothing of size N is built
     with pytest.raises(InputError, match="fingerprint differs"):
         map_chunks(mc_rows, RowRange(10_001, constants={"v0": 50.0}), out=str(tmp_path / "mc"), progress=False)
+
+
+# --------------------------------------------------------- per-chunk callback
+class Sink:
+    """An on_chunk consumer (like a database): records (chunk, row0, outputs)."""
+
+    def __init__(self, fail_at=None):
+        self.got, self.fail_at = [], fail_at
+
+    def __call__(self, i, row0, outputs):
+        if i == self.fail_at:
+            raise RuntimeError("sink full")
+        self.got.append((i, row0, outputs))
+
+    def rows(self, key):
+        return np.concatenate([o[key] for _, _, o in sorted(self.got, key=lambda t: t[0])])
+
+
+def test_on_chunk_once_per_chunk_in_order_without_out(data):
+    sink = Sink()
+    res = run_batch(affine, data, chunk_size=700, collect=False, on_chunk=sink, progress=False)
+    assert res.data is None and (res.computed, res.skipped, res.restored) == (8, 0, 0) and res.complete
+    assert [(i, r0) for i, r0, _ in sink.got] == [(i, 700 * i) for i in range(8)]  # local: chunk order
+    assert np.array_equal(sink.rows("s"), data["a"] * 2.0 + data["b"])
+    for i, r0, o in sink.got:
+        assert len(o["s"]) == min(700, 5000 - r0)
+    with pytest.raises(InputError, match="on_chunk"):
+        run_batch(affine, data, on_chunk="print", progress=False)
+
+
+def test_on_chunk_resume_restores_parts_the_sink_lacks(tmp_path, data):
+    out = str(tmp_path / "job")
+    sink = Sink(fail_at=3)  # parts 0-3 are written; the sink only got 0-2
+    with pytest.raises(RuntimeError, match="sink full"):
+        run_batch(affine, data, chunk_size=700, out=out, collect=False, on_chunk=sink, progress=False)
+    assert [i for i, _, _ in sink.got] == [0, 1, 2] and not read_manifest(out)["complete"]
+    have = {i for i, _, _ in sink.got}
+    sink.fail_at = None
+    CALLS.clear()
+    res = run_batch(affine, data, out=out, collect=False, on_chunk=sink, skip=have, progress=False)
+    # part 3 is read back (not recomputed), 0-2 are not delivered again, 4-7 are computed
+    assert (res.computed, res.skipped, res.restored) == (4, 4, 1) and len(CALLS) == 4
+    assert sorted(i for i, _, _ in sink.got) == list(range(8))
+    assert np.array_equal(sink.rows("s"), data["a"] * 2.0 + data["b"])
+    assert read_manifest(out)["complete"]
+    # without skip every chunk of a finished output reaches the callback (restored), with collect
+    again = Sink()
+    res = run_batch(affine, data, out=out, on_chunk=again, progress=False)
+    assert (res.computed, res.restored) == (0, 8) and [i for i, _, _ in again.got] == list(range(8))
+    assert np.array_equal(res.data["s"], again.rows("s"))
+
+
+def test_skip_without_out_and_with_missing_parts(tmp_path, data):
+    sink = Sink()
+    res = run_batch(affine, data, chunk_size=1000, collect=False, on_chunk=sink, skip={0, 4}, progress=False)
+    assert (res.computed, res.skipped) == (3, 2) and CALLS == [1000] * 3
+    assert [i for i, _, _ in sink.got] == [1, 2, 3]
+    with pytest.raises(InputError, match="skip"):
+        run_batch(affine, data, chunk_size=1000, skip={0}, progress=False)
+    # with out, a skipped chunk without a part on disk is still computed (the directory must be complete)
+    out, sink = str(tmp_path / "job"), Sink()
+    res = run_batch(affine, data, chunk_size=1000, out=out, on_chunk=sink, skip={0, 4}, progress=False)
+    assert res.computed == 5 and sorted(i for i, _, _ in sink.got) == list(range(5))
+    assert np.array_equal(res.data["s"], data["a"] * 2.0 + data["b"]) and read_manifest(out)["complete"]
+
+
+def test_max_chunks_stops_and_resumes(tmp_path, data):
+    out, sink = str(tmp_path / "job"), Sink()
+    first = run_batch(affine, data, chunk_size=1000, out=out, collect=False, on_chunk=sink, max_chunks=2,
+                      progress=False)
+    assert (first.computed, first.n_chunks, first.n_rows, first.complete) == (2, 5, 5000, False)
+    assert not read_manifest(out)["complete"]
+    second = run_batch(affine, data, out=out, collect=False, on_chunk=sink, max_chunks=10,
+                       skip={i for i, _, _ in sink.got}, progress=False)
+    assert (second.computed, second.skipped, second.complete) == (3, 2, True)
+    assert np.array_equal(sink.rows("s"), data["a"] * 2.0 + data["b"]) and read_manifest(out)["complete"]
+    for bad in ({"max_chunks": 0, "collect": False, "on_chunk": sink}, {"max_chunks": 1}):
+        with pytest.raises(InputError, match="max_chunks"):
+            run_batch(affine, data, progress=False, **bad)
+
+
+def test_on_chunk_stream_source(tmp_path):
+    chunks = [{"a": np.arange(i * 10, i * 10 + 10, dtype=float), "b": np.ones(10)} for i in range(4)]
+    out, sink = str(tmp_path / "s"), Sink()
+    run_batch(affine, iter(chunks), out=out, collect=False, on_chunk=sink, progress=False)
+    assert [(i, r0) for i, r0, _ in sink.got] == [(0, 0), (1, 10), (2, 20), (3, 30)]
+    again = Sink()
+    res = map_chunks(affine, iter(chunks), out=out, on_chunk=again, skip={1}, progress=False)
+    assert [(i, r0) for i, r0, _ in again.got] == [(0, 0), (2, 20), (3, 30)] and CALLS == [10] * 4
+    assert np.array_equal(res["s"], np.arange(40.0) * 2 + 1)

@@ -5,6 +5,10 @@ depend only on the row (the compiled kernels are deterministic per row, and
 random draws come from :mod:`tennislab.batch.rng` keyed by (seed, row)), so the
 scheduler, the chunk size and resuming never change a single bit of the
 output; chunks are always concatenated in row order.
+
+``on_chunk`` hands each chunk's outputs to the caller as it finishes (e.g. to
+insert rows into a database); ``skip`` and ``max_chunks`` let such a caller
+resume from its own record of finished chunks and stop early.
 """
 from __future__ import annotations
 
@@ -26,7 +30,13 @@ from tennislab.errors import InputError
 
 @dataclass
 class BatchResult:
-    """What a batch run did.  ``data`` holds the concatenated outputs (None if ``collect=False``)."""
+    """What a batch run did.  ``data`` holds the concatenated outputs (None if ``collect=False``).
+
+    ``computed``: chunks run by ``fn`` in this call; ``skipped``: chunks not run
+    because they were finished (in ``out`` or in ``skip``), including the
+    ``restored`` ones: read back from ``out`` and passed to ``on_chunk``.
+    ``complete``: False when ``max_chunks`` stopped the run with chunks left.
+    """
 
     data: dict | None
     n_rows: int
@@ -37,6 +47,8 @@ class BatchResult:
     chunk_size: int | None
     out: str | None
     scheduler: str
+    restored: int = 0
+    complete: bool = True
 
 
 # ------------------------------------------------------------------ the task
@@ -116,16 +128,29 @@ def _digest(obj) -> str:
 def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
               progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
               tag=None, include_inputs: bool = False, row_key: str | None = None,
-              max_inflight: int | None = None) -> BatchResult:
+              max_inflight: int | None = None, on_chunk=None, skip=None,
+              max_chunks: int | None = None) -> BatchResult:
     """Like :func:`map_chunks` but always returns a :class:`BatchResult` (counts, timing, data)."""
     t0 = time.perf_counter()
     source = as_source(inputs)
     scheduler = check_scheduler(scheduler)
-    if not collect and out is None:
-        raise InputError("collect: collect=False needs an output directory (out=...)")
+    if on_chunk is not None and not callable(on_chunk):
+        raise InputError(f"on_chunk: expected a callable (chunk_index, row0, outputs), got {type(on_chunk).__name__}")
+    if not collect and out is None and on_chunk is None:
+        raise InputError("collect: collect=False needs an output directory (out=...) or an on_chunk callback")
     if n_workers is not None and int(n_workers) < 1:
         raise InputError(f"n_workers: {n_workers} is outside the allowed range [1, inf]")
     indexable = is_indexable(source)
+    if skip is not None:
+        skip = {int(i) for i in skip}
+        if collect and out is None:
+            raise InputError("skip: skipped chunks cannot be collected without out=...; pass collect=False")
+    if max_chunks is not None:
+        if int(max_chunks) < 1:
+            raise InputError(f"max_chunks: {max_chunks} is outside the allowed range [1, inf]")
+        if collect or not indexable:
+            raise InputError("max_chunks: needs collect=False and an indexable source (dict of arrays, GridSpec, ...)")
+        max_chunks = int(max_chunks)
     if chunk_size is not None and int(chunk_size) < 1:
         raise InputError(f"chunk_size: {chunk_size} is outside the allowed range [1, inf]")
     store = None
@@ -143,24 +168,41 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
         chunk_size = None
     try:
         return _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect,
-                    row_key, include_inputs, max_inflight, t0)
+                    row_key, include_inputs, max_inflight, t0, on_chunk, skip, max_chunks)
     finally:
         if store is not None:
             store.close()
 
 
 def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect, row_key,
-         include_inputs, max_inflight, t0) -> BatchResult:
+         include_inputs, max_inflight, t0, on_chunk=None, skip=None, max_chunks=None) -> BatchResult:
     if indexable:
         n_total = source.n_chunks(chunk_size)
     else:
         n_total = source.n_chunks()
     done = store.done() if store is not None else set()
+    skip = skip or set()
+    # not computed: the store's parts, or (without a store) the caller's finished chunks; with a store,
+    # chunks in `skip` but not on disk are computed so that the output directory is complete
+    have = done if store is not None else skip
+
+    def restore(i: int) -> bool:  # (for i in have) a part on disk the caller lacks: read back for on_chunk
+        return on_chunk is not None and store is not None and i not in skip
 
     bar = ProgressBar(n_total, desc=desc, enabled=progress_enabled(progress))
     results: dict[int, dict] = {}
     schema = {}
-    counts = {"computed": 0, "skipped": 0, "seen": 0}
+    counts = {"computed": 0, "skipped": 0, "seen": 0, "restored": 0, "taken": 0, "cut": False}
+    if indexable:  # counted up front: a max_chunks run stops scanning early
+        counts["skipped"] = sum(1 for i in have if 0 <= i < n_total)
+
+    def deliver_restored(i: int, lo: int) -> None:
+        res = store.read(i)
+        counts["restored"] += 1
+        if collect:
+            results[i] = res
+        on_chunk(i, lo, res)
+
     stream_ranges: dict[int, tuple[int, int, str | None]] = {}  # (lo, hi, input hash) of stream chunks
 
     def row_range(i: int) -> tuple[int, int, str | None]:
@@ -173,9 +215,16 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
             for i in range(n_total):
                 lo = i * chunk_size
                 counts["seen"] = i + 1
-                if i in done:
-                    counts["skipped"] += 1
+                if i in have and not restore(i):
                     bar.skip()
+                    continue
+                if max_chunks is not None and counts["taken"] >= max_chunks:
+                    counts["cut"] = True  # work left for a rerun
+                    return
+                counts["taken"] += 1
+                if i in have:
+                    bar.skip()
+                    deliver_restored(i, lo)
                     continue
                 payload = (shared_src, i, chunk_size) if source.remote else source.chunk(i, chunk_size)
                 yield i, (shared_fn, payload, lo, row_key, include_inputs)
@@ -186,18 +235,21 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
             h = hash_arrays(chunk)
             stream_ranges[i] = (lo, lo + n, h)
             counts["seen"] = i + 1
-            if i in done:
-                old = store.read_meta(i).get("input_hash")
-                if old != h:
-                    raise InputError(f"out: {store.path} holds another job (input chunk {i} differs); "
-                                     "use a new --out-dir or delete the old one")
+            if i in have:
+                if store is not None:
+                    old = store.read_meta(i).get("input_hash")
+                    if old != h:
+                        raise InputError(f"out: {store.path} holds another job (input chunk {i} differs); "
+                                         "use a new --out-dir or delete the old one")
                 counts["skipped"] += 1
                 bar.skip()
+                if store is not None and restore(i):
+                    deliver_restored(i, lo)
             else:
                 yield i, (shared_fn, chunk, lo, row_key, include_inputs)
             lo += n
 
-    all_done = indexable and done.issuperset(range(n_total))
+    all_done = indexable and have.issuperset(range(n_total))
     with get_runner("local" if all_done else scheduler, n_workers) as runner:  # no cluster to read parts
         shared_fn = runner.share(fn)
         shared_src = runner.share(source) if (indexable and source.remote) else source
@@ -212,27 +264,31 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
                     results[i] = res
                 counts["computed"] += 1
                 bar.update(hi - lo)
+                if on_chunk is not None:
+                    on_chunk(i, lo, res)
         finally:
             bar.close()
-    n_chunks = counts["seen"]
+    n_chunks = n_total if indexable else counts["seen"]
     n_rows = row_range(n_chunks - 1)[1] if n_chunks else 0
     extra = sorted(i for i in done if i >= n_chunks)
     if extra:  # a stream that is shorter than the one that made this output
         raise InputError(f"out: {store.path} holds another job (it has chunk {extra[0]}, "
                          f"the inputs have only {n_chunks} chunks); use a new --out-dir or delete the old one")
-    if store is not None:
+    if store is not None and not counts["cut"]:
         store.finish(n_chunks, n_rows)
     data = None
     if collect:
         data = _concatenate(results, store, n_chunks, fn, source, chunk_size, row_key, include_inputs)
     return BatchResult(data, n_rows, n_chunks, counts["computed"], counts["skipped"],
                        time.perf_counter() - t0, chunk_size, store.path if store else None,
-                       scheduler if isinstance(scheduler, str) else "client")
+                       scheduler if isinstance(scheduler, str) else "client", counts["restored"],
+                       not counts["cut"])
 
 
 def map_chunks(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
                progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
-               tag=None, include_inputs: bool = False, row_key: str | None = None):
+               tag=None, include_inputs: bool = False, row_key: str | None = None, on_chunk=None,
+               skip=None, max_chunks: int | None = None):
     """Apply ``fn`` to ``inputs`` chunk by chunk on a scheduler; return the concatenated outputs.
 
     Parameters
@@ -250,18 +306,36 @@ def map_chunks(fn, inputs, *, scheduler="local", chunk_size: int | None = None, 
         finished chunks, another job in the same directory is an ``InputError``.
     progress : True (stderr bar when a TTY), False, or ``"always"``.
     n_workers : worker processes for ``"processes"`` (default: number of cores).
-    collect : False returns a :class:`BatchResult` without data (needs ``out``):
-        memory stays bounded by a few chunks however large the job.
+    collect : False returns a :class:`BatchResult` without data (needs ``out``
+        or ``on_chunk``): memory stays bounded by a few chunks however large the job.
     tag : anything JSON-able identifying the job beyond ``fn`` and ``inputs``.
     include_inputs : also return/store the input columns next to the outputs.
     row_key : add the global row index (int64) to every chunk under this name.
+    on_chunk : ``callable(chunk_index, row0, outputs)``, called in this (the
+        parent) process once per chunk of the job that is not in ``skip``, with
+        the chunk's outputs (``dict[str, ndarray]``, as stored; rows
+        [row0, row0 + n)), after its Parquet part (if ``out``) is written.
+        Order: completion order -- any order on a Dask scheduler, chunk order
+        on ``local``.  On a resume, finished parts found in ``out`` are read
+        back and passed to it too (as the scan reaches them), so every chunk
+        reaches the callback once per call.  An exception raised in it stops
+        the run (chunks in flight are cancelled; parts already written stay).
+    skip : chunk indices the caller already has (e.g. recorded in its own
+        database): not run and not passed to ``on_chunk``.  With ``out``, a
+        chunk of ``skip`` without a part on disk is still computed (and passed
+        to ``on_chunk``) so that the output directory is complete; without
+        ``out`` it needs ``collect=False``.
+    max_chunks : stop after this many chunks were computed or restored for
+        ``on_chunk`` (the rest is left for a rerun; ``out`` is then not marked
+        complete).  Needs ``collect=False`` and an indexable source.
 
     Returns the outputs as ``dict[str, ndarray]`` in row order (or a
     :class:`BatchResult` if ``collect=False``).
     """
     res = run_batch(fn, inputs, scheduler=scheduler, chunk_size=chunk_size, out=out, progress=progress,
                     desc=desc, n_workers=n_workers, collect=collect, tag=tag,
-                    include_inputs=include_inputs, row_key=row_key)
+                    include_inputs=include_inputs, row_key=row_key, on_chunk=on_chunk, skip=skip,
+                    max_chunks=max_chunks)
     return res.data if collect else res
 
 

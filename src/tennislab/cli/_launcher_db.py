@@ -178,19 +178,10 @@ def run_table(args) -> int:
             _db.bind_config(conn, _db.config_dict(spec, params), args.db)
     finally:
         conn.close()
-    runner = None
-    if sched != "local":
-        from tennislab.batch.schedulers import get_runner
-        runner = get_runner(sched, getattr(args, "workers", None))
-    from tennislab.launcher.db import guard
-    try:
-        with guard(args.db):
-            rep = fill_table(args.db, spec, params, grid, chunk_size=chunk, runner=runner,
-                             progress=getattr(args, "progress", True),
-                             out_dir=getattr(args, "out_dir", None), max_chunks=args.max_chunks)
-    finally:
-        if runner is not None:
-            runner.close()
+    with _db.guard(args.db):  # fill_table runs the chunks with tennislab.batch.run_batch
+        rep = fill_table(args.db, spec, params, grid, chunk_size=chunk, scheduler=sched,
+                         n_workers=getattr(args, "workers", None), progress=getattr(args, "progress", True),
+                         out_dir=getattr(args, "out_dir", None), max_chunks=args.max_chunks)
     if args.json:
         emit_json(rep.as_dict())
     else:

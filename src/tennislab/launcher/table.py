@@ -10,8 +10,8 @@ headings of one speed and spin: compact landing patches, which keeps the
 R*Tree tight.
 
 Each chunk is flown with :func:`tennislab.core.flight.fly_batch` on
-:func:`tennislab.launcher.machine.launch_states` (:func:`fly_chunk`, on any
-runner of :mod:`tennislab.batch.schedulers`); :func:`select_hits` keeps a row
+:func:`tennislab.launcher.machine.launch_states` (:func:`fly_chunk`, through
+:func:`tennislab.batch.run_batch` on any of its schedulers); :func:`select_hits` keeps a row
 when the ball lands (status 0), clears the net (``net_status`` over) and lands
 in the doubles area of the half opposite the machine plus
 :data:`KEEP_MARGIN_M` (a controller never aims elsewhere; the optional Parquet
@@ -25,7 +25,6 @@ inserts each setting once.
 from __future__ import annotations
 
 import hashlib
-import itertools
 import json
 import math
 import sqlite3
@@ -211,14 +210,20 @@ def fill_chunk(indices: dict, spec, params, keep_margin: float = KEEP_MARGIN_M) 
 
 
 # ------------------------------------------------------------ fill bookkeeping
-def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int) -> tuple[int, set]:
-    """Register (or find) a fill of one settings grid; return (fill id, set of finished chunks)."""
+def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int,
+               register: bool = True) -> tuple[int | None, set]:
+    """Register (or find) a fill of one settings grid; return (fill id, set of finished chunks).
+
+    ``register=False`` only looks (and checks the chunk size): fill id None if the grid is new.
+    """
     gh = hashlib.sha256(grid_json.encode()).hexdigest()
     n_chunks = -(-int(n_rows) // int(chunk_size))
     conn.execute("BEGIN IMMEDIATE")
     try:
         row = conn.execute("SELECT id, chunk_size FROM fills WHERE grid_hash = ?", (gh,)).fetchone()
-        if row is None:
+        if row is None and not register:
+            fid = None
+        elif row is None:
             cur = conn.execute("INSERT INTO fills (grid_hash, grid_json, n_rows, chunk_size, n_chunks, "
                                "started_utc) VALUES (?, ?, ?, ?, ?, ?)",
                                (gh, grid_json, int(n_rows), int(chunk_size), n_chunks, _db._now()))
@@ -228,7 +233,8 @@ def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size
             if row[1] != chunk_size:
                 raise InputError(f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
                                  f"resume with the same size (got {chunk_size})")
-        done = {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))}
+        done = {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))} \
+            if fid is not None else set()
         conn.execute("COMMIT")
     except BaseException:
         conn.execute("ROLLBACK")
@@ -256,11 +262,6 @@ def finish_fill(conn: sqlite3.Connection, fill_id: int) -> None:
                      (_db._now(), fill_id, fill_id))
 
 
-def _fly_task(i, indices, spec, params):
-    """Worker entry (top level, picklable): chunk ``i`` -> ``(i, per-row outputs)``."""
-    return i, fly_chunk(indices, spec, params)
-
-
 @dataclass
 class FillReport:
     path: str
@@ -278,82 +279,68 @@ class FillReport:
 
 
 def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DEFAULT_CHUNK,
-               runner=None, progress=False, out_dir: str | None = None,
-               keep_margin: float = KEEP_MARGIN_M, max_chunks: int | None = None,
+               scheduler="local", n_workers: int | None = None, runner=None, progress=False,
+               out_dir: str | None = None, keep_margin: float = KEEP_MARGIN_M, max_chunks: int | None = None,
                on_chunk=None) -> FillReport:
     """Fill (or resume filling) the database at ``path`` with ``grid`` for ``spec`` and ``params``.
 
-    Refuses a file built for another machine or physics (hash).  Each chunk's
-    hits are inserted in one transaction together with the chunk's "done" mark,
-    so an interrupted fill resumes where it stopped.  ``runner`` is a
-    :mod:`tennislab.batch.schedulers` runner (``runner.run(func, payloads)``
-    yields ``(index, func(*args))`` in any order; default: this process).
-    ``out_dir`` also writes every row of every chunk (kept or not) as
-    resumable Parquet parts of the batch layer (:func:`tennislab.batch.read_output`).
+    Refuses a file built for another machine or physics (hash).  The chunks
+    are flown by :func:`tennislab.batch.run_batch` (:func:`fly_chunk` on the
+    lazy :meth:`TableGrid.grid_spec`) on ``scheduler`` (``"local"``,
+    ``"processes"`` with ``n_workers``, ``"tcp://HOST:PORT"`` or a
+    ``distributed.Client``); its ``on_chunk`` hook inserts each chunk's hits,
+    in this process, in one transaction together with the chunk's "done" mark
+    (chunks come back in any order), so an interrupted fill resumes where it
+    stopped: the chunks marked done are passed as ``skip``.  ``runner`` (kept
+    for compatibility) is a :mod:`tennislab.batch.schedulers` runner whose Dask
+    client is used (not closed).  ``out_dir`` also writes every row of every
+    chunk (kept or not) as resumable Parquet parts of the batch layer
+    (:func:`tennislab.batch.read_output`); a chunk missing there is flown again,
+    one on disk but not in the database is read back instead of flown.
     ``max_chunks`` stops after that many chunks; ``on_chunk(i, n_hits)`` is
     called after each stored chunk.
     """
+    import functools
+    from tennislab.batch import run_batch
     chunk_size = int(chunk_size)
     if chunk_size < 1:
         raise InputError(f"--chunk-size: must be >= 1, got {chunk_size}")
+    if max_chunks is not None and int(max_chunks) < 1:
+        raise InputError(f"--max-chunks: {max_chunks} is outside the allowed range [1, inf]")
     check_finite("keep margin", keep_margin)
+    if runner is not None:
+        scheduler = getattr(runner, "client", None) or "local"
     t0 = time.perf_counter()
     conn = _db.open_db(path)
     try:
         cfg = _db.config_dict(spec, params)
         h = _db.bind_config(conn, cfg, path)
-        fid, done = begin_fill(conn, grid.to_json(), grid.size, chunk_size)
+        grid_json = grid.to_json()
+        # a new grid is registered with its first stored chunk: a run that fails before (e.g. no
+        # scheduler, another job in out_dir) leaves no trace in the file
+        fid, done = begin_fill(conn, grid_json, grid.size, chunk_size, register=False)
         n_chunks = -(-grid.size // chunk_size)
-        store = _parquet_store(out_dir, h, grid, chunk_size) if out_dir else None
-        if store is not None:
-            done = done & store.done()
-        n_todo = n_chunks - len(done) if max_chunks is None else min(int(max_chunks), n_chunks - len(done))
-        # lazy: the full grid has ~10^9 chunks
-        todo = itertools.islice((i for i in range(n_chunks) if i not in done), n_todo)
-        bar = None
-        if progress:
-            from tennislab.batch.progress import ProgressBar, progress_enabled
-            bar = ProgressBar(n_chunks, desc=f"launcher table -> {path}", enabled=progress_enabled(progress))
-            bar.skip(len(done))
-        payloads = ((i, (i, grid.chunk(i, chunk_size), spec, params)) for i in todo)
         axes = axis_values(spec.range_of("spin_axis_deg"), grid.indices["spin_axis_deg"])
         axis0 = float(axes[np.argmin(np.abs(axes))])  # the one rotation stored for zero spin
-        run = runner.run if runner is not None else _local_run
-        inserted = 0
-        try:
-            for _, (ci, rows) in run(_fly_task, payloads):
-                if store is not None:
-                    lo = ci * chunk_size
-                    store.write(ci, rows, {"rows": [lo, lo + len(rows["id"])], "input_hash": None})
-                hits = select_hits(rows, spec, params.court, keep_margin, axis0)
-                inserted += store_chunk(conn, fid, ci, hits)
-                if bar is not None:
-                    bar.update(len(rows["id"]))
-                if on_chunk is not None:
-                    on_chunk(ci, len(hits["id"]))
-        finally:
-            if bar is not None:
-                bar.close()
-        finish_fill(conn, fid)
-        if store is not None and len(store.done()) == n_chunks:
-            store.finish(n_chunks, grid.size)
+        tally = {"inserted": 0, "run": 0, "fid": fid}
+
+        def insert(ci: int, row0: int, rows: dict) -> None:  # called by run_batch in this process
+            hits = select_hits(rows, spec, params.court, keep_margin, axis0)
+            if tally["fid"] is None:
+                tally["fid"] = begin_fill(conn, grid_json, grid.size, chunk_size)[0]
+            tally["inserted"] += store_chunk(conn, tally["fid"], ci, hits)
+            tally["run"] += 1
+            if on_chunk is not None:
+                on_chunk(ci, len(hits["id"]))
+
+        res = run_batch(functools.partial(fly_chunk, spec=spec, params=params), grid.grid_spec(),
+                        scheduler=scheduler, n_workers=n_workers, chunk_size=chunk_size, out=out_dir,
+                        progress=progress, desc=f"launcher table -> {path}", collect=False,
+                        tag={"launcher_table": h}, on_chunk=insert, skip=done, max_chunks=max_chunks)
+        if tally["fid"] is not None:
+            finish_fill(conn, tally["fid"])
         total = _db.count_hits(conn)
     finally:
         conn.close()
-    return FillReport(path, h, grid.size, n_chunks, len(done), n_todo, inserted, total, time.perf_counter() - t0)
-
-
-def _parquet_store(out_dir: str, config_hash: str, grid: TableGrid, chunk_size: int):
-    """The batch layer's resumable Parquet store for this fill (same manifest identity keys)."""
-    from tennislab.batch.store import ChunkStore
-    manifest = {"fn": {"name": f"{__name__}.fly_chunk", "config": config_hash[:24]},
-                "tag": {"launcher_table": config_hash},
-                "source": "grid",
-                "fingerprint": "launcher-grid:" + hashlib.sha256(grid.to_json().encode()).hexdigest()[:32],
-                "n_rows": grid.size, "row_key": None, "include_inputs": True, "chunk_size": int(chunk_size)}
-    return ChunkStore(out_dir, manifest)
-
-
-def _local_run(func, payloads):
-    for i, args in payloads:
-        yield i, func(*args)
+    return FillReport(path, h, grid.size, n_chunks, res.skipped - res.restored, tally["run"], tally["inserted"],
+                      total, time.perf_counter() - t0)
