@@ -39,7 +39,7 @@ def _first_class_rate(S, p, repeats: int) -> float:
     from tennislab.core.events import NCOLS
     from tennislab.core.integrators import batch_kernel_fp
     out = np.empty((len(S), NCOLS))
-    c = p.consts(5e-7, 5e-7)
+    c = p.consts(2e-7, 2e-7)
     batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, out[:1000])
     return _best_rate(lambda: batch_kernel_fp(S, p.aero.kernel, p.aero.params, c, out), len(S), repeats)[0]
 

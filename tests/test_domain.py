@@ -186,7 +186,7 @@ def test_inlined_kernels_agree_with_first_class_path(model):
     assert np.nanmax(np.abs(inl - fly_batch(s, p, parallel=False).data)) < 1e-12
     for kern in (batch_kernel_fp, serial_kernel_fp):
         fp = np.empty((len(s), NCOLS))
-        kern(s, model.kernel, model.params, p.consts(5e-7, 5e-7), fp)
+        kern(s, model.kernel, model.params, p.consts(2e-7, 2e-7), fp)
         assert np.array_equal(inl[:, COL["status"]], fp[:, COL["status"]])
         assert np.array_equal(inl[:, COL["n_steps"]], fp[:, COL["n_steps"]])
         # same arithmetic up to floating-point contraction: far below the integration tolerance

@@ -1,5 +1,6 @@
 """Batch path against the SciPy reference; events; invariants (issue 2)."""
 import math
+import zlib
 
 import numpy as np
 import pytest
@@ -39,7 +40,7 @@ def shot_states(n, seed=1):
 @pytest.mark.parametrize("aero", ["stepanek1988", "launcher2015", "cross2014"])
 def test_batch_landing_within_0p01_mm_of_reference(aero):
     p = FlightParams(aero=get_aero_model(aero))
-    S = shot_states(45, seed=hash(aero) % 1000)
+    S = shot_states(90, seed=zlib.crc32(aero.encode()) % 1000)   # same shots in every run
     tb = fly_batch(S, p)
     assert tb.ok.all()
     errs = []

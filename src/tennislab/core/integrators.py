@@ -137,6 +137,39 @@ def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
     return x
 
 
+#: first step [s]: of 0.05, 0.1 and 0.2 s, 0.1 s needs the fewest evaluations on mixed shots
+#: (rejections included; benchmarks/_shots.py), 4 % fewer than 0.05 s
+_H0 = 0.1
+#: the step that reaches the ground is aimed to end this factor beyond the predicted contact
+_AIM = 1.03
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
+def _aim_at_ground(y, f, r, h):
+    """Step size: ``h``, or shortened so that the step ends just past the predicted ground contact.
+
+    The contact is then located near the step's end, where the interpolant
+    (4th order, as accurate as the error *estimate*, ~ tol x |y|) meets the
+    5th-order solution, instead of mid-step: at the same tolerance this halves
+    the mean landing error and removes the worst cases (short flights whose
+    last step is long), at no cost in steps (docs/flight.md).  The prediction
+    solves z + v_z tau + a_z tau^2 / 2 = r with the current acceleration.
+    """
+    zz = y[2] - r
+    vz = y[5]
+    az = f[5]
+    tau = -1.0
+    if az < 0.0:
+        disc = vz * vz - 2.0 * az * zz
+        if disc >= 0.0:
+            tau = (-vz - math.sqrt(disc)) / az
+    elif vz < 0.0:
+        tau = -zz / vz
+    if tau > 0.0 and _AIM * tau < h:
+        return _AIM * tau
+    return h
+
+
 @nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def integrate_one(y_init, aero, aero_p, consts, row, work):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
@@ -186,10 +219,11 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
         row[_c_apex_y] = y[1]
         row[_c_apex_z] = y[2]
     t = 0.0
-    h = 0.05
+    h = _H0
     nsteps = 0
     landed = False
     while t < t_max and nsteps < 100000:
+        h = _aim_at_ground(y, fcur, r, h)
         if t + h > t_max:
             h = t_max - t
         for c in range(9):
