@@ -89,28 +89,15 @@ def _dense_full(theta, y0, K, h, P, out):
         out[c] = _dense_comp(theta, c, y0, K, h, P)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
-def _dense_comp_d(theta, c, y0, K, h, P):
-    """The interpolant's component c and its derivative d/dtheta at theta."""
-    s = 0.0
-    ds = 0.0
-    for k in range(7):
-        p0, p1, p2, p3 = P[k, 0], P[k, 1], P[k, 2], P[k, 3]
-        q = theta * (p0 + theta * (p1 + theta * (p2 + theta * p3)))
-        dq = p0 + theta * (2.0 * p1 + theta * (3.0 * p2 + theta * 4.0 * p3))
-        s += K[k, c] * q
-        ds += K[k, c] * dq
-    return y0[c] + h * s, h * ds
-
-
 @nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
 def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
     """theta in [lo, 1] where the interpolant's component c equals target.
 
-    Safeguarded Newton on the interpolant polynomial (bracket [lo, 1] with
-    f(lo) = f0, f(1) = f1, f0 * f1 <= 0; bisection when a Newton step leaves
-    the bracket); stops when the step is below 1e-15 of the interval or the
-    residual below 1e-14.
+    The component is a quartic in theta, y0[c] + q0 th + q1 th^2 + q2 th^3 +
+    q3 th^4 (its coefficients formed once); safeguarded Newton on it (bracket
+    [lo, 1] with f(lo) = f0, f(1) = f1, f0 * f1 <= 0; bisection when a Newton
+    step leaves the bracket); stops when the step is below 1e-15 of the
+    interval or the residual below 1e-14.
     """
     a, fa = lo, f0
     b = 1.0
@@ -118,10 +105,21 @@ def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
         return lo
     if f1 == 0.0:
         return 1.0
+    q0 = 0.0
+    q1 = 0.0
+    q2 = 0.0
+    q3 = 0.0
+    for k in range(7):
+        kc = h * K[k, c]
+        q0 += kc * P[k, 0]
+        q1 += kc * P[k, 1]
+        q2 += kc * P[k, 2]
+        q3 += kc * P[k, 3]
+    y0c = y0[c] - target
     x = lo + (1.0 - lo) * f0 / (f0 - f1)    # secant first guess
     for _ in range(60):
-        fx, dfx = _dense_comp_d(x, c, y0, K, h, P)
-        fx -= target
+        fx = y0c + x * (q0 + x * (q1 + x * (q2 + x * q3)))
+        dfx = q0 + x * (2.0 * q1 + x * (3.0 * q2 + x * 4.0 * q3))
         if abs(fx) < 1e-14:
             return x
         if (fx > 0.0) == (fa > 0.0):
@@ -280,22 +278,22 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
             th = _root(0, 0.0, y, K, h, P, y[0], ynew[0])
             if th <= th_land:
                 net_done = True
-                _dense_full(th, y, K, h, P, yev)
-                hn = net_height_linear(yev[1], consts[K_HC], consts[K_HP], consts[K_YP])
+                ny = _dense_comp(th, 1, y, K, h, P)
+                nz = _dense_comp(th, 2, y, K, h, P)
+                hn = net_height_linear(ny, consts[K_HC], consts[K_HP], consts[K_YP])
                 row[_iNET_T] = t + th * h
-                row[_c_net_y] = yev[1]
-                row[_c_net_z] = yev[2]
+                row[_c_net_y] = ny
+                row[_c_net_z] = nz
                 row[_c_net_h] = hn
-                row[_c_net_status] = NET_HIT if yev[2] - hn - r < 0.0 else NET_OVER
+                row[_c_net_status] = NET_HIT if nz - hn - r < 0.0 else NET_OVER
         if not apex_done and y[5] > 0.0 and ynew[5] <= 0.0:
             th = _root(5, 0.0, y, K, h, P, y[5], ynew[5])
             if th <= th_land:
                 apex_done = True
-                _dense_full(th, y, K, h, P, yev)
                 row[_iAPEX_T] = t + th * h
-                row[_c_apex_x] = yev[0]
-                row[_c_apex_y] = yev[1]
-                row[_c_apex_z] = yev[2]
+                row[_c_apex_x] = _dense_comp(th, 0, y, K, h, P)
+                row[_c_apex_y] = _dense_comp(th, 1, y, K, h, P)
+                row[_c_apex_z] = _dense_comp(th, 2, y, K, h, P)
         if th_land <= 1.0:
             _dense_full(th_land, y, K, h, P, yev)
             row[_iLAND_T] = t + th_land * h
