@@ -122,8 +122,8 @@ def simulate_chunk(inputs: dict, *, flight: dict | None = None, target: str | No
     """Per-chunk worker: fly launched serves and judge them.
 
     inputs: ``x, y, z`` [m], ``vx, vy, vz`` [m/s], ``wx, wy, wz`` [rad/s] (equal-length arrays).
-    ``rtol``: flight tolerance (rtol = atol; 1e-6 keeps landing points within ~1e-3 mm of the
-    reference, far below any scatter studied).  Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
+    ``rtol``: flight tolerance (rtol = atol; at 1e-6 landing points are ~1e-3 mm from the
+    reference on average and a few hundredths of a mm at worst, far below any scatter studied).  Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
     ``net_height`` [m], ``success`` (bool), ``landed`` (bool).
     """
     params = FlightParams.from_options(**(flight or {}))
