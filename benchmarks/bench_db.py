@@ -1,10 +1,11 @@
 """Benchmark: ``launcher lookup`` on a hits table of 10^7 rows (target: < 10 ms per lookup).
 
-Builds (once; reused if the file is there) an SQLite table of ~10^7 hits laid
-out exactly like a real fill (ids, grid order, R*Tree over landing x, y, speed
-and spin), then times R*Tree lookups against a full-scan baseline measured in
-the same run on the same file, and prints median / 95th percentile [ms] and
-their ratio.
+Builds (once; reused if the file is there, migrated if its schema is older) an
+SQLite table of ~10^7 hits laid out exactly like a real fill (ids, grid order,
+R*Tree over landing x, y, speed and spin, band indexes), then times every form
+of lookup (speed and spin, speed only, spin only, neither, height only) against
+a full-scan baseline measured in the same run on the same file, checks each
+form's answers against the scan, and prints median / 95th percentile [ms].
 
 Rows are synthetic by default: the landing point of each setting comes from a
 closed-form flight (projectile with a linear-drag range factor and a Magnus
@@ -20,6 +21,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sqlite3
 import sys
 import time
 
@@ -124,12 +126,21 @@ def main(argv=None) -> int:
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     if not os.path.exists(path):
         build(path, args.rows, args.real)
+    c = sqlite3.connect(path)
+    version = c.execute("PRAGMA user_version").fetchone()[0]
+    c.close()
+    if version < db.SCHEMA_VERSION:
+        t0 = time.perf_counter()
+        db.open_db(path, create=False).close()
+        print(f"migrated {path} from schema {version} to {db.SCHEMA_VERSION} in {time.perf_counter() - t0:.0f} s")
     conn = db.open_readonly(path)
     n = db.count_hits(conn)
     rng = db.table_ranges(conn)
     speeds = np.arange(rng["speed_kmh"][0], rng["speed_kmh"][1] + 1)
-    spins = np.array(sorted({r[0] for r in conn.execute(
-        "SELECT DISTINCT spin_rpm FROM hits WHERE id IN (SELECT id FROM hits ORDER BY random() LIMIT 2000)")}))
+    sample = conn.execute("SELECT DISTINCT spin_rpm, height_m FROM hits WHERE id IN "
+                          "(SELECT id FROM hits ORDER BY random() LIMIT 2000)").fetchall()
+    spins = np.array(sorted({r[0] for r in sample}))
+    height = max(r[1] for r in sample)
     print(f"table: {n:,} hits, {os.path.getsize(path) / 1e9:.2f} GB, speeds {speeds[0]:g}-{speeds[-1]:g} km/h, "
           f"{len(spins)} spin values")
     r = np.random.default_rng(0)
@@ -143,9 +154,12 @@ def main(argv=None) -> int:
     from tennislab.errors import InputError
     steps = {"speed_kmh": DEFAULT_SPEC.speed.step, "spin_rpm": DEFAULT_SPEC.spin.step}
     db.table_stats(conn)  # read once per connection, as a controller would
-    for label, kw in (("speed+spin", lambda s, w: {"speed_kmh": s, "spin_rpm": w}),
-                      ("speed only", lambda s, w: {"speed_kmh": s}),
-                      ("any speed/spin", lambda s, w: {})):
+    forms = {"speed+spin": lambda s, w: {"speed_kmh": s, "spin_rpm": w},
+             "speed only": lambda s, w: {"speed_kmh": s},
+             "spin only": lambda s, w: {"spin_rpm": w},
+             "any speed/spin": lambda s, w: {},
+             f"height {height:g} m": lambda s, w: {"where": {"height_m": (height - 0.03, height + 0.03)}}}
+    for label, kw in forms.items():
         xs, ys, ss, ws = targets(args.lookups)
         ms, reads, misses = [], [], 0
         for x, y, s, w in zip(xs, ys, ss, ws):
@@ -157,22 +171,29 @@ def main(argv=None) -> int:
                 misses += 1
             ms.append((time.perf_counter() - t) * 1e3)
         results[label] = _stats(ms)
-        print(f"R*Tree lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
-              f"rows read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
-              f"[{args.lookups} lookups]")
-    xs, ys, ss, ws = targets(args.scans)
-    ms = []
-    for x, y, s, w in zip(xs, ys, ss, ws):
-        t = time.perf_counter()
-        b = db.scan_nearest(conn, x, y, speed_kmh=float(s), spin_rpm=float(w))
-        ms.append((time.perf_counter() - t) * 1e3)
-        a = db.nearest_hit(conn, x, y, speed_kmh=float(s), spin_rpm=float(w))
-        assert (a is None and b is None) or a["id"] == b["id"], "R*Tree and scan disagree"
-    scan = _stats(ms)
-    print(f"full-scan baseline (speed+spin): median {scan[0]:9.1f} ms, p95 {scan[1]:9.1f} ms  [{args.scans} scans]")
+        print(f"lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
+              f"index entries read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
+              f"[{args.lookups} lookups]", flush=True)
+    for label in list(forms)[:4]:  # the scan filters on speed and spin only
+        xs, ys, ss, ws = targets(args.scans)
+        ms = []
+        for x, y, s, w in zip(xs, ys, ss, ws):
+            kw = forms[label](float(s), float(w))
+            t = time.perf_counter()
+            b = db.scan_nearest(conn, x, y, **kw)
+            ms.append((time.perf_counter() - t) * 1e3)
+            a = db.nearest_hit(conn, x, y, **kw)
+            assert (a is None and b is None) or (a["id"], a["miss_m"]) == (b["id"], b["miss_m"]), \
+                f"lookup and scan disagree ({label}, target {x}, {y})"
+        if label == "speed+spin":
+            scan = _stats(ms)
+            print(f"full-scan baseline (speed+spin): median {scan[0]:9.1f} ms, p95 {scan[1]:9.1f} ms  "
+                  f"[{args.scans} scans]")
+    print(f"lookups agree with the full scan: {args.scans} targets per form ({', '.join(list(forms)[:4])})")
     med = results["speed+spin"][0]
+    worst = max(results, key=lambda k: results[k][1])
     print(f"speedup (median, speed+spin): {scan[0] / med:,.0f}x; target < 10 ms: "
-          f"{'PASS' if results['speed+spin'][1] < 10 else 'FAIL'} (p95 {results['speed+spin'][1]:.2f} ms)")
+          f"{'PASS' if results[worst][1] < 10 else 'FAIL'} (largest p95: {worst}, {results[worst][1]:.2f} ms)")
     conn.close()
     return 0
 

@@ -51,7 +51,9 @@ def test_new_file_has_schema_wal_and_rtree(tmp_path):
     assert conn.execute("PRAGMA application_id").fetchone()[0] == db.APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
-    assert {"machine", "hits", "hits_rtree", "hits_xy", "fills", "fill_chunks", "drills", "drill_shots"} <= names
+    assert {"machine", "hits", "hits_rtree", "hits_cell", "hits_speed_cell", "hits_spin_cell", "fills", "fill_chunks",
+            "drills", "drill_shots"} <= names
+    assert "hits_xy" not in names  # schema 3's 2-D R*Tree, replaced by hits_cell in schema 4
     sql = conn.execute("SELECT sql FROM sqlite_master WHERE name = 'hits_rtree'").fetchone()[0]
     assert "rtree" in sql.lower()
     conn.close()
@@ -72,9 +74,11 @@ def test_migration_from_version_1_and_newer_refused(tmp_path, params):
     conn = db.open_db(path)             # a writer does
     assert conn.execute("PRAGMA user_version").fetchone()[0] == db.SCHEMA_VERSION
     assert "drills" in {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
-    # v3 indexed the hits already stored
-    assert conn.execute("SELECT id FROM hits_xy WHERE min_x > 8.5").fetchall() == [(9,)]
-    assert db.nearest_hit(conn, 8.1, 1.0)["id"] == 7
+    # v3 indexed the hits already stored, v4 replaced that index by the band indexes
+    assert "hits_xy" not in {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+    assert conn.execute("SELECT id FROM hits INDEXED BY hits_cell WHERE land_x > 8.5").fetchall() == [(9,)]
+    for kw in ({}, {"speed_kmh": 100.0}, {"spin_rpm": 0.0}):  # (rows written to hits alone: not in hits_rtree)
+        assert db.nearest_hit(conn, 8.1, 1.0, **kw)["id"] == 7
     assert db.check_config(conn, cfg, path) == db.config_hash(cfg)  # a migration keeps the table valid
     conn.execute("PRAGMA user_version = 99")
     conn.close()
@@ -328,7 +332,7 @@ def test_lookup_while_table_fills(tmp_path, params, capsys):
             conn.execute("BEGIN")  # one snapshot: hits and chunk marks agree
             n = db.count_hits(conn)
             marked = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
-            assert n == marked == conn.execute("SELECT count(*) FROM hits_xy").fetchone()[0]
+            assert n == marked == conn.execute("SELECT count(*) FROM hits_rtree").fetchone()[0]
             conn.execute("COMMIT")
             conn.close()
             rc = main(["launcher", "lookup", "--db", path, "--target", "8", "1", "--speed-kmh", "100",
@@ -460,3 +464,97 @@ def test_rtree_nearest_equals_scan_with_ties(lattice_db, x, y, sp, sw, on_lattic
     assert (a is None) == (b is None)
     if a is not None:
         assert a["id"] == b["id"] and a["miss_m"] == pytest.approx(b["miss_m"], abs=1e-12)
+
+
+def _ray_rows(n_speed=4, n_spin=3):
+    """Synthetic hits on rays from the machine (one per heading; heading 0 is the line y = 0), dense along each
+    ray, as in benchmarks/bench_db.py: lookups with an open speed or spin meet them by the hundred."""
+    rng = np.random.default_rng(7)
+    sp, sw, hd, r = np.meshgrid(60.0 + np.arange(n_speed), 100.0 * np.arange(n_spin), np.arange(-6.0, 7.0),
+                                np.linspace(14.0, 24.0, 180), indexing="ij")
+    r = (r + rng.uniform(-0.05, 0.05, r.shape)).ravel()
+    n = r.size
+    heading = hd.ravel()
+    x, y = -12.0 + r * np.cos(np.radians(heading)), r * np.sin(np.radians(heading))
+    y[heading == 0] = 0.0
+    return {"id": np.arange(n), "height_m": rng.choice([1.0, 2.0], n), "speed_kmh": sp.ravel(),
+            "elevation_deg": np.zeros(n), "heading_deg": heading, "spin_rpm": sw.ravel(),
+            "spin_axis_deg": rng.choice([0.0, 180.0], n), "land_x": x, "land_y": y,
+            "net_clearance_m": rng.permutation(n) * 1e-4, "flight_time_s": np.ones(n), "bounce_speed_ms": np.ones(n),
+            "bounce_spin_rpm": np.zeros(n), "apex_z_m": np.ones(n)}
+
+
+@pytest.fixture(scope="module")
+def ray_dbs(tmp_path_factory, params):
+    """The same synthetic hits in a file of the current schema and one of schema 3 (R*Tree ``hits_xy``)."""
+    rows = _ray_rows()
+    paths = []
+    for version in (db.SCHEMA_VERSION, 3):
+        path = str(tmp_path_factory.mktemp("rays") / f"rays_v{version}.sqlite")
+        conn = db.open_db(path, target_version=version)
+        db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params), path)
+        conn.execute("BEGIN")
+        db.insert_hits(conn, rows)
+        conn.execute("COMMIT")
+        conn.close()
+        paths.append(path)
+    return rows, paths
+
+
+def _brute(rows, x, y, max_m=1.0, tie_m=db.TIE_M, **eq):
+    """Reference answer by numpy over every row: nearest, ties to the larger clearance, then the smaller id."""
+    m = np.ones(len(rows["id"]), bool)
+    for c, v in eq.items():
+        m &= (rows[c] >= v[0]) & (rows[c] <= v[1]) if isinstance(v, tuple) else np.abs(rows[c] - v) <= 1e-3
+    idx = np.flatnonzero(m)
+    if idx.size == 0:
+        return None
+    miss = np.hypot(rows["land_x"][idx] - x, rows["land_y"][idx] - y)
+    if miss.min() > max_m:
+        return None
+    cand = idx[miss <= miss.min() + tie_m]
+    best = cand[rows["net_clearance_m"][cand] == rows["net_clearance_m"][cand].max()].min()
+    return int(rows["id"][best])
+
+
+FORMS = {"speed+spin": lambda s, w: {"speed_kmh": s, "spin_rpm": w}, "speed only": lambda s, w: {"speed_kmh": s},
+         "spin only": lambda s, w: {"spin_rpm": w}, "any": lambda s, w: {},
+         "any, height": lambda s, w: {"where": {"height_m": (1.9, 2.1)}},
+         "speed, axis": lambda s, w: {"speed_kmh": s, "where": {"spin_axis_deg": (179.0, 181.0)}}}
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_every_lookup_form_equals_brute_force(ray_dbs, form):
+    """Band indexes (schema 4), R*Tree boxes (schema 3) and a brute force agree on random targets, targets on
+    the ray y = 0 and on band edges (y a multiple of 1 cm), for every form of lookup."""
+    rows, paths = ray_dbs
+    conns = [db.open_readonly(p) for p in paths]
+    rng = np.random.default_rng(11)
+    targets = [(rng.uniform(1.0, 12.0), rng.uniform(-2.5, 2.5)) for _ in range(40)]
+    targets += [(rng.uniform(2.0, 11.0), v) for v in (0.0, 1e-4, -0.01, 0.02, 0.3, -1.23)]
+    for x, y in targets:
+        s, w = float(rng.choice([60.0, 61.0, 63.0, 64.0])), float(rng.choice([0.0, 100.0, 200.0, 250.0]))
+        kw = FORMS[form](s, w)
+        eq = {k: v for k, v in kw.items() if k != "where"} | kw.get("where", {})
+        want = _brute(rows, x, y, **eq)
+        for conn in conns:
+            hit = db.nearest_hit(conn, x, y, max_m=1.0, **kw)
+            assert (hit is None) == (want is None), (form, x, y, s, w)
+            if hit is not None:
+                assert hit["id"] == want, (form, x, y, s, w)
+                assert hit["miss_m"] == np.hypot(hit["land_x"] - x, hit["land_y"] - y)
+                assert hit["n_candidates"] < len(rows["id"]) / 10  # an index query, not a scan
+        if want is not None and not kw.get("where"):  # the full scan of the benchmark agrees too
+            assert db.scan_nearest(conns[0], x, y, **kw)["id"] == want
+    for conn in conns:
+        conn.close()
+
+
+def test_schema_3_file_stays_readable(ray_dbs):
+    """A reader accepts a file of schema 3 (no band indexes) and answers from its R*Trees."""
+    _, paths = ray_dbs
+    conn = db.open_readonly(paths[1])
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == 3
+    hit = db.lookup(conn, 8.0, 0.05, steps={"speed_kmh": 1.0, "spin_rpm": 50.0})
+    assert hit["miss_m"] < 0.1 and hit["n_read"] >= 1
+    conn.close()

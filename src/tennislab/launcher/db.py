@@ -16,10 +16,12 @@ Layout (schema version :data:`SCHEMA_VERSION`, in ``PRAGMA user_version``;
                    indices, see :func:`tennislab.launcher.table.pack_ids`): settings, landing x, y, net
                    clearance, flight time, bounce speed and spin, apex height.
 ``hits_rtree``     R*Tree over (landing x, landing y, speed, spin): a lookup
-                   reads the few rows in a box around the target whose speed and
-                   spin match, never the table.
-``hits_xy``        R*Tree over (landing x, landing y) alone, for lookups that
-                   fix neither speed nor spin.
+                   with speed and spin reads the few rows in a box around the
+                   target whose speed and spin match, never the table.
+``hits_cell``, ``hits_speed_cell``, ``hits_spin_cell``  covering indexes over
+                   ([speed or spin,] 1 cm band of landing y, landing x, y, net
+                   clearance) for lookups that fix at most one of the two.
+                   (Schema 3 had ``hits_xy``, an R*Tree over landing x, y.)
 ``fills``, ``fill_chunks``  which chunks of which settings grid are stored
                    (``launcher table`` resumes from them).
 ``drills``, ``drill_shots`` training programs: the drill file's text verbatim
@@ -40,14 +42,15 @@ import json
 import math
 import os
 import sqlite3
-import time
 
 import numpy as np
 
-from tennislab.errors import InputError, check_finite
+from tennislab.errors import InputError
 
 #: Schema version of the file (``PRAGMA user_version``); see :data:`MIGRATIONS`.
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
+#: Oldest schema :func:`open_readonly` accepts (lookups on a file of schema 3 use its R*Trees alone).
+MIN_READ_VERSION = 3
 #: ``PRAGMA application_id`` of a tennislab launcher database ("TLDB").
 APPLICATION_ID = 0x544C4442
 #: Version of the content of ``hits`` (what a row means, how it is computed);
@@ -133,8 +136,24 @@ CREATE VIRTUAL TABLE hits_xy USING rtree(id, min_x, max_x, min_y, max_y);
 INSERT INTO hits_xy SELECT id, land_x, land_x, land_y, land_y FROM hits;
 """
 
+# v4: covering B-tree indexes for lookups that fix at most one of speed and spin, replacing hits_xy.
+# With an open speed or spin range the 4-D tree's leaves (which mix speeds and spins) reach the
+# target by the hundred: 10-100 ms at 10^7 hits.  Landings lie on dense rays (one per heading
+# step); hits_xy's square boxes read 10^4 entries of the nearest ray at 10^7 hits, and its leaves
+# on the ray of heading 0 (y constant: zero area, no guide for the R*Tree's insertion) span metres.
+# An index ordered by 1 cm bands of y, then x reads one range per band, clipped to a disc.
+_V4 = """
+DROP TABLE hits_xy;
+CREATE INDEX hits_cell ON hits (CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y, net_clearance_m,
+                                height_m, spin_axis_deg);
+CREATE INDEX hits_speed_cell ON hits (speed_kmh, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
+                                      net_clearance_m);
+CREATE INDEX hits_spin_cell ON hits (spin_rpm, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
+                                     net_clearance_m);
+"""
+
 #: version -> SQL script that upgrades a file from ``version - 1`` to ``version``.
-MIGRATIONS = {1: _V1, 2: _V2, 3: _V3}
+MIGRATIONS = {1: _V1, 2: _V2, 3: _V3, 4: _V4}
 
 
 def _now() -> str:
@@ -277,8 +296,8 @@ def open_readonly(path: str) -> sqlite3.Connection:
         if version > SCHEMA_VERSION:
             raise InputError(f"--db {path}: schema version {version} is newer than this tennislab "
                              f"understands ({SCHEMA_VERSION}); upgrade tennislab")
-        if version < SCHEMA_VERSION:
-            raise InputError(f"--db {path}: schema version {version} is older than {SCHEMA_VERSION}; "
+        if version < MIN_READ_VERSION:
+            raise InputError(f"--db {path}: schema version {version} is older than {MIN_READ_VERSION}; "
                              "rerun `launcher table` on it to migrate it (finished chunks are skipped)")
         conn.execute("SELECT count(*) FROM machine").fetchone()
     except (sqlite3.DatabaseError, InputError) as exc:
@@ -451,8 +470,9 @@ def insert_hits(conn: sqlite3.Connection, hits: dict) -> int:
     conn.executemany("INSERT INTO hits_rtree VALUES (?,?,?,?,?,?,?,?,?)",
                      zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist()
                                                for a in (x, x, y, y, sp, sp, sw, sw)]))
-    conn.executemany("INSERT INTO hits_xy VALUES (?,?,?,?,?)",
-                     zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist() for a in (x, x, y, y)]))
+    if conn.execute("SELECT 1 FROM sqlite_master WHERE name = 'hits_xy'").fetchone():  # schema 3
+        conn.executemany("INSERT INTO hits_xy VALUES (?,?,?,?,?)",
+                         zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist() for a in (x, x, y, y)]))
     return int(keep.sum())
 
 
@@ -463,221 +483,6 @@ def count_hits(conn: sqlite3.Connection) -> int:
 def count_hits_fast(conn: sqlite3.Connection) -> int:
     """0 if the table is empty, else a positive number (no full count)."""
     return 1 if conn.execute("SELECT 1 FROM hits LIMIT 1").fetchone() else 0
-
-
-# -------------------------------------------------------------------- lookup
-_COLS_SQL = ("SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
-             "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits ")
-_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
-_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
-
-#: Two candidates whose misses differ by less than this are a tie [m]; the one
-#: with the larger net clearance wins (a safer ball for the same landing).
-TIE_M = 1e-3
-
-
-def _half_window(value, step):
-    """Match tolerance around a quantised setting: a third of the grid step (or 1e-6 absolute)."""
-    return max(1e-6, step / 3.0) if step else 1e-6
-
-
-def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: float | None = None,
-                spin_rpm: float | None = None, speed_tol: float = 1e-3, spin_tol: float = 1e-3,
-                start_m: float = 0.05, max_m: float = 64.0, tie_m: float = TIE_M, where: dict | None = None):
-    """The stored hit whose landing is nearest (x, y) among those matching speed and spin.
-
-    R*Tree box queries around the target (``hits_rtree`` over x, y, speed and
-    spin; ``hits_xy`` when neither is given), doubling the half-width until a
-    hit matches; once the nearest candidate is at distance d_min, a box of
-    half-width d_min + ``tie_m`` contains every point that could be nearer (or
-    tie), so one more query at most makes the answer exact.  Ties (misses
-    within ``tie_m``) go to the larger net clearance.  Each query reads the
-    index alone (float32 boxes bound the distances); only the hits that can be
-    nearest or tie are then read from ``hits``.  Returns a dict (columns of
-    ``hits`` plus ``miss_m``, ``n_candidates`` (index entries of the last box)
-    and ``n_read`` (hits rows read)) or None when no matching hit lands within
-    ``max_m`` of the target.
-    ``where`` {column: (lo, hi)} filters on other settings (e.g. ``height_m``)
-    in the join, after the index.
-    """
-    extra = "".join(f" AND h.{c} BETWEEN ? AND ?" for c in (where or {}) if c in HIT_SETTINGS)
-    xargs = [v for c, lh in (where or {}).items() if c in HIT_SETTINGS for v in lh]
-    inf = 1e30
-    s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    free = speed_kmh is None and spin_rpm is None
-    # phase 1 reads the index only: its boxes are float32-rounded points, so distances are bounded
-    sql = (f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
-           + (" JOIN hits h ON h.id = r.id" if extra else "") + " WHERE " + _BOX
-           + ("" if free else _SPEED_SPIN) + extra)
-    fixed = ([] if free else [s_lo, s_hi, w_lo, w_hi]) + xargs
-    limit = max_m + tie_m   # a box this wide holds every point within max_m, and its ties
-    d = min(start_m, limit)
-    while True:
-        rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
-        if rows:
-            b = np.array(rows)
-            lo = np.hypot(np.maximum(np.maximum(b[:, 1] - x, x - b[:, 2]), 0.0),
-                          np.maximum(np.maximum(b[:, 3] - y, y - b[:, 4]), 0.0))
-            hi = np.hypot(np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)),
-                          np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y)))
-            dmin_hi = float(hi.min())
-            if dmin_hi + tie_m <= d or d >= limit:
-                break
-            d = min(dmin_hi + tie_m, limit)
-            continue
-        if d >= limit:
-            return None
-        d = min(2.0 * d, limit)
-    # phase 2: exact distances of the few hits that can be nearest or tie
-    ids = [int(i) for i in b[lo <= dmin_hi + tie_m, 0]]
-    hits = conn.execute(_COLS_SQL + f"WHERE id IN ({','.join('?' * len(ids))})", ids).fetchall()
-    miss = np.hypot(np.array([h[7] for h in hits]) - x, np.array([h[8] for h in hits]) - y)
-    dmin = float(miss.min())
-    if dmin > max_m:
-        return None
-    cand = np.flatnonzero(miss <= dmin + tie_m)
-    best = int(cand[int(np.argmax([hits[i][9] for i in cand]))])
-    out = dict(zip(HIT_COLUMNS, hits[best]))
-    out.update(miss_m=float(miss[best]), n_candidates=len(rows), n_read=len(hits))
-    return out
-
-
-_STATS: dict = {}
-#: Expected rows in a lookup's first box; its half-width follows from the table's density.
-FIRST_BOX_ROWS = 8.0
-
-
-def table_stats(conn: sqlite3.Connection) -> dict:
-    """Hits stored and speed/spin values per grid (from ``fill_chunks``/``fills``; cached per connection)."""
-    key = id(conn)
-    if key in _STATS and _STATS[key][0] is conn:
-        return _STATS[key][1]
-    n = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
-    ns = nw = 1
-    for (g,) in conn.execute("SELECT grid_json FROM fills"):
-        gj = json.loads(g)
-        ns, nw = max(ns, len(gj.get("speed_kmh", ()))), max(nw, len(gj.get("spin_rpm", ())))
-    stats = {"n": int(n), "n_speed": ns, "n_spin": nw}
-    if len(_STATS) > 16:
-        _STATS.clear()
-    _STATS[key] = (conn, stats)
-    return stats
-
-
-def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float = 170.0) -> float:
-    """Half-width [m] of a box expected to hold :data:`FIRST_BOX_ROWS` matching hits.
-
-    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin);
-    a given speed (spin) keeps about 1/``n_speed`` (1/``n_spin``) of them.
-    """
-    n = stats["n"] / (stats["n_speed"] if speed_given else 1) / (stats["n_spin"] if spin_given else 1)
-    if n <= 0:
-        return 0.05
-    return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
-
-
-def has_hits(conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3,
-             spin_tol: float = 1e-3) -> bool:
-    """True if any stored hit has this speed and spin (an R*Tree query, not a scan)."""
-    inf = 1e30
-    s = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    return conn.execute("SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
-                        "AND min_spin <= ? LIMIT 1", (s[0], s[1], w[0], w[1])).fetchone() is not None
-
-
-def scan_nearest(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin_rpm=None,
-                 speed_tol: float = 1e-3, spin_tol: float = 1e-3, tie_m: float = TIE_M):
-    """The same answer as :func:`nearest_hit` by a full scan of ``hits`` (baseline for benchmarks/tests)."""
-    where, args = [], []
-    if speed_kmh is not None:
-        where.append("speed_kmh BETWEEN ? AND ?")
-        args += [speed_kmh - speed_tol, speed_kmh + speed_tol]
-    if spin_rpm is not None:
-        where.append("spin_rpm BETWEEN ? AND ?")
-        args += [spin_rpm - spin_tol, spin_rpm + spin_tol]
-    sql = (f"SELECT {', '.join(HIT_COLUMNS)}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
-           f"FROM hits {'WHERE ' + ' AND '.join(where) if where else ''} ORDER BY d2 LIMIT 64")
-    rows = conn.execute(sql, [x, x, y, y] + args).fetchall()
-    if not rows:
-        return None
-    miss = np.sqrt(np.array([r[-1] for r in rows]))
-    cand = np.flatnonzero(miss <= miss[0] + tie_m)
-    best = int(cand[int(np.argmax([rows[i][9] for i in cand]))])
-    out = dict(zip(HIT_COLUMNS, rows[best][:-1]))
-    out["miss_m"] = float(miss[best])
-    return out
-
-
-def table_ranges(conn: sqlite3.Connection) -> dict:
-    """Speed [km/h] and spin [rpm] ranges of the grids filled into the file (from ``fills``, no scan)."""
-    spec = json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
-    out = {}
-    for field, attr in (("speed_kmh", "speed"), ("spin_rpm", "spin")):
-        lo, hi = math.inf, -math.inf
-        for (g,) in conn.execute("SELECT grid_json FROM fills"):
-            idx = json.loads(g).get(field) or []
-            if idx:
-                r = spec[attr]
-                lo = min(lo, r["lo"] + min(idx) * r["step"])
-                hi = max(hi, r["lo"] + max(idx) * r["step"])
-        out[field] = (lo, hi)
-    return out
-
-
-def target_area(machine_x: float) -> str:
-    """Court area a machine at ``machine_x`` aims at: the doubles area of the other half."""
-    return "doubles" if machine_x < 0 else "near-doubles"
-
-
-def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tuple[float, float]:
-    """Validate a target in the doubles area (lines included) of the half opposite the machine."""
-    from tennislab.core.court import ITF_COURT
-    court = court or ITF_COURT
-    x = check_finite("target x", x)
-    y = check_finite("target y", y)
-    area = target_area(machine_x)
-    if not court.contains(area, x, y):
-        b = court.area_bounds(area)
-        raise InputError(f"--target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
-                         f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m")
-    return x, y
-
-
-def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin_rpm=None,
-           steps: dict | None = None, max_miss_m: float = 1.0, path: str = "", where: dict | None = None) -> dict:
-    """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
-
-    ``steps`` (grid step per setting, from the machine spec) sets how close a
-    requested speed/spin must be to a stored one (a third of a step).  The first
-    box is sized from the table's density (:func:`first_box`; the statistics are
-    read once per connection, before the timed ``lookup_ms``).  Raises
-    :class:`InputError` when nothing matches or the nearest landing misses by
-    more than ``max_miss_m``.
-    """
-    steps = steps or {}
-    d0 = first_box(table_stats(conn), speed_kmh is not None, spin_rpm is not None)
-    t0 = time.perf_counter()
-    st = _half_window(speed_kmh, steps.get("speed_kmh"))
-    wt = _half_window(spin_rpm, steps.get("spin_rpm"))
-    hit = nearest_hit(conn, x, y, speed_kmh=speed_kmh, spin_rpm=spin_rpm, speed_tol=st, spin_tol=wt,
-                      max_m=max_miss_m, where=where, start_m=d0)
-    ms = (time.perf_counter() - t0) * 1e3
-    if hit is None:
-        if count_hits_fast(conn) == 0:
-            raise InputError(f"--db {path}: the table holds no hits; fill it with `launcher table`")
-        want = ", ".join([f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
-                         + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()])
-        if not has_hits(conn, speed_kmh, spin_rpm, st, wt):
-            rng = table_ranges(conn)
-            raise InputError(f"--target: no hit with {want} in the table (filled: speed "
-                             f"{rng['speed_kmh'][0]:g}-{rng['speed_kmh'][1]:g} km/h, spin "
-                             f"{rng['spin_rpm'][0]:g}-{rng['spin_rpm'][1]:g} rpm)")
-        raise InputError(f"--target: no hit in range: nothing{' with ' + want if want else ''} lands within "
-                         f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)")
-    hit["lookup_ms"] = ms
-    return hit
 
 
 # -------------------------------------------------------------------- drills
@@ -774,3 +579,8 @@ def drill_shots(conn: sqlite3.Connection, name: str) -> list[dict]:
     return [json.loads(r[0]) for r in conn.execute(
         "SELECT s.shot_json FROM drill_shots s JOIN drills d ON d.id = s.drill_id WHERE d.name = ? "
         "ORDER BY s.idx", (name,))]
+
+
+# the lookup functions live in tennislab.launcher.lookup; re-exported here (their historical home)
+from tennislab.launcher.lookup import (TIE_M, check_target, first_box, has_hits, lookup,  # noqa: E402,F401
+                                       nearest_hit, scan_nearest, table_ranges, table_stats, target_area)
