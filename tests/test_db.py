@@ -311,6 +311,10 @@ def test_parquet_out_dir_beside_the_db(tmp_path, params):
     kept = T.select_hits(rows, DEFAULT_SPEC, params.court)
     assert len(kept["id"]) == rep.hits_total
     assert np.all(rows["elevation_deg"] >= -20) and set(np.unique(rows["net_status"])) <= {0, 1, 2}
+    assert rep.chunks_restored == 0
+    # a new database beside the same parts: every chunk is read back, none flown, same hits
+    again = T.fill_table(str(tmp_path / "h2.sqlite"), DEFAULT_SPEC, params, g, chunk_size=300, out_dir=out)
+    assert again.chunks_restored == again.chunks_run == again.n_chunks and again.hits_total == rep.hits_total
 
 
 def test_lookup_while_table_fills(tmp_path, params, capsys):

@@ -185,7 +185,9 @@ def run_table(args) -> int:
     if args.json:
         emit_json(rep.as_dict())
     else:
-        print(f"{rep.path}: {rep.chunks_run} chunks flown ({rep.chunks_done_before} already done) of "
+        back = f", {rep.chunks_restored} read back from --out-dir" if rep.chunks_restored else ""
+        print(f"{rep.path}: {rep.chunks_run - rep.chunks_restored} chunks flown{back} "
+              f"({rep.chunks_done_before} already done) of "
               f"{rep.n_chunks}; grid {rep.grid_rows} settings; {rep.hits_inserted} hits added, "
               f"{rep.hits_total} stored; {rep.seconds:.1f} s; hash {rep.hash[:12]}")
     return 0

@@ -273,6 +273,7 @@ class FillReport:
     hits_inserted: int
     hits_total: int
     seconds: float
+    chunks_restored: int = 0    #: of ``chunks_run``: read back from ``out_dir`` instead of flown
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)
@@ -343,4 +344,4 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
     finally:
         conn.close()
     return FillReport(path, h, grid.size, n_chunks, res.skipped - res.restored, tally["run"], tally["inserted"],
-                      total, time.perf_counter() - t0)
+                      total, time.perf_counter() - t0, res.restored)
