@@ -245,6 +245,15 @@ def _statements(script: str):
             buf = ""
 
 
+def _fail_open(conn, path: str, exc: Exception):
+    """Close a half-opened connection and raise ``exc`` as a one-line :class:`InputError`."""
+    if conn is not None:
+        conn.close()
+    if isinstance(exc, InputError):
+        raise exc
+    raise _db_error(path, exc) from None
+
+
 def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERSION) -> sqlite3.Connection:
     """Open (or create) a database for writing: WAL mode, migrated to the current schema."""
     if not create and not os.path.exists(path):
@@ -269,11 +278,7 @@ def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERS
         migrate(conn, path, target_version)
         conn.execute("SELECT count(*) FROM machine").fetchone()
     except (sqlite3.DatabaseError, InputError) as exc:
-        if conn is not None:
-            conn.close()
-        if isinstance(exc, InputError):
-            raise
-        raise _db_error(path, exc) from None
+        _fail_open(conn, path, exc)
     return conn
 
 
@@ -301,11 +306,7 @@ def open_readonly(path: str) -> sqlite3.Connection:
                              "rerun `launcher table` on it to migrate it (finished chunks are skipped)")
         conn.execute("SELECT count(*) FROM machine").fetchone()
     except (sqlite3.DatabaseError, InputError) as exc:
-        if conn is not None:
-            conn.close()
-        if isinstance(exc, InputError):
-            raise
-        raise _db_error(path, exc) from None
+        _fail_open(conn, path, exc)
     return conn
 
 
