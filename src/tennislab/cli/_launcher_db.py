@@ -84,12 +84,8 @@ def register_launcher(sub) -> None:
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     _add_machine_flags(p)
     add_physics_flags(p, default_aero="launcher2015")
-    try:
-        from tennislab.batch.cli import add_scheduler_flag
-        add_scheduler_flag(p)
-    except ImportError:  # pragma: no cover - the batch layer is part of tennislab
-        p.add_argument("--scheduler", default="local")
-        p.add_argument("--chunk-size", type=int)
+    from tennislab.batch.cli import add_scheduler_flag
+    add_scheduler_flag(p)
     p.set_defaults(func=run_table)
 
     p = sub.add_parser("lookup", help="settings that land nearest a target, from the database (no integration)",
