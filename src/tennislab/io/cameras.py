@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_text
 from tennislab.linecall.cameras import Camera
 
 DEFAULT_SIGMA_PX = 0.5
@@ -79,12 +80,7 @@ def parse_cameras(text: str, name: str = "cameras") -> list[Camera]:
 
 
 def read_cameras(path: str) -> list[Camera]:
-    with open(path, "rb") as fh:
-        data = fh.read(50_000_000)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not UTF-8 text") from None
+    text = read_text(path, 50_000_000)
     return parse_cameras(text, str(path))
 
 
@@ -134,12 +130,7 @@ def parse_detections(text: str, cams: list[Camera], name: str = "detections") ->
 
 
 def read_detections(path: str, cams: list[Camera]) -> dict:
-    with open(path, "rb") as fh:
-        data = fh.read(500_000_000)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not UTF-8 text") from None
+    text = read_text(path, 500_000_000)
     return parse_detections(text, cams, str(path))
 
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 import os
 import tempfile
 
+from tennislab.errors import InputError
+
 
 def atomic_path(path: str, write_fn) -> None:
     """Call ``write_fn(tmp_path)`` to write a temporary file, then rename it to ``path``."""
@@ -30,3 +32,16 @@ def atomic_write(path: str, write_fn, mode: str = "w") -> None:
         with open(tmp, mode) as fh:
             write_fn(fh)
     atomic_path(path, _w)
+
+
+def read_text(path: str, limit: int) -> str:
+    """Read at most ``limit`` bytes of ``path`` as UTF-8 text (a BOM is dropped).
+
+    Not UTF-8 -> :class:`InputError` ``"PATH: not UTF-8 text"``.
+    """
+    with open(path, "rb") as fh:
+        data = fh.read(limit)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not UTF-8 text") from None
