@@ -7,14 +7,14 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 TSTAMP := $(VENV)/.installed-test
 
-.PHONY: demo test bench clean
+.PHONY: demo test lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 
 $(STAMP): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet -e .
+	$(PY) -m pip install --quiet -e ".[app]"
 	touch $@
 
 $(TSTAMP): pyproject.toml | $(PY)
@@ -24,7 +24,12 @@ $(TSTAMP): pyproject.toml | $(PY)
 demo: $(STAMP)
 	$(PY) -m tennislab.demo --out out/demo
 
-test: $(TSTAMP)
+lint: $(TSTAMP)
+	$(PY) -m ruff check src tests benchmarks examples
+	$(PY) -m ruff format --check src tests benchmarks examples
+	$(PY) -m mypy
+
+test: $(TSTAMP) lint
 	$(PY) -m pytest
 
 bench: $(TSTAMP)

@@ -1,4 +1,5 @@
 """Shared synthetic shot sets for benchmarks."""
+
 import math
 
 import numpy as np

@@ -17,6 +17,7 @@
 
 Run: ``python benchmarks/bench_batch.py [--full] [--n-throughput N]``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -33,11 +34,11 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _shots import mixed_shots  # noqa: E402
+from _shots import mixed_shots
 
-from tennislab.batch import GridSpec, map_chunks, run_batch  # noqa: E402
-from tennislab.batch.tasks import fly_chunk  # noqa: E402
-from tennislab.core.flight import FlightParams, fly_batch  # noqa: E402
+from tennislab.batch import GridSpec, map_chunks, run_batch
+from tennislab.batch.tasks import fly_chunk
+from tennislab.core.flight import FlightParams, fly_batch
 
 CHUNK = 65536
 COLUMNS = ("land_x", "land_y", "status")
@@ -53,6 +54,7 @@ def _timed(run, n: int):
 def _start_cluster(n_workers: int):
     """The ``processes`` scheduler's own LocalCluster (1 thread per worker, NUMBA_NUM_THREADS=1)."""
     from tennislab.batch.schedulers import get_runner
+
     runner = get_runner("processes", n_workers)
     return runner, runner.client
 
@@ -61,6 +63,7 @@ def throughput(n: int, rounds: int = 3) -> dict:
     """Best rate of each configuration over ``rounds`` interleaved rounds (other jobs share the
     cores: interleaving spreads their load over all configurations, the best run is the least disturbed)."""
     import numba
+
     params = FlightParams()
     states = mixed_shots(n, seed=5)
     fly_batch(states[:1000], params, parallel=False)
@@ -89,24 +92,40 @@ def throughput(n: int, rounds: int = 3) -> dict:
     base, rate_local, r1, r2 = best["base"], best["local"], best["w1"], best["w2"]
     ref, local, out1, out2 = outs["base"], outs["local"], outs["w1"], outs["w2"]
     same = all(np.array_equal(o[k], ref[k]) for k in COLUMNS for o in (local, out1, out2))
-    res = {"n": n, "cores": os.cpu_count(), "numba_threads_local": numba.get_num_threads(),
-           "load_avg_1min": os.getloadavg()[0], "baseline_1core_per_s": base, "local_per_s": rate_local,
-           "workers1_per_s": r1, "workers2_per_s": r2, "scaling_efficiency": r2 / (2 * r1),
-           "bit_identical": same}
-    print(f"batch: {n:,} mixed shots, {res['cores']} cores, load avg {res['load_avg_1min']:.1f} "
-          "(other jobs share these cores; rates are best of 3 interleaved rounds)")
+    res = {
+        "n": n,
+        "cores": os.cpu_count(),
+        "numba_threads_local": numba.get_num_threads(),
+        "load_avg_1min": os.getloadavg()[0],
+        "baseline_1core_per_s": base,
+        "local_per_s": rate_local,
+        "workers1_per_s": r1,
+        "workers2_per_s": r2,
+        "scaling_efficiency": r2 / (2 * r1),
+        "bit_identical": same,
+    }
+    print(
+        f"batch: {n:,} mixed shots, {res['cores']} cores, load avg {res['load_avg_1min']:.1f} "
+        "(other jobs share these cores; rates are best of 3 interleaved rounds)"
+    )
     print(f"batch: baseline fly_batch 1 thread in process   {base:12,.0f} flights/s")
-    print(f"batch: map_chunks local ({res['numba_threads_local']} numba threads)   {rate_local:12,.0f} flights/s"
-          f"  ({rate_local / base:.2f}x baseline)")
+    print(
+        f"batch: map_chunks local ({res['numba_threads_local']} numba threads)   {rate_local:12,.0f} flights/s"
+        f"  ({rate_local / base:.2f}x baseline)"
+    )
     print(f"batch: map_chunks LocalCluster 1 worker        {r1:12,.0f} flights/s  ({r1 / base:.2f}x baseline)")
     print(f"batch: map_chunks LocalCluster 2 workers       {r2:12,.0f} flights/s  ({r2 / base:.2f}x baseline)")
-    print(f"batch: scaling efficiency 1 -> 2 workers = {res['scaling_efficiency']:.2f} "
-          f"(1.00 = perfect; bounded by {res['cores']} physical cores and the load of other jobs)")
+    print(
+        f"batch: scaling efficiency 1 -> 2 workers = {res['scaling_efficiency']:.2f} "
+        f"(1.00 = perfect; bounded by {res['cores']} physical cores and the load of other jobs)"
+    )
     avail = rate_local / base
     res["numba_2thread_speedup"] = avail
     res["dask_scaling_vs_numba_scaling"] = (r2 / r1) / avail
-    print(f"batch: control: numba 2 threads vs 1 thread in this run = {avail:.2f}x (the parallelism the "
-          f"machine actually gave); Dask 2-vs-1-worker speedup / that = {res['dask_scaling_vs_numba_scaling']:.2f}")
+    print(
+        f"batch: control: numba 2 threads vs 1 thread in this run = {avail:.2f}x (the parallelism the "
+        f"machine actually gave); Dask 2-vs-1-worker speedup / that = {res['dask_scaling_vs_numba_scaling']:.2f}"
+    )
     print(f"batch: local, 1-worker and 2-worker outputs bit-identical to one fly_batch call: {same}")
     return res
 
@@ -114,9 +133,14 @@ def throughput(n: int, rounds: int = 3) -> dict:
 # ---------------------------------------------------------------- memory
 def serve_grid(n: int) -> GridSpec:
     """A lazy grid of n serves (n a multiple of 10^4): 100 speeds x 10 elevations x 10 headings x n/10^4 spins."""
-    return GridSpec({"speed": np.linspace(40.0, 65.0, 100), "elev": np.radians(np.linspace(-8, -2, 10)),
-                     "heading": np.radians(np.linspace(-6, 6, 10)),
-                     "spin": np.linspace(-300.0, 300.0, n // 10_000)})
+    return GridSpec(
+        {
+            "speed": np.linspace(40.0, 65.0, 100),
+            "elev": np.radians(np.linspace(-8, -2, 10)),
+            "heading": np.radians(np.linspace(-6, 6, 10)),
+            "spin": np.linspace(-300.0, 300.0, n // 10_000),
+        }
+    )
 
 
 def fly_serve_grid(chunk: dict, params=None) -> dict:
@@ -158,6 +182,7 @@ def _rss_mb() -> float:
 
 def _memory_child(n: int, out: str, fn_name: str = "flight", scheduler: str = "local") -> None:
     import threading
+
     fn = CHILD_FNS[fn_name]
     fn(serve_grid(10_000).chunk(0, 1000))  # imports + JIT compile / cache load (LLVM memory, not the job's)
     rss0 = _rss_mb()
@@ -167,18 +192,31 @@ def _memory_child(n: int, out: str, fn_name: str = "flight", scheduler: str = "l
     def sample():
         while not stop.wait(0.02):
             peak[0] = max(peak[0], _rss_mb())
+
     th = threading.Thread(target=sample, daemon=True)
     th.start()
     t0 = time.perf_counter()
-    res = run_batch(fn, serve_grid(n), chunk_size=CHUNK, out=out, collect=False, progress=False,
-                    scheduler=scheduler, n_workers=2)
+    res = run_batch(
+        fn, serve_grid(n), chunk_size=CHUNK, out=out, collect=False, progress=False, scheduler=scheduler, n_workers=2
+    )
     dt = time.perf_counter() - t0
     stop.set()
     th.join()
     rss = max(peak[0], _rss_mb())
-    disk = sum(os.path.getsize(os.path.join(out, f)) for f in os.listdir(out)) / 2 ** 20
-    print(json.dumps({"n": n, "seconds": dt, "rate": n / dt, "rss_start_mb": rss0, "peak_rss_mb": rss,
-                      "chunks": res.n_chunks, "disk_mb": disk}))
+    disk = sum(os.path.getsize(os.path.join(out, f)) for f in os.listdir(out)) / 2**20
+    print(
+        json.dumps(
+            {
+                "n": n,
+                "seconds": dt,
+                "rate": n / dt,
+                "rss_start_mb": rss0,
+                "peak_rss_mb": rss,
+                "chunks": res.n_chunks,
+                "disk_mb": disk,
+            }
+        )
+    )
 
 
 def memory(sizes, fn_name: str = "flight", scheduler: str = "local") -> list[dict]:
@@ -188,24 +226,42 @@ def memory(sizes, fn_name: str = "flight", scheduler: str = "local") -> list[dic
     for n in sizes:
         tmp = tempfile.mkdtemp(prefix="bench-batch-")
         try:
-            cp = subprocess.run([sys.executable, os.path.abspath(__file__), "--_memory-child", str(n),
-                                 os.path.join(tmp, "out"), fn_name, scheduler], capture_output=True, text=True,
-                                check=True)
+            cp = subprocess.run(
+                [
+                    sys.executable,
+                    os.path.abspath(__file__),
+                    "--_memory-child",
+                    str(n),
+                    os.path.join(tmp, "out"),
+                    fn_name,
+                    scheduler,
+                ],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
         r = json.loads(cp.stdout.strip().splitlines()[-1])
         rows.append(r)
         in_memory_gb = n * (9 + len(COLUMNS if fn_name == "flight" else ("land_x",))) * 8 / 1e9
-        print(f"memory: N={n:>11,}  {r['seconds']:7.1f} s  {r['rate']:9,.0f} rows/s  peak RSS "
-              f"{r['peak_rss_mb']:6.0f} MB (before the job {r['rss_start_mb']:4.0f} MB, job +{r['peak_rss_mb'] - r['rss_start_mb']:3.0f} MB)  parquet {r['disk_mb']:7.1f} MB"
-              f"  [all-in-memory states+outputs would be {in_memory_gb:6.2f} GB]")
+        print(
+            f"memory: N={n:>11,}  {r['seconds']:7.1f} s  {r['rate']:9,.0f} rows/s  peak RSS "
+            f"{r['peak_rss_mb']:6.0f} MB (before the job {r['rss_start_mb']:4.0f} MB, "
+            f"job +{r['peak_rss_mb'] - r['rss_start_mb']:3.0f} MB)  parquet {r['disk_mb']:7.1f} MB"
+            f"  [all-in-memory states+outputs would be {in_memory_gb:6.2f} GB]"
+        )
     growth = rows[-1]["peak_rss_mb"] - rows[0]["peak_rss_mb"]
-    print(f"memory: peak RSS grows {growth:+.0f} MB from N={rows[0]['n']:,} to N={rows[-1]['n']:,} "
-          f"(chunk {CHUNK:,} rows): bounded by the chunk size, not N")
-    if rows[-1]["n"] < 10 ** 8 and fn_name == "flight" and scheduler == "local":
+    print(
+        f"memory: peak RSS grows {growth:+.0f} MB from N={rows[0]['n']:,} to N={rows[-1]['n']:,} "
+        f"(chunk {CHUNK:,} rows): bounded by the chunk size, not N"
+    )
+    if rows[-1]["n"] < 10**8 and fn_name == "flight" and scheduler == "local":
         t8 = 1e8 / rows[-1]["rate"]
-        print(f"memory: 10^8 shots extrapolated: ~{t8 / 60:.0f} min at {rows[-1]['rate']:,.0f} flights/s, "
-              f"peak RSS ~{rows[-1]['peak_rss_mb']:.0f} MB (flat in N; run with --full to measure)")
+        print(
+            f"memory: 10^8 shots extrapolated: ~{t8 / 60:.0f} min at {rows[-1]['rate']:,.0f} flights/s, "
+            f"peak RSS ~{rows[-1]['peak_rss_mb']:.0f} MB (flat in N; run with --full to measure)"
+        )
     return rows
 
 
@@ -221,10 +277,10 @@ def main(argv=()) -> dict:
         return {}
     res = {"throughput": throughput(a.n_throughput)}
     if not a.skip_memory:
-        sizes = [10 ** 5, 10 ** 6, 10 ** 7] + ([10 ** 8] if a.full else [])
+        sizes = [10**5, 10**6, 10**7] + ([10**8] if a.full else [])
         res["memory"] = memory(sizes)
-        res["memory_machinery"] = memory([10 ** 6, 10 ** 8], fn_name="vacuum")
-        res["memory_dask"] = memory([10 ** 6, 10 ** 7], fn_name="vacuum", scheduler="processes")
+        res["memory_machinery"] = memory([10**6, 10**8], fn_name="vacuum")
+        res["memory_dask"] = memory([10**6, 10**7], fn_name="vacuum", scheduler="processes")
     return res
 
 

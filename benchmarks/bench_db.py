@@ -16,6 +16,7 @@ with ``fly_batch`` flights instead (slower: ~10^8 flights for 10^7 kept hits).
 
 Usage:  python benchmarks/bench_db.py [--rows 1e7] [--db PATH] [--lookups 500] [--scans 5]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -49,41 +50,53 @@ def _synthetic_rows(indices: dict, spec, params) -> dict:
     g = 9.81 * (1.0 + 0.35 * vals["spin_rpm"] / 2000.0 * np.cos(vals["spin_axis_deg"] * DEG))
     vz, vh = v * np.sin(a), v * np.cos(a)
     t = (vz + np.sqrt(vz * vz + 2 * g * h)) / g
-    drag = 1.0 / (1.0 + 0.012 * v * np.sqrt(t))         # shortens fast, long flights
+    drag = 1.0 / (1.0 + 0.012 * v * np.sqrt(t))  # shortens fast, long flights
     r = vh * t * drag
     px, py = spec.position
     x, y = px + r * np.cos(b), py + r * np.sin(b)
     tn = np.where(np.cos(b) > 0, -px / np.maximum(vh * np.cos(b) * drag, 1e-9), np.inf)
     zn = h + vz * tn - 0.5 * g * tn * tn
     n = len(x)
-    out = {"id": T.pack_ids({f: indices[f] for f in T.AXES}, sizes), **vals,
-           "land_x": x, "land_y": y, "net_clearance_m": zn - 0.914 - params.ball.radius, "flight_time_s": t,
-           "bounce_speed_ms": v * 0.7, "bounce_spin_rpm": vals["spin_rpm"] * 0.98,
-           "apex_z_m": h + np.where(vz > 0, vz * vz / (2 * g), 0.0),
-           "status": np.zeros(n, np.int8), "net_status": np.where(zn - 0.914 - 0.0335 > 0, 1, 2).astype(np.int8)}
+    out = {
+        "id": T.pack_ids({f: indices[f] for f in T.AXES}, sizes),
+        **vals,
+        "land_x": x,
+        "land_y": y,
+        "net_clearance_m": zn - 0.914 - params.ball.radius,
+        "flight_time_s": t,
+        "bounce_speed_ms": v * 0.7,
+        "bounce_spin_rpm": vals["spin_rpm"] * 0.98,
+        "apex_z_m": h + np.where(vz > 0, vz * vz / (2 * g), 0.0),
+        "status": np.zeros(n, np.int8),
+        "net_status": np.where(zn - 0.914 - 0.0335 > 0, 1, 2).astype(np.int8),
+    }
     return out
 
 
 #: Grid presets per table size: (spin step [rpm], spin-axis rotations [deg] (min, max, stride in 1-deg
 #: steps), heights [m] (min, max, stride in 0.1-m steps)); every speed, elevation and heading step.
-PRESETS = {1e5: (2000, (0, 180, 180), (1.0, 1.0, 1)),
-           1e6: (500, (0, 180, 180), (1.0, 1.0, 1)),
-           1e7: (100, (-90, 180, 90), (1.0, 2.0, 10))}
+PRESETS = {
+    1e5: (2000, (0, 180, 180), (1.0, 1.0, 1)),
+    1e6: (500, (0, 180, 180), (1.0, 1.0, 1)),
+    1e7: (100, (-90, 180, 90), (1.0, 2.0, 10)),
+}
 
 
 def bench_grid(spec, rows: float):
     """The preset grid nearest ``rows`` kept hits (about 5 % of the settings land in the far court)."""
     key = min(PRESETS, key=lambda k: abs(math.log10(rows / k)))
     spin_step, (a0, a1, ak), (h0, h1, hk) = PRESETS[key]
-    return T.make_grid(spec, {"height_m": (h0, h1), "spin_axis_deg": (a0, a1)},
-                       {"spin_rpm": spin_step, "spin_axis_deg": ak, "height_m": hk})
+    return T.make_grid(
+        spec,
+        {"height_m": (h0, h1), "spin_axis_deg": (a0, a1)},
+        {"spin_rpm": spin_step, "spin_axis_deg": ak, "height_m": hk},
+    )
 
 
 def build(path: str, rows: float, real: bool, chunk: int = 50_000) -> None:
     spec, params = DEFAULT_SPEC, launcher_params()
     grid = bench_grid(spec, rows)
-    print(f"building {path}: grid {grid.size:,} settings, "
-          f"{'fly_batch' if real else 'synthetic'} rows ...", flush=True)
+    print(f"building {path}: grid {grid.size:,} settings, {'fly_batch' if real else 'synthetic'} rows ...", flush=True)
     t0 = time.perf_counter()
     if real:
         T.fill_table(path, spec, params, grid, chunk_size=chunk, progress="always")
@@ -98,8 +111,10 @@ def build(path: str, rows: float, real: bool, chunk: int = 50_000) -> None:
             rows_i = _synthetic_rows(grid.chunk(i, chunk), spec, params)
             T.store_chunk(conn, fid, i, T.select_hits(rows_i, spec, params.court))
             if i % 50 == 0:
-                print(f"  chunk {i}/{n_chunks}: {db.count_hits(conn):,} hits, {time.perf_counter() - t0:.0f} s",
-                      flush=True)
+                print(
+                    f"  chunk {i}/{n_chunks}: {db.count_hits(conn):,} hits, {time.perf_counter() - t0:.0f} s",
+                    flush=True,
+                )
         T.finish_fill(conn, fid)
         conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
         conn.close()
@@ -113,8 +128,12 @@ def _stats(ms):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--rows", type=float, default=float(os.environ.get("TENNISLAB_BENCH_DB_ROWS", 1e7)),
-                    help="approximate number of hits (default 1e7, or $TENNISLAB_BENCH_DB_ROWS)")
+    ap.add_argument(
+        "--rows",
+        type=float,
+        default=float(os.environ.get("TENNISLAB_BENCH_DB_ROWS", 1e7)),
+        help="approximate number of hits (default 1e7, or $TENNISLAB_BENCH_DB_ROWS)",
+    )
     ap.add_argument("--db", default=None, help="database file (default out/bench_db_<rows>.sqlite; reused)")
     ap.add_argument("--lookups", type=int, default=500)
     ap.add_argument("--scans", type=int, default=5, help="full-scan baseline queries (slow)")
@@ -137,12 +156,15 @@ def main(argv=None) -> int:
     n = db.count_hits(conn)
     rng = db.table_ranges(conn)
     speeds = np.arange(rng["speed_kmh"][0], rng["speed_kmh"][1] + 1)
-    sample = conn.execute("SELECT DISTINCT spin_rpm, height_m FROM hits WHERE id IN "
-                          "(SELECT id FROM hits ORDER BY random() LIMIT 2000)").fetchall()
+    sample = conn.execute(
+        "SELECT DISTINCT spin_rpm, height_m FROM hits WHERE id IN (SELECT id FROM hits ORDER BY random() LIMIT 2000)"
+    ).fetchall()
     spins = np.array(sorted({r[0] for r in sample}))
     height = max(r[1] for r in sample)
-    print(f"table: {n:,} hits, {os.path.getsize(path) / 1e9:.2f} GB, speeds {speeds[0]:g}-{speeds[-1]:g} km/h, "
-          f"{len(spins)} spin values")
+    print(
+        f"table: {n:,} hits, {os.path.getsize(path) / 1e9:.2f} GB, speeds {speeds[0]:g}-{speeds[-1]:g} km/h, "
+        f"{len(spins)} spin values"
+    )
     r = np.random.default_rng(0)
 
     def targets(k):
@@ -152,13 +174,16 @@ def main(argv=None) -> int:
     conn.execute("SELECT count(*) FROM hits_rtree").fetchone()
     results = {}
     from tennislab.errors import InputError
+
     steps = {"speed_kmh": DEFAULT_SPEC.speed.step, "spin_rpm": DEFAULT_SPEC.spin.step}
     db.table_stats(conn)  # read once per connection, as a controller would
-    forms = {"speed+spin": lambda s, w: {"speed_kmh": s, "spin_rpm": w},
-             "speed only": lambda s, w: {"speed_kmh": s},
-             "spin only": lambda s, w: {"spin_rpm": w},
-             "any speed/spin": lambda s, w: {},
-             f"height {height:g} m": lambda s, w: {"where": {"height_m": (height - 0.03, height + 0.03)}}}
+    forms = {
+        "speed+spin": lambda s, w: {"speed_kmh": s, "spin_rpm": w},
+        "speed only": lambda s, w: {"speed_kmh": s},
+        "spin only": lambda s, w: {"spin_rpm": w},
+        "any speed/spin": lambda s, w: {},
+        f"height {height:g} m": lambda s, w: {"where": {"height_m": (height - 0.03, height + 0.03)}},
+    }
     for label, kw in forms.items():
         xs, ys, ss, ws = targets(args.lookups)
         ms, reads, misses = [], [], 0
@@ -171,9 +196,12 @@ def main(argv=None) -> int:
                 misses += 1
             ms.append((time.perf_counter() - t) * 1e3)
         results[label] = _stats(ms)
-        print(f"lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
-              f"index entries read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
-              f"[{args.lookups} lookups]", flush=True)
+        print(
+            f"lookup ({label:14s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
+            f"index entries read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
+            f"[{args.lookups} lookups]",
+            flush=True,
+        )
     for label in list(forms)[:4]:  # the scan filters on speed and spin only
         xs, ys, ss, ws = targets(args.scans)
         ms = []
@@ -183,17 +211,22 @@ def main(argv=None) -> int:
             b = db.scan_nearest(conn, x, y, **kw)
             ms.append((time.perf_counter() - t) * 1e3)
             a = db.nearest_hit(conn, x, y, **kw)
-            assert (a is None and b is None) or (a["id"], a["miss_m"]) == (b["id"], b["miss_m"]), \
+            assert (a is None and b is None) or (a["id"], a["miss_m"]) == (b["id"], b["miss_m"]), (
                 f"lookup and scan disagree ({label}, target {x}, {y})"
+            )
         if label == "speed+spin":
             scan = _stats(ms)
-            print(f"full-scan baseline (speed+spin): median {scan[0]:9.1f} ms, p95 {scan[1]:9.1f} ms  "
-                  f"[{args.scans} scans]")
+            print(
+                f"full-scan baseline (speed+spin): median {scan[0]:9.1f} ms, p95 {scan[1]:9.1f} ms  "
+                f"[{args.scans} scans]"
+            )
     print(f"lookups agree with the full scan: {args.scans} targets per form ({', '.join(list(forms)[:4])})")
     med = results["speed+spin"][0]
     worst = max(results, key=lambda k: results[k][1])
-    print(f"speedup (median, speed+spin): {scan[0] / med:,.0f}x; target < 10 ms: "
-          f"{'PASS' if results[worst][1] < 10 else 'FAIL'} (largest p95: {worst}, {results[worst][1]:.2f} ms)")
+    print(
+        f"speedup (median, speed+spin): {scan[0] / med:,.0f}x; target < 10 ms: "
+        f"{'PASS' if results[worst][1] < 10 else 'FAIL'} (largest p95: {worst}, {results[worst][1]:.2f} ms)"
+    )
     conn.close()
     return 0
 

@@ -4,6 +4,7 @@ Target (issue 2): batch landing-point throughput >= 2000x the SciPy path on 2 co
 Prints both figures measured in this run and their ratio, plus the batch path's
 landing error against the SciPy DOP853 reference at rtol 1e-10.
 """
+
 import math
 import os
 import sys
@@ -12,9 +13,9 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _shots import mixed_shots  # noqa: E402
+from _shots import mixed_shots
 
-from tennislab.core.flight import FlightParams, fly, fly_batch  # noqa: E402
+from tennislab.core.flight import FlightParams, fly, fly_batch
 
 
 def _best_rate(fn, n: int, repeats: int) -> tuple[float, float]:
@@ -31,6 +32,7 @@ def _scipy_rate(S, p, n: int, repeats: int = 3) -> tuple[float, float]:
     def run():
         for i in range(n):
             fly(S[i, :3], S[i, 3:6], S[i, 6:], p, method="RK45", rtol=1e-8, atol=1e-8)
+
     return _best_rate(run, n, repeats)
 
 
@@ -38,6 +40,7 @@ def _first_class_rate(S, p, repeats: int) -> float:
     """Batch rate with the aero kernel called through a function pointer (no inlining)."""
     from tennislab.core.events import NCOLS
     from tennislab.core.integrators import batch_kernel_fp
+
     out = np.empty((len(S), NCOLS))
     c = p.consts(2e-7, 2e-7)
     batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, out[:1000])
@@ -47,10 +50,12 @@ def _first_class_rate(S, p, repeats: int) -> float:
 def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict:
     """Best (and median) of ``repeats`` timings on each side; the ratio uses the best of each."""
     import numba
+
     from tennislab.core.aero import get_aero_model
+
     p = FlightParams()
     S = mixed_shots(n_batch, seed=3)
-    tb = fly_batch(S[:1000], p)                  # warm (JIT cache load)
+    tb = fly_batch(S[:1000], p)  # warm (JIT cache load)
     rate_batch, med_batch = _best_rate(lambda: fly_batch(S, p), n_batch, repeats)
     rate_scipy, med_scipy = _scipy_rate(S, p, n_scipy, repeats)
     tb = fly_batch(S[:2000], p)
@@ -67,22 +72,29 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict
         "max_landing_error_mm": max(errs) * 1e3,
         "mean_steps": float(np.mean(tb["n_steps"])),
     }
-    print(f"flight: batch {rate_batch:,.0f} traj/s (median {med_batch:,.0f}) on {res['threads']} threads "
-          f"({n_batch:,} mixed shots, {res['mean_steps']:.1f} steps each, best of {repeats})")
-    print(f"flight: SciPy RK45 rtol 1e-8 with events {rate_scipy:,.1f} traj/s (median {med_scipy:,.1f}; "
-          f"{1e3 / rate_scipy:.2f} ms each)")
-    print(f"flight: ratio batch/SciPy = {res['ratio']:,.0f}x, of medians {res['ratio_median']:,.0f}x "
-          f"(target >= 2000x)")
-    print(f"flight: max landing error vs DOP853 rtol 1e-10 reference = {res['max_landing_error_mm']:.5f} mm "
-          f"(target 0.01 mm)")
+    print(
+        f"flight: batch {rate_batch:,.0f} traj/s (median {med_batch:,.0f}) on {res['threads']} threads "
+        f"({n_batch:,} mixed shots, {res['mean_steps']:.1f} steps each, best of {repeats})"
+    )
+    print(
+        f"flight: SciPy RK45 rtol 1e-8 with events {rate_scipy:,.1f} traj/s (median {med_scipy:,.1f}; "
+        f"{1e3 / rate_scipy:.2f} ms each)"
+    )
+    print(f"flight: ratio batch/SciPy = {res['ratio']:,.0f}x, of medians {res['ratio_median']:,.0f}x (target >= 2000x)")
+    print(
+        f"flight: max landing error vs DOP853 rtol 1e-10 reference = {res['max_landing_error_mm']:.5f} mm "
+        f"(target 0.01 mm)"
+    )
     rf = _first_class_rate(S[:300_000], p, repeats)
     res["inline_gain"] = rate_batch / rf
-    print(f"flight: same kernel with C_D/C_L called through a function pointer {rf:,.0f} traj/s; "
-          f"inlining gains {res['inline_gain']:.2f}x")
+    print(
+        f"flight: same kernel with C_D/C_L called through a function pointer {rf:,.0f} traj/s; "
+        f"inlining gains {res['inline_gain']:.2f}x"
+    )
     for name in ("launcher2015", "constant"):
         pm = FlightParams(aero=get_aero_model(name))
         fly_batch(S[:1000], pm)
-        rb = _best_rate(lambda: fly_batch(S[:300_000], pm), 300_000, repeats)[0]
+        rb = _best_rate(lambda pm=pm: fly_batch(S[:300_000], pm), 300_000, repeats)[0]
         rs = _scipy_rate(S, pm, n_scipy // 2, repeats)[0]
         res[f"ratio_{name}"] = rb / rs
         print(f"flight [{name}]: batch {rb:,.0f} traj/s, SciPy {rs:,.1f} traj/s, ratio {rb / rs:,.0f}x")

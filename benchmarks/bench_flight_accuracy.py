@@ -8,20 +8,20 @@ maximum, 99th percentile and mean landing difference and the mean number of acce
 
 Usage:  python benchmarks/bench_flight_accuracy.py [--shots 3000] [--seeds 23 29 31] [--tol 2e-7 5e-7]
 """
+
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from test_flight_accuracy import shot_states  # noqa: E402
+from test_flight_accuracy import shot_states
 
-from tennislab.core.aero import get_aero_model  # noqa: E402
-from tennislab.core.flight import FlightParams, fly, fly_batch  # noqa: E402
+from tennislab.core.aero import get_aero_model
+from tennislab.core.flight import FlightParams, fly, fly_batch
 
 MODELS = ("stepanek1988", "launcher2015", "cross2014")
 
@@ -31,7 +31,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--shots", type=int, default=3000)
     ap.add_argument("--seeds", type=int, nargs="+", default=[23])
     ap.add_argument("--tol", type=float, nargs="+", default=[2e-7])
-    args = ap.parse_args([] if argv is None else argv)   # run_all.py calls main() without arguments
+    args = ap.parse_args([] if argv is None else argv)  # run_all.py calls main() without arguments
     worst = {}
     for model in MODELS:
         p = FlightParams(aero=get_aero_model(model))
@@ -47,9 +47,11 @@ def main(argv=None) -> dict:
         for tol in args.tol:
             e, n = np.concatenate(errs[tol]), np.concatenate(steps[tol])
             worst[(model, tol)] = float(e.max())
-            print(f"accuracy [{model:13s}] tol {tol:.0e}: landing difference max {e.max():.4f} mm, "
-                  f"p99 {np.percentile(e, 99):.4f} mm, mean {e.mean():.5f} mm over {e.size:,} shots; "
-                  f"{n.mean():.2f} steps (target max < 0.01 mm: {'PASS' if e.max() < 0.01 else 'FAIL'})")
+            print(
+                f"accuracy [{model:13s}] tol {tol:.0e}: landing difference max {e.max():.4f} mm, "
+                f"p99 {np.percentile(e, 99):.4f} mm, mean {e.mean():.5f} mm over {e.size:,} shots; "
+                f"{n.mean():.2f} steps (target max < 0.01 mm: {'PASS' if e.max() < 0.01 else 'FAIL'})"
+            )
     return worst
 
 

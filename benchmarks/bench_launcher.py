@@ -12,6 +12,7 @@
 
 Run: ``python benchmarks/bench_launcher.py [--quick]``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,16 +30,28 @@ def _loop_states(spec, h, v, a, b, w, g):
         hh = (-math.sin(br), math.cos(br), 0.0)
         uu = (-math.sin(ar) * math.cos(br), -math.sin(ar) * math.sin(br), math.cos(ar))
         vv, ww = v[i] / 3.6, w[i] * math.pi / 30
-        out[i] = (spec.position[0], spec.position[1], h[i], *(vv * c for c in d),
-                  *(ww * (math.cos(gr) * hh[k] + math.sin(gr) * uu[k]) for k in range(3)))
+        out[i] = (
+            spec.position[0],
+            spec.position[1],
+            h[i],
+            *(vv * c for c in d),
+            *(ww * (math.cos(gr) * hh[k] + math.sin(gr) * uu[k]) for k in range(3)),
+        )
     return out
 
 
 def bench_states(n):
     from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+
     rng = np.random.default_rng(1)
-    cols = [rng.uniform(0.1, 3, n), rng.uniform(30, 200, n), rng.uniform(-20, 80, n), rng.uniform(-40, 40, n),
-            rng.uniform(0, 2000, n), rng.uniform(-180, 180, n)]
+    cols = [
+        rng.uniform(0.1, 3, n),
+        rng.uniform(30, 200, n),
+        rng.uniform(-20, 80, n),
+        rng.uniform(-40, 40, n),
+        rng.uniform(0, 2000, n),
+        rng.uniform(-180, 180, n),
+    ]
     t_vec = math.inf
     for _ in range(3):  # best of 3 (the first call pays for page faults of the fresh arrays)
         t0 = time.perf_counter()
@@ -49,8 +62,10 @@ def bench_states(n):
     ref = _loop_states(DEFAULT_SPEC, *(c[:m] for c in cols))
     t_loop = (time.perf_counter() - t0) * n / m
     err = np.abs(s[:m] - ref).max()
-    print(f"launch_states: {n / t_vec:,.0f} states/s vectorised vs {n / t_loop:,.0f} states/s Python loop "
-          f"(baseline, this run): x{t_loop / t_vec:.0f}; max |difference| {err:.1e}")
+    print(
+        f"launch_states: {n / t_vec:,.0f} states/s vectorised vs {n / t_loop:,.0f} states/s Python loop "
+        f"(baseline, this run): x{t_loop / t_vec:.0f}; max |difference| {err:.1e}"
+    )
 
 
 def bench_aim(n_targets):
@@ -58,6 +73,7 @@ def bench_aim(n_targets):
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim_all, launcher_params
     from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+
     params = launcher_params()
     aim_all((8.0, 0.0), 80, 1000, 0)  # compile / warm up
     rng = np.random.default_rng(2)
@@ -79,14 +95,17 @@ def bench_aim(n_targets):
         fly(st[0:3], st[3:6], st[6:9], params)
         t_fly += time.perf_counter() - t0
         n_ok += 1
-    print(f"aim (both solutions): {1e3 * t_aim / n_ok:.1f} ms per target vs {1e3 * t_fly / n_ok:.1f} ms for one "
-          f"reference fly() (baseline, this run): an aim costs {t_aim / t_fly:.1f} reference flights "
-          f"({n_ok} targets)")
+    print(
+        f"aim (both solutions): {1e3 * t_aim / n_ok:.1f} ms per target vs {1e3 * t_fly / n_ok:.1f} ms for one "
+        f"reference fly() (baseline, this run): an aim costs {t_aim / t_fly:.1f} reference flights "
+        f"({n_ok} targets)"
+    )
 
 
 def bench_quantisation(n):
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim
+
     rng = np.random.default_rng(3)
     miss, ratio = [], []
     for _ in range(n):
@@ -99,19 +118,24 @@ def bench_quantisation(n):
         miss.append(s.miss_mm)
         ratio.append(s.miss_mm / s.quantisation_bound_mm)
     m = np.array(miss)
-    print(f"quantisation (1 deg steps, {len(m)} targets, 60-130 km/h, topspin 0-2000 rpm): miss median "
-          f"{np.median(m):.0f} mm, 95 % {np.percentile(m, 95):.0f} mm, max {m.max():.0f} mm; "
-          f"within first-order bound: {np.mean(np.array(ratio) <= 1.0):.0%}")
+    print(
+        f"quantisation (1 deg steps, {len(m)} targets, 60-130 km/h, topspin 0-2000 rpm): miss median "
+        f"{np.median(m):.0f} mm, 95 % {np.percentile(m, 95):.0f} mm, max {m.max():.0f} mm; "
+        f"within first-order bound: {np.mean(np.array(ratio) <= 1.0):.0%}"
+    )
 
 
 def bench_drills():
     from tennislab.io.drill import load_drill, shipped_drills
     from tennislab.launcher.drills import compile_drill
+
     for name in shipped_drills():
         t0 = time.perf_counter()
         c = compile_drill(load_drill(name))
-        print(f"drill {name}: {len(c.shots)} shots, {len(c.unique)} aimed, ok={c.ok}, "
-              f"{1e3 * (time.perf_counter() - t0):.0f} ms")
+        print(
+            f"drill {name}: {len(c.shots)} shots, {len(c.unique)} aimed, ok={c.ok}, "
+            f"{1e3 * (time.perf_counter() - t0):.0f} ms"
+        )
 
 
 def main(argv=None):
@@ -126,4 +150,5 @@ def main(argv=None):
 
 if __name__ == "__main__":
     import sys
+
     main(sys.argv[1:])

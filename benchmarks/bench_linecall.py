@@ -28,6 +28,7 @@ the mark is > 5 mm from the line; a call in < 50 ms.
 (about 2-3 minutes for the default 40 shots on 2 busy cores: each shot is aimed by
 root-finding, then fitted four times and triangulated once.)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,11 +38,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from tennislab.core.flight import FlightParams, fly
+from tennislab.core.mark import ball_mark
 from tennislab.core.rally import fly_bounces
 from tennislab.linecall.cameras import synthetic_detections, synthetic_rig, triangulate_detections
 from tennislab.linecall.decide import call_mark
 from tennislab.linecall.fit import fit_track
-from tennislab.core.mark import ball_mark
 from tennislab.linecall.synth import synthetic_track
 from tennislab.units import RPM
 
@@ -64,7 +65,7 @@ def random_shot(rng):
         else:
             v = (rng.uniform(32, 38), 0.0, rng.uniform(0.3, 1.2))
             w = (side * rng.uniform(50, 150), rng.uniform(200, 320), side * rng.uniform(50, 150))
-        target = "ad-box" if side > 0 else "deuce-box"   # serve crosses court
+        target = "ad-box" if side > 0 else "deuce-box"  # serve crosses court
         box = {"deuce-box": (0.0, 6.4, -0.025, 4.115), "ad-box": (0.0, 6.4, -4.115, 0.025)}[target]
         line = rng.choice(["service", "side"])
         aim = (6.4 - 0.3, 0.5 * (box[2] + box[3])) if line == "service" else (4.8, box[3] if side < 0 else box[2])
@@ -89,11 +90,13 @@ def random_shot(rng):
 
 def aim_distance(pos, v, w, target, want_mm, params):
     """Scale the speed so that the true mark reaches want_mm into the target (None if impossible)."""
+
     def dist(s):
         r = fly_bounces(pos, np.array(v) * s, w, params, bounces=1, rtol=1e-9, atol=1e-11)
         if not r.bounces:
             return np.nan
         return call_mark(r.bounces[0].mark, target=target)["distance_mm"] - want_mm
+
     try:
         lo, hi = 0.85, 1.15
         if not (dist(lo) * dist(hi) < 0):
@@ -175,29 +178,41 @@ def summarize(res: dict, cameras: bool) -> None:
     fly_ms = (time.perf_counter() - t0) / 20 * 1000
     kinds = ", ".join(f"{k} {sum(r['kind'] == k for r in rows)}" for k in ("serve", "rally", "lob"))
     print(f"shots: {len(rows)} ({kinds}), 3-D noise sigma = {SIGMA * 1000:.0f} mm at 340 Hz")
-    print(f"bounce-point error: mean {err.mean():.2f} mm, p95 {np.percentile(err, 95):.2f} mm, max {err.max():.2f} mm "
-          f"(target mean < 2 mm)")
+    print(
+        f"bounce-point error: mean {err.mean():.2f} mm, p95 {np.percentile(err, 95):.2f} mm, max {err.max():.2f} mm "
+        f"(target mean < 2 mm)"
+    )
     for k in ("serve", "rally", "lob"):
         e = np.array([r["err_mm"] for r in rows if r["kind"] == k])
         if e.size:
             print(f"  {k:6s}: mean {e.mean():.2f} mm, p95 {np.percentile(e, 95):.2f} mm")
-    for key, what in (("exact_contact_err_mm", "contact time free (--contact-sigma 0.3)"),
-                      ("clay_err_mm", "fitted as clay (wrong surface)"),
-                      ("clay_exact_err_mm", "fitted as clay, contact time free")):
+    for key, what in (
+        ("exact_contact_err_mm", "contact time free (--contact-sigma 0.3)"),
+        ("clay_err_mm", "fitted as clay (wrong surface)"),
+        ("clay_exact_err_mm", "fitted as clay, contact time free"),
+    ):
         e = np.array([r[key] for r in rows])
         print(f"  {what}: mean {e.mean():.2f} mm, p95 {np.percentile(e, 95):.2f} mm, max {e.max():.2f} mm")
-    print(f"baseline (quadratic extrapolation): mean {perr.mean():.1f} mm, p95 {np.percentile(perr, 95):.1f} mm; "
-          f"ratio fit/baseline = {err.mean() / perr.mean():.3f}")
-    print(f"calls correct, mark > 5 mm from the line: {ok[far].sum()}/{far.sum()} (target: all); "
-          f"all marks: {ok.sum()}/{ok.size}")
-    print(f"time per call: median {np.median(wall):.1f} ms wall, {np.median(cpu):.1f} ms CPU, p95 wall "
-          f"{np.percentile(wall, 95):.1f} ms (target < 50 ms); one reference fly(): {fly_ms:.1f} ms; "
-          f"ratio call/fly = {np.median(wall) / fly_ms:.2f}")
+    print(
+        f"baseline (quadratic extrapolation): mean {perr.mean():.1f} mm, p95 {np.percentile(perr, 95):.1f} mm; "
+        f"ratio fit/baseline = {err.mean() / perr.mean():.3f}"
+    )
+    print(
+        f"calls correct, mark > 5 mm from the line: {ok[far].sum()}/{far.sum()} (target: all); "
+        f"all marks: {ok.sum()}/{ok.size}"
+    )
+    print(
+        f"time per call: median {np.median(wall):.1f} ms wall, {np.median(cpu):.1f} ms CPU, p95 wall "
+        f"{np.percentile(wall, 95):.1f} ms (target < 50 ms); one reference fly(): {fly_ms:.1f} ms; "
+        f"ratio call/fly = {np.median(wall) / fly_ms:.2f}"
+    )
     if cameras:
         ce = np.array([r["cam_err_mm"] for r in rows])
         cok = np.array([r["cam_correct"] for r in rows])
-        print(f"camera rig (8 cameras, 0.5 px): mean {ce.mean():.2f} mm, p95 {np.percentile(ce, 95):.2f} mm; "
-              f"calls correct > 5 mm: {cok[far].sum()}/{far.sum()}, all: {cok.sum()}/{cok.size}")
+        print(
+            f"camera rig (8 cameras, 0.5 px): mean {ce.mean():.2f} mm, p95 {np.percentile(ce, 95):.2f} mm; "
+            f"calls correct > 5 mm: {cok[far].sum()}/{far.sum()}, all: {cok.sum()}/{cok.size}"
+        )
 
 
 def main(argv=None) -> None:
@@ -205,11 +220,12 @@ def main(argv=None) -> None:
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-cameras", action="store_true")
-    a = ap.parse_args([] if argv is None else argv)   # run_all.py calls main() with its own argv
+    a = ap.parse_args([] if argv is None else argv)  # run_all.py calls main() with its own argv
     res = run(a.n, a.seed, not a.no_cameras)
     summarize(res, not a.no_cameras)
 
 
 if __name__ == "__main__":
     import sys
+
     main(sys.argv[1:])

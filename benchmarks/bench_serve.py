@@ -12,6 +12,7 @@ array).  Prints times and the ratio baseline / tennislab.
 in a fresh child process and prints its peak RSS (``ru_maxrss``) next to the RSS after the
 imports and a 1000-serve warm-up (the job's share is the difference): memory must be flat in N.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -25,10 +26,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
-from tennislab.serve.mc import run_mc  # noqa: E402
-from tennislab.serve.players import get_player  # noqa: E402
-from tennislab.serve.setup import seed_impact_params  # noqa: E402
-from tennislab.serve.window import serve_window  # noqa: E402
+from tennislab.serve.mc import run_mc
+from tennislab.serve.players import get_player
+from tennislab.serve.setup import seed_impact_params
+from tennislab.serve.window import serve_window
 
 PLAYERS = ("professional", "recreational", "junior")
 
@@ -83,7 +84,7 @@ def numpy_seed_window(player, step=1.0, dt=1e-4):
     for _ in range(40000):
         v = np.hypot(vx, vz)
         S = np.maximum(r * np.abs(w3), 1e-9) / v
-        cd = 0.55 + 1.0 / (22.5 + 4.2 * S ** -2.5) ** 0.4
+        cd = 0.55 + 1.0 / (22.5 + 4.2 * S**-2.5) ** 0.4
         cl = 1.0 / (2.0 + 1.0 / S)
         ax = -k * v * (cd * vx - cl * np.sign(w3) * (-vz))
         az = -9.82 - k * v * (cd * vz - cl * np.sign(w3) * vx)
@@ -123,6 +124,7 @@ def _rss_mb() -> float:
 
 def _mem_child(n: int) -> None:
     import resource
+
     run_mc("pro", 40, 19, n=1000, seed=0)  # imports, compilation, caches
     base = _rss_mb()
     t = time.perf_counter()
@@ -136,11 +138,14 @@ def memory(ns) -> None:
     """Peak RSS of the Monte Carlo for each n, each in a fresh process."""
     print("Monte Carlo memory (fresh process per N; RSS after warm-up -> peak RSS):")
     for n in ns:
-        out = subprocess.run([sys.executable, __file__, "--mem-child", str(n)], capture_output=True, text=True,
-                             check=True).stdout.split()
+        out = subprocess.run(
+            [sys.executable, __file__, "--mem-child", str(n)], capture_output=True, text=True, check=True
+        ).stdout.split()
         n_, dt, base, peak, p = out[-5:]
-        print(f"  N = {int(n_):.0e}: {float(dt):7.1f} s, RSS {base} MB -> peak {peak} MB "
-              f"(+{int(peak) - int(base)} MB), P(success) = {p}")
+        print(
+            f"  N = {int(n_):.0e}: {float(dt):7.1f} s, RSS {base} MB -> peak {peak} MB "
+            f"(+{int(peak) - int(base)} MB), P(success) = {p}"
+        )
 
 
 def main(argv=None) -> int:
@@ -167,19 +172,25 @@ def main(argv=None) -> int:
     with np.errstate(all="ignore"):  # the seed's Euler step overflows for a few grazing impacts
         n_ok = sum(int(numpy_seed_window(p).sum()) for p in players)
     t_base = (time.perf_counter() - t) * (3 if args.quick else 1)
-    print(f"NumPy baseline (seed's Euler model, vectorised){' x3 extrapolated' if args.quick else ''}: "
-          f"{t_base:.2f} s  ({n_ok} successes)")
+    print(
+        f"NumPy baseline (seed's Euler model, vectorised){' x3 extrapolated' if args.quick else ''}: "
+        f"{t_base:.2f} s  ({n_ok} successes)"
+    )
     print(f"ratio baseline / tennislab: {t_base / t_win:.0f}x")
 
     run_mc("pro", 40, 19, n=1000, seed=0)  # warm-up
     t, c = time.perf_counter(), time.process_time()
     r = run_mc("pro", 40, 19, n=args.mc, seed=0)
     t_mc, c_mc = time.perf_counter() - t, time.process_time() - c
-    print(f"Monte Carlo {args.mc:.0e} serves: {t_mc:.2f} s wall, {c_mc:.2f} s CPU (target < 5 s for 10^6), "
-          f"{args.mc / t_mc:,.0f} serves/s, P(success) = {r['p_success']:.4f}")
+    print(
+        f"Monte Carlo {args.mc:.0e} serves: {t_mc:.2f} s wall, {c_mc:.2f} s CPU (target < 5 s for 10^6), "
+        f"{args.mc / t_mc:,.0f} serves/s, P(success) = {r['p_success']:.4f}"
+    )
     if hasattr(os, "getloadavg"):
-        print(f"load average during the run: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores "
-              f"(other jobs on a shared machine inflate wall times)")
+        print(
+            f"load average during the run: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores "
+            f"(other jobs on a shared machine inflate wall times)"
+        )
     return 0
 
 

@@ -1,4 +1,5 @@
 """Run every benchmarks/bench_*.py (each has a main()) and print their results."""
+
 import importlib.util
 import os
 import sys

@@ -4,6 +4,7 @@ Every error a user can cause by bad input (a NaN, an out-of-range value, an
 unknown model name, a malformed file) is an :class:`InputError`.  The CLI turns
 it into a one-line message on stderr and exit code 2, with no traceback.
 """
+
 from __future__ import annotations
 
 import math
@@ -28,8 +29,9 @@ def check_finite(name: str, value: float) -> float:
     return v
 
 
-def check_range(name: str, value: float, lo: float | None = None, hi: float | None = None,
-                unit: str = "", lo_open: bool = False) -> float:
+def check_range(
+    name: str, value: float, lo: float | None = None, hi: float | None = None, unit: str = "", lo_open: bool = False
+) -> float:
     """Return ``float(value)`` if finite and within [lo, hi], else raise :class:`InputError`.
 
     ``lo_open=True`` makes the lower bound exclusive (e.g. a mass must be > 0).

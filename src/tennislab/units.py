@@ -1,11 +1,12 @@
 """Unit conversions used at the edges (CLI flags, plots, reports).  SI inside."""
+
 from __future__ import annotations
 
 import math
 
-KMH = 1.0 / 3.6            #: 1 km/h in m/s
+KMH = 1.0 / 3.6  #: 1 km/h in m/s
 RPM = 2.0 * math.pi / 60.0  #: 1 rpm in rad/s
-DEG = math.pi / 180.0       #: 1 degree in rad
+DEG = math.pi / 180.0  #: 1 degree in rad
 
 
 def kmh_to_ms(v):

@@ -6,6 +6,7 @@ is the system's (Debian ``chromium``; override with ``TENNISLAB_CHROMIUM``),
 driven through Playwright's ``executable_path`` (never ``playwright install``).
 Screenshots go to ``out/screenshots/`` (kept as CI artifacts).
 """
+
 from __future__ import annotations
 
 import os
@@ -21,8 +22,15 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 SHOTS = ROOT / "out" / "screenshots"
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 
 
 def chromium_path() -> str | None:
@@ -50,9 +58,14 @@ def start_server(env_extra: dict | None = None):
     env = {k: v for k, v in os.environ.items() if k != "TENNISLAB_APP_DISABLE"}
     env.update(env_extra or {})
     import tempfile
+
     log = tempfile.TemporaryFile()
-    proc = subprocess.Popen([sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", str(port)],
-                            stdout=log, stderr=subprocess.STDOUT, env=env)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", str(port)],
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        env=env,
+    )
     url = f"http://127.0.0.1:{port}"
     deadline = time.time() + 90
     while True:
@@ -110,8 +123,14 @@ def _page(browser, base):
     pg = ctx.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" and "status of 4" not in m.text
-          and "status of 5" not in m.text else None)
+    pg.on(
+        "console",
+        lambda m: (
+            errors.append(m.text)
+            if m.type == "error" and "status of 4" not in m.text and "status of 5" not in m.text
+            else None
+        ),
+    )
     pg.base = base
     pg.snap = lambda name: screenshot(pg, name)
     return ctx, pg, errors

@@ -1,5 +1,6 @@
 """Browser end-to-end tests of ``tennislab app``: load each page, change inputs, read the result
 from the page and compare it with the Python API.  Screenshots: out/screenshots/."""
+
 from __future__ import annotations
 
 import json
@@ -33,8 +34,9 @@ def fill(pg, form: str, values: dict):
 def results(pg, box: str, timeout: float = 30000) -> dict:
     """data-key -> data-value of a result table (waits until it appears)."""
     pg.wait_for_selector(f"#{box} td[data-key]", timeout=timeout)
-    return pg.eval_on_selector_all(f"#{box} td[data-key]",
-                                   "els => Object.fromEntries(els.map(e => [e.dataset.key, e.dataset.value]))")
+    return pg.eval_on_selector_all(
+        f"#{box} td[data-key]", "els => Object.fromEntries(els.map(e => [e.dataset.key, e.dataset.value]))"
+    )
 
 
 def submit_and_wait(pg, button: str, status: str, path: str):
@@ -61,8 +63,10 @@ def test_flight_page(page):
 def _server_error(pg, path: str, body: dict) -> str:
     import urllib.error
     import urllib.request
-    req = urllib.request.Request(pg.base + path, data=json.dumps(body).encode(),
-                                 headers={"Content-Type": "application/json"})
+
+    req = urllib.request.Request(
+        pg.base + path, data=json.dumps(body).encode(), headers={"Content-Type": "application/json"}
+    )
     try:
         urllib.request.urlopen(req, timeout=30)
     except urllib.error.HTTPError as exc:
@@ -76,8 +80,14 @@ def test_validation_in_the_page_sends_nothing(page):
     sent = []
     page.on("request", lambda r: sent.append(r.url) if r.method == "POST" else None)
     # the page shows the server's own message (same wording, same number format)
-    for field, value in [("speed_kmh", 9999), ("speed_kmh", 0.5), ("z", 1234567.0), ("spin_rpm", -0.001),
-                         ("air_density", 2), ("heading_deg", -61)]:
+    for field, value in [
+        ("speed_kmh", 9999),
+        ("speed_kmh", 0.5),
+        ("z", 1234567.0),
+        ("spin_rpm", -0.001),
+        ("air_density", 2),
+        ("heading_deg", -61),
+    ]:
         page.fill(f"#flight-{field}", str(value))
         assert page.inner_text(f"#err-flight-{field}") == _server_error(page, "/api/flight", {field: value})
         page.fill(f"#flight-{field}", str(F.FORMS["flight"].by_name()[field].default))
@@ -101,8 +111,14 @@ def test_serve_explorer(page):
     page.select_option("#serve-player", "junior")
     assert float(page.input_value("#serve-height")) == 2.2
     assert float(page.input_value("#serve-racket_speed")) == 25
-    vals = {"player": "junior", "impact_angle": 30, "face_angle": 10, "target": "deuce", "azimuth_deg": 1.5,
-            "brush_deg": 15}
+    vals = {
+        "player": "junior",
+        "impact_angle": 30,
+        "face_angle": 10,
+        "target": "deuce",
+        "azimuth_deg": 1.5,
+        "brush_deg": 15,
+    }
     fill(page, "serve", vals)
     submit_and_wait(page, "#submit-serve", "serve-status", "/api/serve")
     got = results(page, "serve-result")
@@ -128,8 +144,9 @@ def test_serve_explorer(page):
     page.fill("#window-step", "3")
     submit_and_wait(page, "#run-window", "window-status", "/api/serve/window")
     page.wait_for_selector("#window-legend .legend-item")
-    legend = page.eval_on_selector_all("#window-legend .legend-item",
-                                       "els => els.map(e => [e.dataset.code, +e.dataset.n])")
+    legend = page.eval_on_selector_all(
+        "#window-legend .legend-item", "els => els.map(e => [e.dataset.code, +e.dataset.n])"
+    )
     win = features.serve_window(F.validate("window", {"player": "junior", "step": 3}))
     assert dict(legend) == {str(it["code"]): it["n"] for it in win["legend"]}
     code = np.array(win["code"])
@@ -171,13 +188,16 @@ def test_serve_bad_input_message(page):
 # ---------------------------------------------------------------- launcher planner
 def _court_click(pg, x: float, y: float):
     """Click the launcher court at court coordinates (x, y) [m]."""
-    pt = pg.evaluate("""([x, y]) => {
+    pt = pg.evaluate(
+        """([x, y]) => {
         const svg = document.querySelector('#launcher-court');
         const court = svg.querySelector('rect.court');
         const r = court.getBoundingClientRect();           // court rect spans [-L, L] x [-d, d]
         const L = 11.885, d = 10.97 / 2;
         return [r.left + (x + L) / (2 * L) * r.width, r.top + (d - y) / (2 * d) * r.height];
-    }""", [x, y])
+    }""",
+        [x, y],
+    )
     with pg.expect_response(lambda r: r.url.endswith("/api/launcher/aim"), timeout=60000):
         pg.mouse.click(pt[0], pt[1])
     pg.wait_for_selector("#aim-status.ok")
@@ -187,10 +207,11 @@ def _court_click(pg, x: float, y: float):
 def test_launcher_planner_and_drill_download(page, tmp_path, capsys):
     from tennislab.cli import main
     from tennislab.launcher.aim import aim, aim_result_dict
+
     open_page(page, "launcher")
     fill(page, "aim", {"speed_kmh": 95, "spin_rpm": 1200, "shot": "topspin"})
     shots = []
-    for (x, y) in [(9.0, 2.5), (8.0, -3.0), (5.0, 0.5)]:
+    for x, y in [(9.0, 2.5), (8.0, -3.0), (5.0, 0.5)]:
         _court_click(page, x, y)
         tx, ty = float(page.input_value("#aim-target_x")), float(page.input_value("#aim-target_y"))
         assert (tx, ty) == pytest.approx((x, y), abs=0.1)
@@ -229,6 +250,7 @@ def test_linecall_page(page, tmp_path):
         page.snap("linecall")
         return
     from tennislab.app import linecall_adapter
+
     text = features.sample_track()
     page.select_option("#linecall-target", "deuce-box")
     f = tmp_path / "track.csv"

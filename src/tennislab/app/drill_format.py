@@ -7,14 +7,21 @@ quantised landing point (deuce/ad box, singles, doubles half), else a rectangle
 0.3 m around both.  The text is checked by ``parse_drill`` + ``compile_drill``,
 the code behind ``tennislab launcher drill FILE``.
 """
+
 from __future__ import annotations
 
 from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError
 
 #: page shot type -> drill shot type (tennislab.launcher.drills.SHOT_TYPES)
-TYPE_MAP = {"topspin": "topspin", "flat": "drive", "backspin": "slice", "sidespin-left": "drive",
-            "sidespin-right": "drive", "custom": "drive"}
+TYPE_MAP = {
+    "topspin": "topspin",
+    "flat": "drive",
+    "backspin": "slice",
+    "sidespin-left": "drive",
+    "sidespin-right": "drive",
+    "custom": "drive",
+}
 #: areas tried for a shot's zone, smallest first
 ZONE_ORDER = ("deuce-box", "ad-box", "singles", "doubles")
 
@@ -27,13 +34,18 @@ def zone_for(target, landing) -> object:
         if ITF_COURT.contains(name, *target) and ITF_COURT.contains(name, *landing):
             return name
     m = 0.3
-    return [round(min(target[0], landing[0]) - m, 3), round(max(target[0], landing[0]) + m, 3),
-            round(min(target[1], landing[1]) - m, 3), round(max(target[1], landing[1]) + m, 3)]
+    return [
+        round(min(target[0], landing[0]) - m, 3),
+        round(max(target[0], landing[0]) + m, 3),
+        round(min(target[1], landing[1]) - m, 3),
+        round(max(target[1], landing[1]) + m, 3),
+    ]
 
 
 def document(name: str, forms: list[dict], spin_axis) -> dict:
     """The drill mapping for validated aim forms (each aimed here, never trusting the page's result)."""
     from tennislab.app.launcher_adapter import solve
+
     shots, program = {}, []
     for i, v in enumerate(forms, 1):
         try:
@@ -46,20 +58,31 @@ def document(name: str, forms: list[dict], spin_axis) -> dict:
             "description": f"{v['shot']} to ({v['target_x']:.2f}, {v['target_y']:.2f}) m",
             "target": [round(v["target_x"], 3), round(v["target_y"], 3)],
             "zone": zone_for((v["target_x"], v["target_y"]), sol.landing),
-            "speed_kmh": sol.settings.speed_kmh, "spin_rpm": sol.settings.spin_rpm,
-            "spin_axis_deg": sol.settings.spin_axis_deg, "height_m": sol.settings.height_m,
+            "speed_kmh": sol.settings.speed_kmh,
+            "spin_rpm": sol.settings.spin_rpm,
+            "spin_axis_deg": sol.settings.spin_axis_deg,
+            "height_m": sol.settings.height_m,
             "solution": v["solution"],
         }
         program.append({"shot": key})
-    return {"name": name.strip() or "drill", "description": "made with the tennislab launcher planner",
-            "machine": {"position": [forms[0]["machine_x"], forms[0]["machine_y"]]},
-            "defaults": {"interval_s": 4}, "shots": shots, "program": program}
+    return {
+        "name": name.strip() or "drill",
+        "description": "made with the tennislab launcher planner",
+        "machine": {"position": [forms[0]["machine_x"], forms[0]["machine_y"]]},
+        "defaults": {"interval_s": 4},
+        "shots": shots,
+        "program": program,
+    }
 
 
 def check(text: str) -> dict:
     """Compile the drill text as ``tennislab launcher drill`` would; ``{"ok", "n_shots", "problems"}``."""
     from tennislab.io.drill import parse_drill
     from tennislab.launcher.drills import compile_drill
+
     comp = compile_drill(parse_drill(text, source="drill", fmt="json"))
-    return {"ok": bool(comp.ok), "n_shots": len(comp.shots),
-            "problems": [f"{u.label}: {u.problem}" for u in comp.unique if u.problem]}
+    return {
+        "ok": bool(comp.ok),
+        "n_shots": len(comp.shots),
+        "problems": [f"{u.label}: {u.problem}" for u in comp.unique if u.problem],
+    }

@@ -6,6 +6,7 @@ JSON-able dict.  The modules behind them (``tennislab.serve`` with
 imported inside the functions, after :func:`services.require`, so that a
 missing module only disables its own page (HTTP 503, "not available").
 """
+
 from __future__ import annotations
 
 import io
@@ -29,8 +30,9 @@ def players() -> dict:
     """Player profiles ``{name: {height, racket_speed}}`` (from ``tennislab.serve`` when available)."""
     try:
         from tennislab.app import serve_adapter
+
         return serve_adapter.players()
-    except Exception:  # noqa: BLE001 - serve module missing or incomplete: seed values
+    except Exception:
         return dict(SEED_PLAYERS)
 
 
@@ -39,6 +41,7 @@ def serve(v: dict) -> dict:
     """One serve: impact -> launch -> 3-D flight -> success (form ``serve``)."""
     S.require("serve")
     from tennislab.app import serve_adapter
+
     return serve_adapter.serve(v)
 
 
@@ -46,6 +49,7 @@ def serve_window(v: dict) -> dict:
     """The alpha x beta window of a player (form ``window``) as grids for the heat map."""
     S.require("serve")
     from tennislab.app import serve_adapter
+
     return serve_adapter.window(v)
 
 
@@ -54,6 +58,7 @@ def aim(v: dict) -> dict:
     """Quantised machine settings, rollers and trajectory for a target (form ``aim``)."""
     S.require("launcher")
     from tennislab.app import launcher_adapter
+
     return launcher_adapter.aim(v)
 
 
@@ -61,11 +66,12 @@ def drill(v: dict, shots=None, name=None) -> dict:
     """A drill document (the file ``tennislab launcher drill`` reads) from a list of aim forms."""
     S.require("launcher")
     try:
-        import tennislab.io.drill  # noqa: F401
+        import tennislab.io.drill
         import tennislab.launcher.drills  # noqa: F401
     except ImportError as exc:
         raise S.Unavailable(f"drill files: not available in this installation ({exc})") from None
     from tennislab.app import launcher_adapter
+
     return launcher_adapter.drill(shots, name)
 
 
@@ -73,6 +79,7 @@ def drill(v: dict, shots=None, name=None) -> dict:
 def linecall(v: dict, csv=None) -> dict:
     """A line call from an uploaded track (CSV text ``t,x,y,z[,sigma]``; form ``linecall``)."""
     from tennislab.app.fields import MAX_TRACK_BYTES
+
     if csv is None:
         raise InputError("csv: a track file is required (columns t,x,y,z and optionally sigma)")
     if not isinstance(csv, str):
@@ -81,6 +88,7 @@ def linecall(v: dict, csv=None) -> dict:
         raise InputError(f"csv: the track file is larger than {MAX_TRACK_BYTES // 1000} kB")
     S.require("linecall")
     from tennislab.app import linecall_adapter
+
     return linecall_adapter.call(v, csv)
 
 
@@ -89,8 +97,13 @@ def linecall(v: dict, csv=None) -> dict:
 SAMPLE_SERVE = {"position": (-11.8, 0.4, 2.85), "velocity": (48.0, -0.9, -4.257), "spin": (0.0, 60.0, 0.0)}
 
 
-def synthetic_track(seed: int = 7, sigma: float = 0.003, rate: float = 340.0, shot: dict | None = None,
-                    params: FlightParams | None = None):
+def synthetic_track(
+    seed: int = 7,
+    sigma: float = 0.003,
+    rate: float = 340.0,
+    shot: dict | None = None,
+    params: FlightParams | None = None,
+):
     """A synthetic track (t, x, y, z) [s, m] sampled at ``rate`` Hz with Gaussian noise ``sigma`` [m].
 
     With :mod:`tennislab.linecall` installed the track runs through the bounce
@@ -103,9 +116,10 @@ def synthetic_track(seed: int = 7, sigma: float = 0.003, rate: float = 340.0, sh
     except ImportError:
         synth = None
     if synth is not None:
-        tr = synth(shot["position"], shot["velocity"], shot["spin"], params, rate=rate, sigma=sigma, seed=seed,
-                   after=0.15)
-        keep = tr.t >= tr.bounce.t - 0.35   # what a tracker near the line sees
+        tr = synth(
+            shot["position"], shot["velocity"], shot["spin"], params, rate=rate, sigma=sigma, seed=seed, after=0.15
+        )
+        keep = tr.t >= tr.bounce.t - 0.35  # what a tracker near the line sees
         return np.column_stack([tr.t[keep], tr.xyz[keep]]), (tr.bounce.x, tr.bounce.y)
     tr = fly(shot["position"], shot["velocity"], shot["spin"], params)
     t_end = tr.landing.t

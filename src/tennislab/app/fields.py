@@ -11,6 +11,7 @@ Ranges are the physically meaningful ones of each model (e.g. the launcher's
 are its machine spec; see ``docs/app.md``).  Values are in the units the user
 sees (km/h, rpm, degrees) and converted to SI in :mod:`tennislab.app.services`.
 """
+
 from __future__ import annotations
 
 import math
@@ -55,8 +56,10 @@ class Field:
     def parse(self, value):
         """Return the validated value or raise :class:`InputError` naming the field."""
         if isinstance(value, str) and len(value) > 60:
-            raise InputError(f"{self.name}: expected {'one of ' + ', '.join(self.choices) if self.choices else 'a number'}"
-                             f", got a text of {len(value)} characters")
+            raise InputError(
+                f"{self.name}: expected {'one of ' + ', '.join(self.choices) if self.choices else 'a number'}"
+                f", got a text of {len(value)} characters"
+            )
         if value is None or (isinstance(value, str) and value.strip() == "" and self.kind != "choice"):
             if self.optional:
                 return self.default
@@ -114,65 +117,122 @@ def _form(name: str, fields: list[Field]) -> Form:
     return f
 
 
-_form("flight", [
-    Field("x", "position x", "float", -11.885, -15.0, 15.0, "m", 0.01),
-    Field("y", "position y", "float", 0.5, -8.0, 8.0, "m", 0.01),
-    Field("z", "height", "float", 2.8, 0.04, 5.0, "m", 0.01),
-    Field("speed_kmh", "speed", "float", 180.0, 1.0, 260.0, "km/h", 1),
-    Field("elevation_deg", "elevation", "float", -4.0, -60.0, 80.0, "deg", 0.1),
-    Field("heading_deg", "heading", "float", -1.5, -60.0, 60.0, "deg", 0.1),
-    Field("spin_rpm", "spin", "float", 0.0, 0.0, 8000.0, "rpm", 10),
-    Field("spin_axis_deg", "spin axis", "float", 0.0, -180.0, 180.0, "deg", 1,
-          help="0 = topspin, 180 = backspin, +-90 = sidespin"),
-    *_physics_fields("stepanek1988"),
-])
+_form(
+    "flight",
+    [
+        Field("x", "position x", "float", -11.885, -15.0, 15.0, "m", 0.01),
+        Field("y", "position y", "float", 0.5, -8.0, 8.0, "m", 0.01),
+        Field("z", "height", "float", 2.8, 0.04, 5.0, "m", 0.01),
+        Field("speed_kmh", "speed", "float", 180.0, 1.0, 260.0, "km/h", 1),
+        Field("elevation_deg", "elevation", "float", -4.0, -60.0, 80.0, "deg", 0.1),
+        Field("heading_deg", "heading", "float", -1.5, -60.0, 60.0, "deg", 0.1),
+        Field("spin_rpm", "spin", "float", 0.0, 0.0, 8000.0, "rpm", 10),
+        Field(
+            "spin_axis_deg",
+            "spin axis",
+            "float",
+            0.0,
+            -180.0,
+            180.0,
+            "deg",
+            1,
+            help="0 = topspin, 180 = backspin, +-90 = sidespin",
+        ),
+        *_physics_fields("stepanek1988"),
+    ],
+)
 
 PLAYERS = ("professional", "recreational", "junior", "custom")
 
-_form("serve", [
-    Field("player", "player", "choice", "professional", choices=PLAYERS),
-    Field("height", "impact height", "float", 3.0, 1.0, 3.5, "m", 0.01),
-    Field("racket_speed", "racket speed", "float", 40.0, 5.0, 70.0, "m/s", 0.1),
-    Field("impact_angle", "impact angle alpha", "float", 36.0, 0.0, 90.0, "deg", 1),
-    Field("face_angle", "face angle beta", "float", 21.0, -10.0, 90.0, "deg", 1),
-    Field("target", "success criteria", "choice", "seed-2d", choices=("seed-2d", "deuce", "ad"),
-          help="seed-2d: the paper's 2-D test; deuce/ad: the real service box in 3-D"),
-    Field("azimuth_deg", "face azimuth (3-D)", "float", 0.0, -30.0, 30.0, "deg", 0.5,
-          help="turns the racket face toward +y (left); needs target deuce or ad"),
-    Field("brush_deg", "brush direction / spin axis (3-D)", "float", 0.0, -90.0, 90.0, "deg", 1,
-          help="0 = the seed's pure topspin; tilts the brush (and the spin axis) sideways for slice/kick"),
-    Field("server_y", "server position y (3-D)", "float", 0.0, -4.0, 4.0, "m", 0.05),
-    Field("toss_vz", "ball vertical speed at impact", "float", 0.0, -6.0, 6.0, "m/s", 0.1,
-          help="negative: the ball is falling when hit"),
-])
+_form(
+    "serve",
+    [
+        Field("player", "player", "choice", "professional", choices=PLAYERS),
+        Field("height", "impact height", "float", 3.0, 1.0, 3.5, "m", 0.01),
+        Field("racket_speed", "racket speed", "float", 40.0, 5.0, 70.0, "m/s", 0.1),
+        Field("impact_angle", "impact angle alpha", "float", 36.0, 0.0, 90.0, "deg", 1),
+        Field("face_angle", "face angle beta", "float", 21.0, -10.0, 90.0, "deg", 1),
+        Field(
+            "target",
+            "success criteria",
+            "choice",
+            "seed-2d",
+            choices=("seed-2d", "deuce", "ad"),
+            help="seed-2d: the paper's 2-D test; deuce/ad: the real service box in 3-D",
+        ),
+        Field(
+            "azimuth_deg",
+            "face azimuth (3-D)",
+            "float",
+            0.0,
+            -30.0,
+            30.0,
+            "deg",
+            0.5,
+            help="turns the racket face toward +y (left); needs target deuce or ad",
+        ),
+        Field(
+            "brush_deg",
+            "brush direction / spin axis (3-D)",
+            "float",
+            0.0,
+            -90.0,
+            90.0,
+            "deg",
+            1,
+            help="0 = the seed's pure topspin; tilts the brush (and the spin axis) sideways for slice/kick",
+        ),
+        Field("server_y", "server position y (3-D)", "float", 0.0, -4.0, 4.0, "m", 0.05),
+        Field(
+            "toss_vz",
+            "ball vertical speed at impact",
+            "float",
+            0.0,
+            -6.0,
+            6.0,
+            "m/s",
+            0.1,
+            help="negative: the ball is falling when hit",
+        ),
+    ],
+)
 
-_form("window", [
-    Field("player", "player", "choice", "professional", choices=PLAYERS),
-    Field("height", "impact height", "float", 3.0, 1.0, 3.5, "m", 0.01),
-    Field("racket_speed", "racket speed", "float", 40.0, 5.0, 70.0, "m/s", 0.1),
-    Field("step", "angle step", "float", 1.0, 0.5, 10.0, "deg", 0.5),
-])
+_form(
+    "window",
+    [
+        Field("player", "player", "choice", "professional", choices=PLAYERS),
+        Field("height", "impact height", "float", 3.0, 1.0, 3.5, "m", 0.01),
+        Field("racket_speed", "racket speed", "float", 40.0, 5.0, 70.0, "m/s", 0.1),
+        Field("step", "angle step", "float", 1.0, 0.5, 10.0, "deg", 0.5),
+    ],
+)
 
 SHOT_TYPES = ("topspin", "flat", "backspin", "sidespin-left", "sidespin-right", "custom")
 
-_form("aim", [
-    Field("target_x", "target x", "float", 8.0, -11.885, 11.885, "m", 0.01),
-    Field("target_y", "target y", "float", 0.0, -5.485, 5.485, "m", 0.01),
-    Field("speed_kmh", "ball speed", "float", 80.0, 30.0, 200.0, "km/h", 1),
-    Field("spin_rpm", "spin", "float", 1000.0, 0.0, 2000.0, "rpm", 1),
-    Field("shot", "shot type", "choice", "topspin", choices=SHOT_TYPES),
-    Field("spin_axis_deg", "spin axis (custom)", "float", 0.0, -180.0, 180.0, "deg", 1),
-    Field("solution", "solution", "choice", "low", choices=("low", "high")),
-    Field("height", "launch height", "float", 1.0, 0.1, 3.0, "m", 0.1),
-    Field("machine_x", "machine x", "float", -12.385, -20.0, 0.0, "m", 0.1),
-    Field("machine_y", "machine y", "float", 0.0, -8.0, 8.0, "m", 0.1),
-])
+_form(
+    "aim",
+    [
+        Field("target_x", "target x", "float", 8.0, -11.885, 11.885, "m", 0.01),
+        Field("target_y", "target y", "float", 0.0, -5.485, 5.485, "m", 0.01),
+        Field("speed_kmh", "ball speed", "float", 80.0, 30.0, 200.0, "km/h", 1),
+        Field("spin_rpm", "spin", "float", 1000.0, 0.0, 2000.0, "rpm", 1),
+        Field("shot", "shot type", "choice", "topspin", choices=SHOT_TYPES),
+        Field("spin_axis_deg", "spin axis (custom)", "float", 0.0, -180.0, 180.0, "deg", 1),
+        Field("solution", "solution", "choice", "low", choices=("low", "high")),
+        Field("height", "launch height", "float", 1.0, 0.1, 3.0, "m", 0.1),
+        Field("machine_x", "machine x", "float", -12.385, -20.0, 0.0, "m", 0.1),
+        Field("machine_y", "machine y", "float", 0.0, -8.0, 8.0, "m", 0.1),
+    ],
+)
 
-_form("linecall", [
-    Field("line", "line", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.lines())),
-    Field("target", "target area", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.area_names())),
-    Field("surface", "surface", "choice", "hard", choices=("hard", "clay", "grass", "carpet")),
-])
+_form(
+    "linecall",
+    [
+        Field("line", "line", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.lines())),
+        Field("target", "target area", "choice", "auto", choices=("auto",) + tuple(ITF_COURT.area_names())),
+        Field("surface", "surface", "choice", "hard", choices=("hard", "clay", "grass", "carpet")),
+    ],
+)
 
 #: shot type -> spin-axis angle [deg] (launcher convention: 0 topspin, 180 backspin, +-90 sidespin)
 SHOT_AXIS = {"topspin": 0.0, "flat": 0.0, "backspin": 180.0, "sidespin-left": 90.0, "sidespin-right": -90.0}

@@ -5,6 +5,7 @@ Uses ``tennislab.launcher.aim.aim`` / ``aim_result_dict`` (the JSON of
 reader (``tennislab.io.drill``) so that the file the page downloads is checked
 by the same code as ``tennislab launcher drill FILE``.
 """
+
 from __future__ import annotations
 
 import json
@@ -17,6 +18,7 @@ from tennislab.errors import InputError
 
 def _spec(v: dict):
     from tennislab.launcher.machine import DEFAULT_SPEC
+
     return DEFAULT_SPEC.with_position(v["machine_x"], v["machine_y"])
 
 
@@ -28,17 +30,27 @@ def spin_axis(v: dict) -> float:
 def solve(v: dict):
     """The quantised :class:`AimSolution` of an aim form, with the machine spec and flight params."""
     from tennislab.launcher.aim import aim, launcher_params
+
     spec = _spec(v)
     params = launcher_params()
     spin = 0.0 if v["shot"] == "flat" else v["spin_rpm"]
-    sol = aim((v["target_x"], v["target_y"]), v["speed_kmh"], spin, spin_axis(v), v["height"],
-              spec=spec, params=params, solution=v["solution"])
+    sol = aim(
+        (v["target_x"], v["target_y"]),
+        v["speed_kmh"],
+        spin,
+        spin_axis(v),
+        v["height"],
+        spec=spec,
+        params=params,
+        solution=v["solution"],
+    )
     return sol, spec, params
 
 
 def aim(v: dict) -> dict:
     """``launcher aim`` JSON (settings, rollers, landing, miss_mm, net_clearance_m, ...) plus the flight."""
     from tennislab.launcher.aim import aim_result_dict, fly_settings
+
     sol, spec, params = solve(v)
     out = aim_result_dict(sol, spec, params)
     tr = fly_settings(sol.settings, spec, params)
@@ -79,17 +91,25 @@ def drill(shots, name=None) -> dict:
     doc = drill_document(name, forms)
     text = json.dumps(doc, indent=2)
     check = check_drill_text(text)
-    return {"name": name, "filename": _slug(name) + ".json", "media_type": "application/json",
-            "text": text, "n_shots": len(forms), "check": check}
+    return {
+        "name": name,
+        "filename": _slug(name) + ".json",
+        "media_type": "application/json",
+        "text": text,
+        "n_shots": len(forms),
+        "check": check,
+    }
 
 
 def drill_document(name: str, forms: list[dict]) -> dict:
     """The drill file's content (the launcher's drill format; see ``docs/launcher.md``)."""
     from tennislab.app import drill_format
+
     return drill_format.document(name, forms, spin_axis)
 
 
 def check_drill_text(text: str) -> dict:
     """Compile a drill file's text with the launcher's own reader."""
     from tennislab.app import drill_format
+
     return drill_format.check(text)

@@ -8,6 +8,7 @@ Returns the ``tennislab call`` JSON keys (``bounce.*``, ``mark.*``, ``call``,
 ``p_in``, ``distance_mm``, ``fit.*``) plus what the page draws: the track, the
 fitted trajectory, the mark's contact discs and the called line's rectangle.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -21,6 +22,7 @@ def pipeline(text: str, surface: str = "hard", line: str | None = None, target: 
     from tennislab.io.track import parse_track
     from tennislab.linecall.decide import call_mark
     from tennislab.linecall.fit import fit_track
+
     track = parse_track(text, name="csv")
     params = FlightParams()
     fit = fit_track(track.t, track.xyz, track.sigma, params, surface)
@@ -33,14 +35,23 @@ def pipeline(text: str, surface: str = "hard", line: str | None = None, target: 
 
 def summary(fit, mark, res) -> dict:
     out = {
-        "bounce": {"x": float(fit.bounce_xy[0]), "y": float(fit.bounce_xy[1]), "t": fit.t_bounce,
-                   "sigma_mm": fit.sigma_bounce * 1e3},
-        "mark": {"length": mark.length, "width": mark.width, "x": float(mark.center[0]),
-                 "y": float(mark.center[1])},
-        "call": res["call"], "p_in": res["p_in"], "distance_mm": res["distance_mm"],
-        "fit": {"rms_mm": fit.rms * 1e3, "outliers": int(np.count_nonzero(fit.outlier)),
-                "has_post": bool(fit.has_post)},
-        "line": res.get("line"), "target": res.get("target"),
+        "bounce": {
+            "x": float(fit.bounce_xy[0]),
+            "y": float(fit.bounce_xy[1]),
+            "t": fit.t_bounce,
+            "sigma_mm": fit.sigma_bounce * 1e3,
+        },
+        "mark": {"length": mark.length, "width": mark.width, "x": float(mark.center[0]), "y": float(mark.center[1])},
+        "call": res["call"],
+        "p_in": res["p_in"],
+        "distance_mm": res["distance_mm"],
+        "fit": {
+            "rms_mm": fit.rms * 1e3,
+            "outliers": int(np.count_nonzero(fit.outlier)),
+            "has_post": bool(fit.has_post),
+        },
+        "line": res.get("line"),
+        "target": res.get("target"),
         "lines": res.get("lines", {}),
     }
     return out

@@ -9,6 +9,7 @@ above 0.943 m at the net, landing at most 18.318 m from the impact point, the
 same test as the window heat map); ``deuce`` / ``ad`` = over the real net and
 into that service box.  The window is :func:`tennislab.serve.window.serve_window`.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -16,13 +17,18 @@ import numpy as np
 from tennislab.app import services as S
 
 #: heat-map codes: failure and success by category
-WINDOW_CODES = (("fail", "#e6e6e6"), ("flat success", "#1f77b4"), ("topspin success", "#2ca02c"),
-                ("other success", "#ff9f1c"))
+WINDOW_CODES = (
+    ("fail", "#e6e6e6"),
+    ("flat success", "#1f77b4"),
+    ("topspin success", "#2ca02c"),
+    ("other success", "#ff9f1c"),
+)
 
 
 def players() -> dict:
     """The registered profiles as ``{name: {height, racket_speed}}`` (seed players first)."""
     from tennislab.serve.players import get_player, player_names
+
     out = {}
     for n in player_names():
         p = get_player(n)
@@ -33,6 +39,7 @@ def players() -> dict:
 def player_of(v: dict):
     """The :class:`tennislab.serve.Player` of a form (``custom`` uses height and racket_speed)."""
     from tennislab.serve.players import Player, get_player
+
     if v["player"] == "custom":
         return Player("custom", v["height"], v["racket_speed"])
     return get_player(v["player"])
@@ -42,11 +49,20 @@ def serve(v: dict) -> dict:
     """One serve (form ``serve``): :func:`tennislab.serve.single.simulate_serve` (the JSON of
     ``tennislab serve``) plus the player used and the trajectory's plot points."""
     from tennislab.serve.single import simulate_serve
+
     player = player_of(v)
     target = None if v["target"] == "seed-2d" else v["target"]
-    out = simulate_serve(player, min(v["impact_angle"], 89.999), v["face_angle"], target=target,
-                         azimuth_deg=v["azimuth_deg"], brush_deg=v["brush_deg"], server_y=v["server_y"],
-                         toss_vz=v["toss_vz"], trajectory=True)
+    out = simulate_serve(
+        player,
+        min(v["impact_angle"], 89.999),
+        v["face_angle"],
+        target=target,
+        azimuth_deg=v["azimuth_deg"],
+        brush_deg=v["brush_deg"],
+        server_y=v["server_y"],
+        toss_vz=v["toss_vz"],
+        trajectory=True,
+    )
     tr = out.pop("_trajectory")
     out["player"] = {"name": player.name, "height": player.impact_height, "racket_speed": player.racket_speed}
     out["regime"] = out["impact"]["regime"]
@@ -60,14 +76,27 @@ def serve(v: dict) -> dict:
 def window(v: dict) -> dict:
     """The alpha x beta window (form ``window``): category codes per cell for the heat map."""
     from tennislab.serve.window import serve_window
+
     player = player_of(v)
     w = serve_window(player, step=v["step"])
     cat = w.grid("category")
     code = np.where(w.success, cat + 1, 0).astype(int)
     d = w.to_dict()
-    legend = [{"code": k, "label": lab, "color": col, "n": int((code == k).sum())}
-              for k, (lab, col) in enumerate(WINDOW_CODES)]
-    return {"player": d["player"], "alpha": w.alpha_deg.tolist(), "beta": w.beta_deg.tolist(), "step": v["step"],
-            "code": code.tolist(), "palette": {str(k): c for k, (_, c) in enumerate(WINDOW_CODES)},
-            "legend": legend, "summary": d["summary"], "peak_spin_alpha": d["peak_spin_alpha"],
-            "optimum": d["optimum"], "speed": w.speed.tolist(), "spin_rpm": w.spin_rpm.tolist()}
+    legend = [
+        {"code": k, "label": lab, "color": col, "n": int((code == k).sum())}
+        for k, (lab, col) in enumerate(WINDOW_CODES)
+    ]
+    return {
+        "player": d["player"],
+        "alpha": w.alpha_deg.tolist(),
+        "beta": w.beta_deg.tolist(),
+        "step": v["step"],
+        "code": code.tolist(),
+        "palette": {str(k): c for k, (_, c) in enumerate(WINDOW_CODES)},
+        "legend": legend,
+        "summary": d["summary"],
+        "peak_spin_alpha": d["peak_spin_alpha"],
+        "optimum": d["optimum"],
+        "speed": w.speed.tolist(),
+        "spin_rpm": w.spin_rpm.tolist(),
+    }

@@ -22,6 +22,7 @@ Errors: bad input -> 422 ``{"error": "field: message"}`` (the messages of
 is executed: values are parsed as numbers or checked against fixed choices
 and passed to the physics functions.
 """
+
 from __future__ import annotations
 
 import json
@@ -52,7 +53,7 @@ log = logging.getLogger("tennislab.app")
 
 SECURITY_HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' data: blob:; style-src 'self'; "
-                               "script-src 'self'; connect-src 'self'; object-src 'none'; base-uri 'none'",
+    "script-src 'self'; connect-src 'self'; object-src 'none'; base-uri 'none'",
     "X-Content-Type-Options": "nosniff",
     "Referrer-Policy": "no-referrer",
 }
@@ -151,12 +152,21 @@ def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
     @app.get("/api/meta")
     async def meta():
         from tennislab.app import features
-        return clean({"version": __version__, "modules": S.availability(), "forms": F.forms_spec(),
-                      "court": S.court_geometry(), "players": features.players(),
-                      "limits": {"track_bytes": F.MAX_TRACK_BYTES, "drill_shots": F.MAX_DRILL_SHOTS}})
+
+        return clean(
+            {
+                "version": __version__,
+                "modules": S.availability(),
+                "forms": F.forms_spec(),
+                "court": S.court_geometry(),
+                "players": features.players(),
+                "limits": {"track_bytes": F.MAX_TRACK_BYTES, "drill_shots": F.MAX_DRILL_SHOTS},
+            }
+        )
 
     def post(path: str, form: str | None, fn, *, extra: tuple = ()):
         """Register a POST route: parse JSON, validate ``form`` (keeping ``extra`` raw keys), call ``fn``."""
+
         async def handler(request: Request):
             body = await read_json(request)
             if not isinstance(body, dict):
@@ -170,10 +180,12 @@ def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
                 vals = {}
             result = await run_in_threadpool(_locked, fn, vals, **raw)
             return JSONResponse(clean(result))
+
         handler.__name__ = "post_" + path.strip("/").replace("/", "_")
         app.post(path)(handler)
 
     from tennislab.app import features
+
     post("/api/flight", "flight", lambda v: S.flight(v))
     post("/api/serve", "serve", features.serve)
     post("/api/serve/window", "window", features.serve_window)

@@ -7,6 +7,7 @@ The modules of the serve analysis, line calling and launcher are optional:
 is missing raises :class:`Unavailable` (HTTP 503 in the server, a "not
 available" section in the report) instead of breaking the rest.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -22,10 +23,17 @@ from tennislab.units import DEG, KMH, RPM
 
 #: module -> attributes the app needs from it
 REQUIREMENTS = {
-    "serve": [("tennislab.serve.single", "simulate_serve"), ("tennislab.serve.window", "serve_window"),
-              ("tennislab.serve.players", "get_player")],
-    "linecall": [("tennislab.io.track", "parse_track"), ("tennislab.linecall.fit", "fit_track"),
-                 ("tennislab.linecall.decide", "call_mark"), ("tennislab.core.mark", "ball_mark")],
+    "serve": [
+        ("tennislab.serve.single", "simulate_serve"),
+        ("tennislab.serve.window", "serve_window"),
+        ("tennislab.serve.players", "get_player"),
+    ],
+    "linecall": [
+        ("tennislab.io.track", "parse_track"),
+        ("tennislab.linecall.fit", "fit_track"),
+        ("tennislab.linecall.decide", "call_mark"),
+        ("tennislab.core.mark", "ball_mark"),
+    ],
     "launcher": [("tennislab.launcher.machine", "MachineSpec"), ("tennislab.launcher.machine", "launch_states")],
 }
 
@@ -38,7 +46,7 @@ def _check(reqs) -> str | None:
     for mod, attr in reqs:
         try:
             m = importlib.import_module(mod)
-        except Exception as exc:  # noqa: BLE001 - any import failure means "not available"
+        except Exception as exc:
             return f"{mod} cannot be imported ({type(exc).__name__}: {exc})"
         if attr is not None and not hasattr(m, attr):
             return f"{mod}.{attr} is missing"
@@ -70,8 +78,11 @@ def require(feature: str) -> None:
 # ------------------------------------------------------------------ helpers
 def physics_params(v: dict, default_aero: str = "stepanek1988", **overrides) -> FlightParams:
     """:class:`FlightParams` from the physics fields of a form (aero, air_density, wind_x, wind_y)."""
-    kw = dict(aero=v.get("aero", default_aero), air_density=v.get("air_density"),
-              wind=(v.get("wind_x", 0.0), v.get("wind_y", 0.0), 0.0))
+    kw = dict(
+        aero=v.get("aero", default_aero),
+        air_density=v.get("air_density"),
+        wind=(v.get("wind_x", 0.0), v.get("wind_y", 0.0), 0.0),
+    )
     kw.update({k: val for k, val in overrides.items() if val is not None})
     return FlightParams.from_options(**kw)
 
@@ -111,14 +122,21 @@ def flight_result(tr) -> dict:
     land = tr.landing
     net = tr.net
     return {
-        "landing": None if land is None else {
-            "x": land.x, "y": land.y, "t": land.t,
+        "landing": None
+        if land is None
+        else {
+            "x": land.x,
+            "y": land.y,
+            "t": land.t,
             "speed_kmh": float(np.linalg.norm(land.velocity)) / KMH,
-            "areas": ITF_COURT.areas_at(land.x, land.y)},
-        "net": {"result": net.result,
-                "clearance": None if not math.isfinite(net.clearance) else net.clearance,
-                "z": None if not math.isfinite(net.z) else net.z,
-                "y": None if not math.isfinite(net.y) else net.y},
+            "areas": ITF_COURT.areas_at(land.x, land.y),
+        },
+        "net": {
+            "result": net.result,
+            "clearance": None if not math.isfinite(net.clearance) else net.clearance,
+            "z": None if not math.isfinite(net.z) else net.z,
+            "y": None if not math.isfinite(net.y) else net.y,
+        },
         "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "t": tr.apex.t},
         "points": trajectory_points(tr),
     }
@@ -129,9 +147,13 @@ def court_geometry() -> dict:
     """Lines, areas and net of the ITF court for drawing in the page."""
     c = ITF_COURT
     return {
-        "half_length": c.half_length, "singles_width": c.singles_width, "doubles_width": c.doubles_width,
-        "service_line": c.service_line, "y_post": c.y_post,
-        "net_center_height": c.net_center_height, "net_post_height": c.net_post_height,
+        "half_length": c.half_length,
+        "singles_width": c.singles_width,
+        "doubles_width": c.doubles_width,
+        "service_line": c.service_line,
+        "y_post": c.y_post,
+        "net_center_height": c.net_center_height,
+        "net_post_height": c.net_post_height,
         "lines": {k: list(v) for k, v in c.lines().items()},
         "areas": {k: list(c.area_bounds(k)) for k in c.area_names()},
     }

@@ -13,6 +13,7 @@ See :func:`map_chunks` and docs/batch.md.  Pieces:
 * :mod:`~tennislab.batch.rng` -- per-row counter-based random numbers (chunking-independent)
 * :mod:`~tennislab.batch.cli` -- :func:`add_scheduler_flag`, :func:`batch_options_from_args`
 """
+
 from tennislab.batch.api import BatchResult, execute_chunk, map_chunks, run_batch
 from tennislab.batch.cli import add_scheduler_flag, batch_options_from_args
 from tennislab.batch.grid import GridSpec
@@ -20,7 +21,22 @@ from tennislab.batch.schedulers import register_scheduler, register_url_scheme, 
 from tennislab.batch.sources import ArraySource, RowRange, StreamSource, default_chunk_size
 from tennislab.batch.store import iter_output, read_manifest, read_output
 
-__all__ = ["map_chunks", "run_batch", "BatchResult", "execute_chunk", "add_scheduler_flag",
-           "batch_options_from_args", "GridSpec", "RowRange", "ArraySource", "StreamSource", "default_chunk_size",
-           "register_scheduler", "register_url_scheme", "scheduler_names",
-           "read_output", "iter_output", "read_manifest"]
+__all__ = [
+    "map_chunks",
+    "run_batch",
+    "BatchResult",
+    "execute_chunk",
+    "add_scheduler_flag",
+    "batch_options_from_args",
+    "GridSpec",
+    "RowRange",
+    "ArraySource",
+    "StreamSource",
+    "default_chunk_size",
+    "register_scheduler",
+    "register_url_scheme",
+    "scheduler_names",
+    "read_output",
+    "iter_output",
+    "read_manifest",
+]

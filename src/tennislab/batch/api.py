@@ -10,6 +10,7 @@ output; chunks are always concatenated in row order.
 insert rows into a database); ``skip`` and ``max_chunks`` let such a caller
 resume from its own record of finished chunks and stop early.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -99,8 +100,11 @@ def describe(obj, depth: int = 0):
     if depth > 8:
         return "..."
     if isinstance(obj, functools.partial):
-        return {"partial": describe(obj.func, depth + 1), "args": [describe(a, depth + 1) for a in obj.args],
-                "kwargs": {k: describe(v, depth + 1) for k, v in sorted(obj.keywords.items())}}
+        return {
+            "partial": describe(obj.func, depth + 1),
+            "args": [describe(a, depth + 1) for a in obj.args],
+            "kwargs": {k: describe(v, depth + 1) for k, v in sorted(obj.keywords.items())},
+        }
     if obj is None or isinstance(obj, (bool, int, float, str)):
         return obj if not isinstance(obj, float) else repr(obj)
     if isinstance(obj, np.generic):
@@ -112,8 +116,10 @@ def describe(obj, depth: int = 0):
     if isinstance(obj, dict):
         return {str(k): describe(v, depth + 1) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {"type": type(obj).__qualname__,
-                **{f.name: describe(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)}}
+        return {
+            "type": type(obj).__qualname__,
+            **{f.name: describe(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)},
+        }
     if callable(obj):
         return _name(obj)
     r = repr(obj)
@@ -125,11 +131,25 @@ def _digest(obj) -> str:
 
 
 # ------------------------------------------------------------------ the API
-def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
-              progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
-              tag=None, include_inputs: bool = False, row_key: str | None = None,
-              max_inflight: int | None = None, on_chunk=None, skip=None,
-              max_chunks: int | None = None) -> BatchResult:
+def run_batch(
+    fn,
+    inputs,
+    *,
+    scheduler="local",
+    chunk_size: int | None = None,
+    out: str | None = None,
+    progress=True,
+    desc: str = "",
+    n_workers: int | None = None,
+    collect: bool = True,
+    tag=None,
+    include_inputs: bool = False,
+    row_key: str | None = None,
+    max_inflight: int | None = None,
+    on_chunk=None,
+    skip=None,
+    max_chunks: int | None = None,
+) -> BatchResult:
     """Like :func:`map_chunks` but always returns a :class:`BatchResult` (counts, timing, data)."""
     t0 = time.perf_counter()
     source = as_source(inputs)
@@ -155,9 +175,15 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
         raise InputError(f"chunk_size: {chunk_size} is outside the allowed range [1, inf]")
     store = None
     if out is not None:
-        manifest = {"fn": {"name": _name(fn), "config": _digest(describe(fn))},
-                    "tag": describe(tag), "source": source.kind, "fingerprint": source.fingerprint(),
-                    "n_rows": source.n_rows, "row_key": row_key, "include_inputs": bool(include_inputs)}
+        manifest = {
+            "fn": {"name": _name(fn), "config": _digest(describe(fn))},
+            "tag": describe(tag),
+            "source": source.kind,
+            "fingerprint": source.fingerprint(),
+            "n_rows": source.n_rows,
+            "row_key": row_key,
+            "include_inputs": bool(include_inputs),
+        }
         if indexable and chunk_size is None:  # resume with the chunking found on disk
             chunk_size = _existing_chunk_size(out) or default_chunk_size(source.n_rows)
         manifest["chunk_size"] = int(chunk_size) if (indexable and chunk_size) else None
@@ -167,15 +193,49 @@ def run_batch(fn, inputs, *, scheduler="local", chunk_size: int | None = None, o
     else:
         chunk_size = None
     try:
-        return _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect,
-                    row_key, include_inputs, max_inflight, t0, on_chunk, skip, max_chunks)
+        return _run(
+            fn,
+            source,
+            scheduler,
+            n_workers,
+            store,
+            indexable,
+            chunk_size,
+            progress,
+            desc,
+            collect,
+            row_key,
+            include_inputs,
+            max_inflight,
+            t0,
+            on_chunk,
+            skip,
+            max_chunks,
+        )
     finally:
         if store is not None:
             store.close()
 
 
-def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progress, desc, collect, row_key,
-         include_inputs, max_inflight, t0, on_chunk=None, skip=None, max_chunks=None) -> BatchResult:
+def _run(
+    fn,
+    source,
+    scheduler,
+    n_workers,
+    store,
+    indexable,
+    chunk_size,
+    progress,
+    desc,
+    collect,
+    row_key,
+    include_inputs,
+    max_inflight,
+    t0,
+    on_chunk=None,
+    skip=None,
+    max_chunks=None,
+) -> BatchResult:
     if indexable:
         n_total = source.n_chunks(chunk_size)
     else:
@@ -239,8 +299,10 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
                 if store is not None:
                     old = store.read_meta(i).get("input_hash")
                     if old != h:
-                        raise InputError(f"out: {store.path} holds another job (input chunk {i} differs); "
-                                         "use a new --out-dir or delete the old one")
+                        raise InputError(
+                            f"out: {store.path} holds another job (input chunk {i} differs); "
+                            "use a new --out-dir or delete the old one"
+                        )
                 counts["skipped"] += 1
                 bar.skip()
                 if store is not None and restore(i):
@@ -254,8 +316,11 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
         shared_fn = runner.share(fn)
         shared_src = runner.share(source) if (indexable and source.remote) else source
         try:
-            for i, res in runner.run(execute_chunk, payloads(shared_fn, shared_src), **(
-                    {"max_inflight": max_inflight} if max_inflight else {})):
+            for i, res in runner.run(
+                execute_chunk,
+                payloads(shared_fn, shared_src),
+                **({"max_inflight": max_inflight} if max_inflight else {}),
+            ):
                 _check_schema(schema, res, fn)
                 lo, hi, h = row_range(i)
                 if store is not None:
@@ -272,23 +337,48 @@ def _run(fn, source, scheduler, n_workers, store, indexable, chunk_size, progres
     n_rows = row_range(n_chunks - 1)[1] if n_chunks else 0
     extra = sorted(i for i in done if i >= n_chunks)
     if extra:  # a stream that is shorter than the one that made this output
-        raise InputError(f"out: {store.path} holds another job (it has chunk {extra[0]}, "
-                         f"the inputs have only {n_chunks} chunks); use a new --out-dir or delete the old one")
+        raise InputError(
+            f"out: {store.path} holds another job (it has chunk {extra[0]}, "
+            f"the inputs have only {n_chunks} chunks); use a new --out-dir or delete the old one"
+        )
     if store is not None and not counts["cut"]:
         store.finish(n_chunks, n_rows)
     data = None
     if collect:
         data = _concatenate(results, store, n_chunks, fn, source, chunk_size, row_key, include_inputs)
-    return BatchResult(data, n_rows, n_chunks, counts["computed"], counts["skipped"],
-                       time.perf_counter() - t0, chunk_size, store.path if store else None,
-                       scheduler if isinstance(scheduler, str) else "client", counts["restored"],
-                       not counts["cut"])
+    return BatchResult(
+        data,
+        n_rows,
+        n_chunks,
+        counts["computed"],
+        counts["skipped"],
+        time.perf_counter() - t0,
+        chunk_size,
+        store.path if store else None,
+        scheduler if isinstance(scheduler, str) else "client",
+        counts["restored"],
+        not counts["cut"],
+    )
 
 
-def map_chunks(fn, inputs, *, scheduler="local", chunk_size: int | None = None, out: str | None = None,
-               progress=True, desc: str = "", n_workers: int | None = None, collect: bool = True,
-               tag=None, include_inputs: bool = False, row_key: str | None = None, on_chunk=None,
-               skip=None, max_chunks: int | None = None):
+def map_chunks(
+    fn,
+    inputs,
+    *,
+    scheduler="local",
+    chunk_size: int | None = None,
+    out: str | None = None,
+    progress=True,
+    desc: str = "",
+    n_workers: int | None = None,
+    collect: bool = True,
+    tag=None,
+    include_inputs: bool = False,
+    row_key: str | None = None,
+    on_chunk=None,
+    skip=None,
+    max_chunks: int | None = None,
+):
     """Apply ``fn`` to ``inputs`` chunk by chunk on a scheduler; return the concatenated outputs.
 
     Parameters
@@ -332,16 +422,31 @@ def map_chunks(fn, inputs, *, scheduler="local", chunk_size: int | None = None, 
     Returns the outputs as ``dict[str, ndarray]`` in row order (or a
     :class:`BatchResult` if ``collect=False``).
     """
-    res = run_batch(fn, inputs, scheduler=scheduler, chunk_size=chunk_size, out=out, progress=progress,
-                    desc=desc, n_workers=n_workers, collect=collect, tag=tag,
-                    include_inputs=include_inputs, row_key=row_key, on_chunk=on_chunk, skip=skip,
-                    max_chunks=max_chunks)
+    res = run_batch(
+        fn,
+        inputs,
+        scheduler=scheduler,
+        chunk_size=chunk_size,
+        out=out,
+        progress=progress,
+        desc=desc,
+        n_workers=n_workers,
+        collect=collect,
+        tag=tag,
+        include_inputs=include_inputs,
+        row_key=row_key,
+        on_chunk=on_chunk,
+        skip=skip,
+        max_chunks=max_chunks,
+    )
     return res.data if collect else res
 
 
 def _existing_chunk_size(out) -> int | None:
     import os
+
     from tennislab.batch.store import MANIFEST
+
     path = os.path.join(os.fspath(out), MANIFEST)
     if not os.path.exists(path):
         return None

@@ -3,6 +3,7 @@
 Commands add them with :func:`add_scheduler_flag` and pass
 ``**batch_options_from_args(args)`` to :func:`tennislab.batch.map_chunks`.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -36,26 +37,51 @@ def add_scheduler_flag(parser) -> None:
     """
     existing = set(getattr(parser, "_option_string_actions", {}))
     g = parser.add_argument_group("batch execution")
-    g.add_argument("--scheduler", default="local", type=_scheduler_arg, metavar="local|processes|tcp://HOST:PORT",
-                   help="where to run: in process (local, default), a local cluster of worker processes "
-                        "(processes), or a running Dask scheduler (tcp://HOST:PORT)")
-    g.add_argument("--out-dir", metavar="DIR", default=None,
-                   help="also stream results to DIR/part-*.parquet; rerunning resumes (finished chunks skipped)")
+    g.add_argument(
+        "--scheduler",
+        default="local",
+        type=_scheduler_arg,
+        metavar="local|processes|tcp://HOST:PORT",
+        help="where to run: in process (local, default), a local cluster of worker processes "
+        "(processes), or a running Dask scheduler (tcp://HOST:PORT)",
+    )
+    g.add_argument(
+        "--out-dir",
+        metavar="DIR",
+        default=None,
+        help="also stream results to DIR/part-*.parquet; rerunning resumes (finished chunks skipped)",
+    )
     if "--workers" not in existing:
-        g.add_argument("--workers", type=_positive_int, default=None, metavar="N",
-                       help="worker processes for --scheduler processes (default: number of cores)")
+        g.add_argument(
+            "--workers",
+            type=_positive_int,
+            default=None,
+            metavar="N",
+            help="worker processes for --scheduler processes (default: number of cores)",
+        )
     if "--chunk-size" not in existing:
-        g.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
-                       help="rows per chunk (default ~N/64 in [1024, 65536]; kept when resuming)")
+        g.add_argument(
+            "--chunk-size",
+            type=_positive_int,
+            default=None,
+            metavar="N",
+            help="rows per chunk (default ~N/64 in [1024, 65536]; kept when resuming)",
+        )
     if "--progress" not in existing and "--no-progress" not in existing:
-        g.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
-                       help="progress bar on stderr when it is a terminal (default on)")
+        g.add_argument(
+            "--progress",
+            action=argparse.BooleanOptionalAction,
+            default=True,
+            help="progress bar on stderr when it is a terminal (default on)",
+        )
 
 
 def batch_options_from_args(args) -> dict:
     """Keyword arguments for :func:`map_chunks` from parsed batch flags."""
-    return {"scheduler": getattr(args, "scheduler", "local"),
-            "out": getattr(args, "out_dir", None),
-            "n_workers": getattr(args, "workers", None),
-            "chunk_size": getattr(args, "chunk_size", None),
-            "progress": getattr(args, "progress", True)}
+    return {
+        "scheduler": getattr(args, "scheduler", "local"),
+        "out": getattr(args, "out_dir", None),
+        "n_workers": getattr(args, "workers", None),
+        "chunk_size": getattr(args, "chunk_size", None),
+        "progress": getattr(args, "progress", True),
+    }

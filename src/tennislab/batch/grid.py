@@ -7,6 +7,7 @@ axis varies slowest, exactly like ``np.meshgrid(*axes, indexing="ij")``
 raveled).  The spec is small and picklable, so Dask workers build their own
 chunks and nothing but the spec crosses the network.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -15,8 +16,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tennislab.errors import InputError
 from tennislab.batch.sources import hash_arrays
+from tennislab.errors import InputError
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,7 +52,7 @@ class GridSpec:
         if self.row_key is not None and self.row_key in clean:
             raise InputError(f"row_key: {self.row_key!r} is also an axis name")
         object.__setattr__(self, "axes", clean)
-        if self.size >= 2 ** 62:
+        if self.size >= 2**62:
             raise InputError(f"axes: grid of {self.size} rows is too large for int64 row indices")
 
     @property

@@ -4,6 +4,7 @@ Written to stderr with carriage returns; silent when stderr is not a TTY
 unless forced (``progress="always"`` or environment ``TENNISLAB_PROGRESS=1``),
 so logs and pipes stay clean.
 """
+
 from __future__ import annotations
 
 import os
@@ -45,8 +46,15 @@ class ProgressBar:
     Rows of skipped (resumed) chunks count toward completion but not the rate.
     """
 
-    def __init__(self, total: int | None, desc: str = "", enabled: bool = True, stream=None,
-                 width: int = 28, min_interval: float = 0.1):
+    def __init__(
+        self,
+        total: int | None,
+        desc: str = "",
+        enabled: bool = True,
+        stream=None,
+        width: int = 28,
+        min_interval: float = 0.1,
+    ):
         self.total = total
         self.desc = desc
         self.enabled = enabled

@@ -14,6 +14,7 @@ Use distinct ``stream`` numbers for independent quantities of the same row
 (e.g. stream 0 = speed error, 1 = spin error); pass the global row index, e.g.
 ``map_chunks(..., row_key="row")`` and ``normal(seed, chunk["row"], stream=0)``.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -37,8 +38,8 @@ def _mix(z: np.ndarray) -> np.ndarray:
 
 
 def _key(seed: int, stream: int, sub: int) -> np.ndarray:
-    s = np.array([int(seed) % 2 ** 64], dtype=np.uint64)
-    k = _mix(s) + np.array([int(stream) % 2 ** 64], dtype=np.uint64) * _STREAM
+    s = np.array([int(seed) % 2**64], dtype=np.uint64)
+    k = _mix(s) + np.array([int(stream) % 2**64], dtype=np.uint64) * _STREAM
     k = _mix(k) + np.array([sub], dtype=np.uint64) * _SUB
     return _mix(k)
 
@@ -51,7 +52,7 @@ def random_bits(seed: int, rows, stream: int = 0, sub: int = 0) -> np.ndarray:
 
 def uniform(seed: int, rows, stream: int = 0, sub: int = 0) -> np.ndarray:
     """Uniform draws in the open interval (0, 1), one per row (53-bit resolution)."""
-    return ((random_bits(seed, rows, stream, sub) >> np.uint64(11)).astype(np.float64) + 0.5) * 2.0 ** -53
+    return ((random_bits(seed, rows, stream, sub) >> np.uint64(11)).astype(np.float64) + 0.5) * 2.0**-53
 
 
 def normal(seed: int, rows, stream: int = 0) -> np.ndarray:

@@ -17,13 +17,14 @@ All schedulers run the same task function on the same chunks, so results are
 identical to the bit.  Dask runners keep at most ``2 x threads`` chunks in
 flight, so memory stays bounded however many chunks the job has.
 """
+
 from __future__ import annotations
 
 import contextlib
 import logging
 import os
 import uuid
-from typing import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 
 from tennislab.errors import InputError
 
@@ -33,17 +34,21 @@ _URL_SCHEMES: dict[str, Callable] = {}
 
 def register_scheduler(name: str):
     """Decorator: register ``factory(n_workers) -> runner`` under ``name``."""
+
     def deco(factory):
         _SCHEDULERS[name] = factory
         return factory
+
     return deco
 
 
 def register_url_scheme(scheme: str):
     """Decorator: register ``factory(address, n_workers) -> runner`` for ``scheme://...`` addresses."""
+
     def deco(factory):
         _URL_SCHEMES[scheme] = factory
         return factory
+
     return deco
 
 
@@ -56,7 +61,9 @@ def check_scheduler(scheduler) -> str | object:
     if not isinstance(scheduler, str):
         if _is_client(scheduler):
             return scheduler
-        raise InputError(f"scheduler: expected a name, an address or a distributed.Client, got {type(scheduler).__name__}")
+        raise InputError(
+            f"scheduler: expected a name, an address or a distributed.Client, got {type(scheduler).__name__}"
+        )
     if scheduler in _SCHEDULERS:
         return scheduler
     scheme, sep, rest = scheduler.partition("://")
@@ -119,8 +126,7 @@ def _distributed():
     try:
         import distributed
     except ImportError:  # pragma: no cover - depends on the environment
-        raise InputError("scheduler: Dask schedulers need dask.distributed "
-                         "(pip install 'tennislab[batch]')") from None
+        raise InputError("scheduler: Dask schedulers need dask.distributed (pip install 'tennislab[batch]')") from None
     return distributed
 
 
@@ -209,6 +215,7 @@ def worker_environment(**env: str):
     compile later.)
     """
     import dask
+
     key = "distributed.nanny.pre-spawn-environ"
     merged = dict(dask.config.get(key, default={}) or {}, **env)
     saved = {k: os.environ.get(k) for k in env}
@@ -233,8 +240,9 @@ def _processes(n_workers=None):
     if n < 1:
         raise InputError(f"n_workers: {n} is outside the allowed range [1, inf]")
     with worker_environment(NUMBA_NUM_THREADS="1"):
-        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=":0", silence_logs=logging.ERROR)
+        cluster = distributed.LocalCluster(
+            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0", silence_logs=logging.ERROR
+        )
     client = distributed.Client(cluster, set_as_default=False)
     return DaskRunner(client, owned=(client, cluster))
 

@@ -20,10 +20,11 @@ job's identity checkable up front (the manifest's ``fingerprint``) and chunk
 counts known (progress bar with a total).  A stream is fingerprinted chunk by
 chunk instead (each Parquet part records the hash of its input chunk).
 """
+
 from __future__ import annotations
 
 import hashlib
-from typing import Iterable, Iterator
+from collections.abc import Iterable, Iterator
 
 import numpy as np
 
@@ -139,8 +140,10 @@ def as_source(inputs):
         return inputs
     if hasattr(inputs, "__iter__") and not isinstance(inputs, (str, bytes, np.ndarray)):
         return StreamSource(inputs)
-    raise InputError("inputs: expected a dict of equal-length arrays, a chunk source (e.g. GridSpec) "
-                     f"or an iterable of chunk dicts, got {type(inputs).__name__}")
+    raise InputError(
+        "inputs: expected a dict of equal-length arrays, a chunk source (e.g. GridSpec) "
+        f"or an iterable of chunk dicts, got {type(inputs).__name__}"
+    )
 
 
 class RowRange:

@@ -15,6 +15,7 @@ Parquet metadata records its chunk index, row range and the hash of its input
 chunk (checked on resume for stream sources, which have no up-front
 fingerprint).
 """
+
 from __future__ import annotations
 
 import glob
@@ -31,8 +32,18 @@ MANIFEST = "manifest.json"
 FORMAT = "tennislab.batch/1"
 _PART_RE = re.compile(r"^part-(\d{5,})\.parquet$")
 #: manifest keys that must agree for a rerun to resume into the same directory
-IDENTITY_KEYS = ("format", "tennislab", "fn", "tag", "source", "fingerprint", "chunk_size", "n_rows",
-                 "row_key", "include_inputs")
+IDENTITY_KEYS = (
+    "format",
+    "tennislab",
+    "fn",
+    "tag",
+    "source",
+    "fingerprint",
+    "chunk_size",
+    "n_rows",
+    "row_key",
+    "include_inputs",
+)
 _META_KEY = b"tennislab.batch"
 
 
@@ -85,6 +96,7 @@ class ChunkStore:
         self.path = os.fspath(path)
         self._lock_fh = None
         from tennislab import __version__
+
         self.manifest = dict(manifest, format=FORMAT, tennislab=__version__)
         mpath = os.path.join(self.path, MANIFEST)
         if os.path.isfile(self.path):
@@ -108,11 +120,12 @@ class ChunkStore:
                 except json.JSONDecodeError:
                     raise InputError(f"out: {mpath} is not a tennislab batch manifest") from None
             self._check_same_job(old)
-            self.manifest["complete"] = old.get("complete", False) and self.manifest.get("n_chunks") == old.get("n_chunks")
+            self.manifest["complete"] = old.get("complete", False) and self.manifest.get("n_chunks") == old.get(
+                "n_chunks"
+            )
         else:
             if [n for n in os.listdir(self.path) if n != ".lock"]:
-                raise InputError(f"out: {self.path} is not empty and has no {MANIFEST}; "
-                                 "use an empty or new directory")
+                raise InputError(f"out: {self.path} is not empty and has no {MANIFEST}; use an empty or new directory")
             self.manifest["complete"] = False
             self._write_manifest()
 
@@ -127,8 +140,9 @@ class ChunkStore:
             fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             fh.close()
-            raise InputError(f"out: {self.path} is in use by another run; wait for it or use another "
-                             "--out-dir") from None
+            raise InputError(
+                f"out: {self.path} is in use by another run; wait for it or use another --out-dir"
+            ) from None
         self._lock_fh = fh
 
     def close(self) -> None:
@@ -141,14 +155,17 @@ class ChunkStore:
         for key in IDENTITY_KEYS:
             a, b = old.get(key), self.manifest.get(key)
             if a != b:
-                raise InputError(f"out: {self.path} holds another job ({key} differs: {_short(a)} there, "
-                                 f"{_short(b)} now); use a new --out-dir or delete the old one")
+                raise InputError(
+                    f"out: {self.path} holds another job ({key} differs: {_short(a)} there, "
+                    f"{_short(b)} now); use a new --out-dir or delete the old one"
+                )
 
     def _write_manifest(self) -> None:
         def w(tmp):
             with open(tmp, "w") as fh:
                 json.dump(self.manifest, fh, indent=2, sort_keys=True)
                 fh.write("\n")
+
         atomic_path(os.path.join(self.path, MANIFEST), w)
 
     def part_path(self, i: int) -> str:

@@ -1,4 +1,5 @@
 """Ready-made batch functions (module-level, picklable) for :func:`map_chunks`."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -16,8 +17,15 @@ def chunk_states(chunk: dict) -> np.ndarray:
     return np.column_stack([np.asarray(chunk[k], dtype=np.float64) for k in STATE_KEYS])
 
 
-def fly_chunk(chunk: dict, params: FlightParams | None = None, *, rtol: float | None = None,
-              atol: float | None = None, parallel: bool = True, columns=None) -> dict:
+def fly_chunk(
+    chunk: dict,
+    params: FlightParams | None = None,
+    *,
+    rtol: float | None = None,
+    atol: float | None = None,
+    parallel: bool = True,
+    columns=None,
+) -> dict:
     """Fly a chunk of initial states with :func:`fly_batch`; return its event columns.
 
     Use with ``functools.partial(fly_chunk, params=...)``; ``columns`` keeps a

@@ -5,12 +5,14 @@ command group; they are discovered automatically so that command groups stay
 independent.  User errors (:class:`tennislab.errors.InputError`) print one line
 on stderr and exit with code 2, never a traceback.
 """
+
 from __future__ import annotations
 
 import argparse
 import importlib
 import os
 import pkgutil
+import re
 import sys
 
 from tennislab import __version__
@@ -20,6 +22,13 @@ from tennislab.errors import InputError
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse's own convention)
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _subparsers(parser: argparse.ArgumentParser) -> dict:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -36,13 +45,43 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
+    """Every option string of ``parser`` and of its sub-commands."""
+    out: set[str] = set()
+    for action in parser._actions:
+        out.update(action.option_strings)
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                out |= _option_strings(sub)
+    return out
+
+
+_PARAM = re.compile(r"^([a-z][a-z0-9_]*)(\[\d+\])?(?=[: ])")
+
+
+def flag_message(message: str, options: set[str]) -> str:
+    """A library error names its parameter (``speed_kmh: ...``); the CLI says its flag (``--speed-kmh: ...``)."""
+    m = _PARAM.match(message)
+    if m:
+        flag = "--" + m.group(1).replace("_", "-")
+        if flag in options:
+            return flag + message[len(m.group(1)) :]
+    return message
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         rc = args.func(args)
     except InputError as exc:
-        print(f"tennislab {args.command}: error: {exc}", file=sys.stderr)
+        sub = _subparsers(parser).get(args.command)
+        msg = flag_message(_one_line(exc), _option_strings(sub) if sub else set())
+        print(f"tennislab {args.command}: error: {msg}", file=sys.stderr)
         return 2
     except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
         print(f"tennislab {args.command}: error: {exc.filename}: {exc.strerror}", file=sys.stderr)

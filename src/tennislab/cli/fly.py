@@ -1,4 +1,5 @@
 """``tennislab fly``: one flight from a 3-D state; landing, net and apex."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -9,20 +10,34 @@ from tennislab.units import RPM
 
 
 def register(sub) -> None:
-    p = sub.add_parser("fly", help="integrate one flight from a position, velocity and spin",
-                       description="Integrate one ball flight (SI units: m, m/s, rad/s) to its landing.")
-    p.add_argument("--position", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
-                   help="ball-centre position [m] (origin: net centre on the ground)")
-    p.add_argument("--velocity", type=float, nargs=3, required=True, metavar=("VX", "VY", "VZ"),
-                   help="velocity [m/s]")
+    p = sub.add_parser(
+        "fly",
+        help="integrate one flight from a position, velocity and spin",
+        description="Integrate one ball flight (SI units: m, m/s, rad/s) to its landing.",
+    )
+    p.add_argument(
+        "--position",
+        type=float,
+        nargs=3,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="ball-centre position [m] (origin: net centre on the ground)",
+    )
+    p.add_argument("--velocity", type=float, nargs=3, required=True, metavar=("VX", "VY", "VZ"), help="velocity [m/s]")
     p.add_argument("--spin", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="spin vector [rad/s]")
     p.add_argument("--spin-rpm", type=float, help="spin rate [rpm], with --spin-axis")
-    p.add_argument("--spin-axis", type=float, nargs=3, metavar=("AX", "AY", "AZ"),
-                   help="spin axis (any length; right-hand rule)")
-    p.add_argument("--surface", default="hard",
-                   help="court surface for --bounces: clay, grass, hard, carpet (default hard)")
-    p.add_argument("--bounces", type=int, default=0,
-                   help="continue through N bounces on --surface (default 0: stop at the first landing)")
+    p.add_argument(
+        "--spin-axis", type=float, nargs=3, metavar=("AX", "AY", "AZ"), help="spin axis (any length; right-hand rule)"
+    )
+    p.add_argument(
+        "--surface", default="hard", help="court surface for --bounces: clay, grass, hard, carpet (default hard)"
+    )
+    p.add_argument(
+        "--bounces",
+        type=int,
+        default=0,
+        help="continue through N bounces on --surface (default 0: stop at the first landing)",
+    )
     add_physics_flags(p)
     p.add_argument("--plot", metavar="FILE.png", help="draw side and top views on the court")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -48,17 +63,33 @@ def flight_summary(tr) -> dict:
     """The JSON object of ``fly`` for a :class:`~tennislab.core.flight.Trajectory`."""
     land = tr.landing
     out = {
-        "bounce": None if land is None else {
-            "x": land.x, "y": land.y, "t": land.t, "velocity": land.velocity,
-            "speed": float(np.linalg.norm(land.velocity)), "spin": land.spin,
+        "bounce": None
+        if land is None
+        else {
+            "x": land.x,
+            "y": land.y,
+            "t": land.t,
+            "velocity": land.velocity,
+            "speed": float(np.linalg.norm(land.velocity)),
+            "spin": land.spin,
         },
-        "net": {"z": tr.net.z, "y": tr.net.y, "t": tr.net.t, "height": tr.net.net_height,
-                "clearance": tr.net.clearance, "result": tr.net.result},
-        "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "y": float(tr.apex.position[1]),
-                 "t": tr.apex.t},
-        "physics": {"aero": tr.params.aero.name, "mass": tr.params.ball.mass,
-                    "radius": tr.params.ball.radius, "air_density": tr.params.atmosphere.density,
-                    "gravity": tr.params.atmosphere.gravity, "wind": tr.params.atmosphere.wind},
+        "net": {
+            "z": tr.net.z,
+            "y": tr.net.y,
+            "t": tr.net.t,
+            "height": tr.net.net_height,
+            "clearance": tr.net.clearance,
+            "result": tr.net.result,
+        },
+        "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "y": float(tr.apex.position[1]), "t": tr.apex.t},
+        "physics": {
+            "aero": tr.params.aero.name,
+            "mass": tr.params.ball.mass,
+            "radius": tr.params.ball.radius,
+            "air_density": tr.params.atmosphere.density,
+            "gravity": tr.params.atmosphere.gravity,
+            "wind": tr.params.atmosphere.wind,
+        },
     }
     return out
 
@@ -68,9 +99,15 @@ def bounces_summary(rally) -> list:
     out = []
     for b in rally.bounces:
         d = b.as_dict()
-        d["mark"] = {"length": b.mark.length, "width": b.mark.width, "x": float(b.mark.center[0]),
-                     "y": float(b.mark.center[1]), "skid": b.mark.skid,
-                     "contact_time": b.mark.contact_time, "compression": b.mark.compression}
+        d["mark"] = {
+            "length": b.mark.length,
+            "width": b.mark.width,
+            "x": float(b.mark.center[0]),
+            "y": float(b.mark.center[1]),
+            "skid": b.mark.skid,
+            "contact_time": b.mark.contact_time,
+            "compression": b.mark.compression,
+        }
         out.append(d)
     return out
 
@@ -78,6 +115,7 @@ def bounces_summary(rally) -> list:
 def run(args) -> int:
     from tennislab.core.flight import fly
     from tennislab.core.surfaces import get_surface
+
     params = physics_from_args(args)
     spin = spin_from_args(args)
     if args.bounces < 0 or args.bounces > 100:
@@ -85,6 +123,7 @@ def run(args) -> int:
     surface = get_surface(args.surface)
     if args.bounces > 0:
         from tennislab.core.rally import fly_bounces
+
         rally = fly_bounces(args.position, args.velocity, spin, params, surface=surface, bounces=args.bounces)
         tr = rally.first
         trs = rally.segments
@@ -100,14 +139,14 @@ def run(args) -> int:
         out["bounces"] = bounces_summary(rally)
     if args.plot:
         from tennislab.plot.trajectory import plot_trajectories
+
         fig = plot_trajectories(trs, title="tennislab fly")
         save_figure(fig, args.plot)
     if args.json:
         emit_json(out)
     else:
         b = out["bounce"]
-        print(f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, "
-              f"speed {b['speed']:.2f} m/s")
+        print(f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, speed {b['speed']:.2f} m/s")
         n = out["net"]
         if n["result"] == "none":
             print("net: not reached")
@@ -115,9 +154,11 @@ def run(args) -> int:
             print(f"net: {n['result']} (centre height {n['z']:.3f} m, clearance {n['clearance']:.3f} m)")
         print(f"apex: z = {out['apex']['z']:.3f} m at t = {out['apex']['t']:.3f} s")
         for i, b in enumerate(out.get("bounces", []), 1):
-            print(f"bounce {i} ({out['surface']}, {b['mode']}): x = {b['x']:.3f} m, y = {b['y']:.3f} m, "
-                  f"t = {b['t']:.3f} s, out {np.linalg.norm(b['velocity_out']):.2f} m/s; "
-                  f"mark {b['mark']['length'] * 1000:.0f} x {b['mark']['width'] * 1000:.0f} mm")
+            print(
+                f"bounce {i} ({out['surface']}, {b['mode']}): x = {b['x']:.3f} m, y = {b['y']:.3f} m, "
+                f"t = {b['t']:.3f} s, out {np.linalg.norm(b['velocity_out']):.2f} m/s; "
+                f"mark {b['mark']['length'] * 1000:.0f} x {b['mark']['width'] * 1000:.0f} mm"
+            )
         if args.plot:
             print(f"figure: {args.plot}")
     return 0

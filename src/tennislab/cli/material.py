@@ -5,38 +5,54 @@
 modulus; ``friction --csv FILE``: friction coefficient mu = tan(eta) per row
 (column ``friction_angle_deg``, optional ``contact_length_m``) and the mean.
 """
+
 from __future__ import annotations
 
 from tennislab.cli.common import add_physics_flags, emit_json
 
 
 def register(sub) -> None:
-    p = sub.add_parser("material", help="Young's modulus and friction coefficient from test tables (seed 002)",
-                       description="Ball material parameters from test tables (seed 002 section 5).")
+    p = sub.add_parser(
+        "material",
+        help="Young's modulus and friction coefficient from test tables (seed 002)",
+        description="Ball material parameters from test tables (seed 002 section 5).",
+    )
     ms = p.add_subparsers(dest="material_command", metavar="SUBCOMMAND", parser_class=type(p))
     ms.required = True
     y = ms.add_parser("young", help="Young's modulus E = F 2r / (s dl) from a load-deformation CSV")
     y.add_argument("--csv", required=True, metavar="FILE", help="CSV with load_n (or load_kg) and deformation_m")
-    y.add_argument("--diameter", type=float, default=None,
-                   help="ball diameter 2r [m] (default: 2 x --radius if given, else the seed's 0.0666)")
-    y.add_argument("--contact-area-m2", type=float, default=None,
-                   help="contact area s [m^2] (default 2.12e-4, implied by seed 002 Tables 1-2)")
+    y.add_argument(
+        "--diameter",
+        type=float,
+        default=None,
+        help="ball diameter 2r [m] (default: 2 x --radius if given, else the seed's 0.0666)",
+    )
+    y.add_argument(
+        "--contact-area-m2",
+        type=float,
+        default=None,
+        help="contact area s [m^2] (default 2.12e-4, implied by seed 002 Tables 1-2)",
+    )
     y.add_argument("--json", action="store_true", help="print one JSON object")
-    add_physics_flags(y, default_aero="launcher2015")
+    add_physics_flags(y, preset="seed002")
     y.set_defaults(func=run_young)
     f = ms.add_parser("friction", help="friction coefficient mu = tan(eta) from friction angles")
     f.add_argument("--csv", required=True, metavar="FILE", help="CSV with friction_angle_deg [, contact_length_m]")
     f.add_argument("--json", action="store_true", help="print one JSON object")
-    add_physics_flags(f, default_aero="launcher2015")
+    add_physics_flags(f, preset="seed002")
     f.set_defaults(func=run_friction)
 
 
 def run_young(args) -> int:
     from tennislab.io.material_csv import read_load_deformation
     from tennislab.launcher.materials import SEED_BALL_RADIUS, SEED_CONTACT_AREA, young_modulus
+
     load, dl = read_load_deformation(args.csv)
-    diameter = args.diameter if args.diameter is not None else (
-        2 * args.radius if args.radius is not None else 2 * SEED_BALL_RADIUS)
+    diameter = (
+        args.diameter
+        if args.diameter is not None
+        else (2 * args.radius if args.radius is not None else 2 * SEED_BALL_RADIUS)
+    )
     area = SEED_CONTACT_AREA if args.contact_area_m2 is None else args.contact_area_m2
     res = young_modulus(load, dl, diameter, area)
     out = res.as_dict()
@@ -46,15 +62,18 @@ def run_young(args) -> int:
     print(f"{'load [N]':>10} {'dl [mm]':>9} {'E [MPa]':>9}")
     for r in out["rows"]:
         print(f"{r['load_n']:10.2f} {r['deformation_m'] * 1e3:9.2f} {r['young_modulus_mpa']:9.2f}")
-    print(f"mean {out['mean_mpa']:.2f} MPa (min {out['min_mpa']:.2f}, max {out['max_mpa']:.2f}, "
-          f"range {out['range_mpa']:.2f}); slope fit {out['slope_modulus_mpa']:.2f} MPa "
-          f"[s = {area:.3g} m^2, 2r = {diameter:g} m]")
+    print(
+        f"mean {out['mean_mpa']:.2f} MPa (min {out['min_mpa']:.2f}, max {out['max_mpa']:.2f}, "
+        f"range {out['range_mpa']:.2f}); slope fit {out['slope_modulus_mpa']:.2f} MPa "
+        f"[s = {area:.3g} m^2, 2r = {diameter:g} m]"
+    )
     return 0
 
 
 def run_friction(args) -> int:
     from tennislab.io.material_csv import read_friction_angles
     from tennislab.launcher.materials import friction_coefficient
+
     ang, cl = read_friction_angles(args.csv)
     res = friction_coefficient(ang, cl)
     out = res.as_dict()

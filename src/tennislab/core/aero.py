@@ -33,14 +33,15 @@ Registered models (``get_aero_model(name, **params)``):
 ``table``          C_D, C_L bilinearly interpolated over a grid of speed and
                    spin (e.g. wind-tunnel data), clamped at the grid's edges.
 """
+
 from __future__ import annotations
 
 import collections
 import hashlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numba as nb
 import numpy as np
@@ -50,8 +51,7 @@ from numba.extending import overload
 from tennislab.errors import InputError, check_range
 
 #: Numba signature of every aero kernel: (v [m/s], w [rad/s], r [m], params) -> (C_D, C_L)
-AERO_SIGNATURE = types.UniTuple(types.float64, 2)(
-    types.float64, types.float64, types.float64, types.float64[::1])
+AERO_SIGNATURE = types.UniTuple(types.float64, 2)(types.float64, types.float64, types.float64, types.float64[::1])
 AERO_FUNCTION_TYPE = types.FunctionType(AERO_SIGNATURE)
 
 
@@ -85,9 +85,9 @@ class AeroModel:
 # a caller specialised on it, with the formula inlined.  Tags exist for
 # tennislab's own kernels only: their classes live in this module, so Numba's
 # on-disk cache can key the specialised callers on them.
-_INLINE_KERNEL: dict = {}     # tag class -> kernel
-_INLINE_TAG: dict = {}        # kernel's (module, qualname) -> tag instance (not the dispatcher
-                              # itself: one unpickled in a worker process is a new object)
+_INLINE_KERNEL: dict = {}  # tag class -> kernel
+_INLINE_TAG: dict = {}  # kernel's (module, qualname) -> tag instance (not the dispatcher
+# itself: one unpickled in a worker process is a new object)
 
 
 def _kernel_key(kernel):
@@ -116,7 +116,7 @@ def _inlinable(kernel):
     """Give one of this module's kernels an inline tag (decorator)."""
     name = "Inline" + kernel.py_func.__name__.title().replace("_", "") + "_" + _DIGEST
     cls = collections.namedtuple(name, ["unused"], module=__name__)
-    globals()[name] = cls                    # importable by name, hence picklable
+    globals()[name] = cls  # importable by name, hence picklable
     _INLINE_KERNEL[cls] = kernel
     _INLINE_TAG[_kernel_key(kernel)] = cls(0.0)
     return kernel
@@ -151,10 +151,12 @@ def _aero_coefficients_compiled(aero, v, w, r, p):
 
         def tagged(aero, v, w, r, p):
             return kernel(v, w, r, p)
+
         return tagged
 
     def first_class(aero, v, w, r, p):
         return aero(v, w, r, p)
+
     return first_class
 
 
@@ -228,7 +230,7 @@ def _table_kernel(v, w, r, p):
         b = p[base + i1 * nw + j]
         c = p[base + i * nw + j1]
         d = p[base + i1 * nw + j1]
-        val = (a * (1 - tv) * (1 - tw) + b * tv * (1 - tw) + c * (1 - tv) * tw + d * tv * tw)
+        val = a * (1 - tv) * (1 - tw) + b * tv * (1 - tw) + c * (1 - tv) * tw + d * tv * tw
         if k == 0:
             out0 = val
         else:
@@ -237,15 +239,21 @@ def _table_kernel(v, w, r, p):
 
 
 # ---------------------------------------------------------------- registry
+#: The default aero model of every command and workflow (stated here only; see docs/validation.md
+#: for the evidence behind the choice).
+DEFAULT_AERO = "stepanek1988"
+
 _REGISTRY: dict[str, Callable[..., AeroModel]] = {}
 
 
 def register_aero(name: str, *aliases: str):
     """Decorator registering a factory ``f(**params) -> AeroModel`` under ``name``."""
+
     def deco(factory):
         for n in (name, *aliases):
             _REGISTRY[n] = factory
         return factory
+
     return deco
 
 
@@ -277,8 +285,12 @@ def stepanek1988(cd0: float = 0.55, cd: float | None = None, cl: float | None = 
     if cl is not None:
         raise InputError("cl: the stepanek1988 model computes C_L from spin; use --aero constant to set it")
     base = check_range("cd", cd0 if cd is None else cd, 0.0, 2.0)
-    return AeroModel("stepanek1988", _stepanek_kernel, _params(base, 22.5, 4.2, 2.5, 0.4),
-                     "Stepanek 1988 Am. J. Phys. 56:138; seed 000 eqs 3-4")
+    return AeroModel(
+        "stepanek1988",
+        _stepanek_kernel,
+        _params(base, 22.5, 4.2, 2.5, 0.4),
+        "Stepanek 1988 Am. J. Phys. 56:138; seed 000 eqs 3-4",
+    )
 
 
 @register_aero("launcher2015", "wojcicki2010")
@@ -290,8 +302,12 @@ def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = math.inf) ->
     """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
-    return AeroModel("launcher2015", _linear_lift_kernel, _params(cd, cl, cl_max),
-                     "seed 002 eqs 1, 3; c_d after Alam et al. 2007, c_l after Cross 2020")
+    return AeroModel(
+        "launcher2015",
+        _linear_lift_kernel,
+        _params(cd, cl, cl_max),
+        "seed 002 eqs 1, 3; c_d after Alam et al. 2007, c_l after Cross 2020",
+    )
 
 
 @register_aero("cross2014")
@@ -299,22 +315,24 @@ def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = math.inf) -> A
     """In-flight C_D = 0.507 (Cross & Lindsey 2014); C_L = 0.6 S (Cross 2020)."""
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
-    return AeroModel("cross2014", _linear_lift_kernel, _params(cd, cl, cl_max),
-                     "Cross & Lindsey 2014 Sports Eng. 17:89; Cross 2020 Sports Eng. 23:9")
+    return AeroModel(
+        "cross2014",
+        _linear_lift_kernel,
+        _params(cd, cl, cl_max),
+        "Cross & Lindsey 2014 Sports Eng. 17:89; Cross 2020 Sports Eng. 23:9",
+    )
 
 
 @register_aero("table")
-def table(speed=None, spin=None, cd=None, cl=None, path=None) -> AeroModel:
+def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
     """C_D, C_L interpolated over a grid: ``speed`` [m/s] (n), ``spin`` [rad/s] (m), ``cd``, ``cl`` (n x m).
 
-    ``path`` reads a CSV (via :func:`tennislab.io.aero_table.read_aero_table`)
-    with columns ``speed_ms, spin_rpm, cd, cl`` on a full grid.
+    Core reads no file: a CSV (columns ``speed_ms, spin_rpm, cd, cl``) is read by
+    :func:`tennislab.io.aero_table.read_aero_table` at the edge and its arrays
+    passed here (``FlightParams.from_options(aero="table", aero_table=...)``).
     """
-    if path is not None:
-        from tennislab.io.aero_table import read_aero_table  # io stays outside core
-        speed, spin, cd, cl = read_aero_table(path)
     if speed is None or spin is None or cd is None or cl is None:
-        raise InputError("table: needs speed, spin, cd and cl arrays (or a CSV path)")
+        raise InputError("aero_table: the table model needs speed, spin, cd and cl arrays (a CSV via --aero-table)")
     v = np.asarray(speed, dtype=float).ravel()
     w = np.asarray(spin, dtype=float).ravel()
     cda = np.asarray(cd, dtype=float).reshape(len(v), len(w))
@@ -343,16 +361,21 @@ def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str 
             return float(a), float(b)
     except Exception as exc:  # numba raises many error types
         first = str(exc).strip().splitlines()[0][:160] if str(exc).strip() else ""
-        raise InputError(f"aero: callable {name!r} cannot be compiled by Numba ({type(exc).__name__}: {first})") from None
+        raise InputError(
+            f"aero: callable {name!r} cannot be compiled by Numba ({type(exc).__name__}: {first})"
+        ) from None
     return AeroModel(name, _wrapped, _params(0.0), "user callable")
 
 
-def get_aero_model(model="stepanek1988", **params) -> AeroModel:
+def get_aero_model(model=None, **params) -> AeroModel:
     """Resolve an aero model by registered name, :class:`AeroModel` or callable ``f(v, w) -> (cd, cl)``.
 
     Keyword parameters go to the model's factory; ``None`` values are dropped.
+    ``model=None`` is :data:`DEFAULT_AERO`.
     """
     params = {k: v for k, v in params.items() if v is not None}
+    if model is None:
+        model = DEFAULT_AERO
     if isinstance(model, AeroModel):
         if params:
             raise InputError("aero: parameters cannot be applied to an already built model")
@@ -370,4 +393,3 @@ def get_aero_model(model="stepanek1988", **params) -> AeroModel:
 def spin_parameter(speed, spin, radius):
     """Spin parameter S = r |omega| / v [-]."""
     return radius * np.asarray(spin) / np.asarray(speed)
-

@@ -16,6 +16,7 @@ rho = 1.199 kg/m^3; standard gravity 9.80665 m/s^2 (CGPM 1901).  The seeds'
 values (rho = 1.22, g = 9.82; seed 000 section 2.3) are reproduced by passing
 them: ``Atmosphere(density=1.22, gravity=9.82)``.
 """
+
 from __future__ import annotations
 
 import math
@@ -23,10 +24,10 @@ from dataclasses import dataclass
 
 from tennislab.errors import check_range, check_vector
 
-R_GAS = 8.314462618     #: molar gas constant [J/(mol K)]
-M_DRY = 0.0289652       #: molar mass of dry air [kg/mol]
-M_VAP = 0.018016        #: molar mass of water vapour [kg/mol]
-G_STANDARD = 9.80665    #: standard gravity [m/s^2]
+R_GAS = 8.314462618  #: molar gas constant [J/(mol K)]
+M_DRY = 0.0289652  #: molar mass of dry air [kg/mol]
+M_VAP = 0.018016  #: molar mass of water vapour [kg/mol]
+G_STANDARD = 9.80665  #: standard gravity [m/s^2]
 P_SEA_LEVEL = 101325.0  #: ISA sea-level pressure [Pa]
 
 
@@ -41,8 +42,12 @@ def pressure_at_altitude(altitude_m: float) -> float:
     return P_SEA_LEVEL * (1.0 - 2.25577e-5 * altitude_m) ** 5.25588
 
 
-def air_density(temperature_c: float = 20.0, pressure_pa: float | None = None,
-                altitude_m: float = 0.0, relative_humidity: float = 0.5) -> float:
+def air_density(
+    temperature_c: float = 20.0,
+    pressure_pa: float | None = None,
+    altitude_m: float = 0.0,
+    relative_humidity: float = 0.5,
+) -> float:
     """Density of moist air [kg/m^3].
 
     Parameters
@@ -87,9 +92,15 @@ class Atmosphere:
             check_range("wind", w, -60.0, 60.0, "m/s")
 
     @classmethod
-    def from_weather(cls, temperature_c: float = 20.0, pressure_pa: float | None = None,
-                     altitude_m: float = 0.0, relative_humidity: float = 0.5,
-                     gravity: float = G_STANDARD, wind=(0.0, 0.0, 0.0)) -> "Atmosphere":
+    def from_weather(
+        cls,
+        temperature_c: float = 20.0,
+        pressure_pa: float | None = None,
+        altitude_m: float = 0.0,
+        relative_humidity: float = 0.5,
+        gravity: float = G_STANDARD,
+        wind=(0.0, 0.0, 0.0),
+    ) -> Atmosphere:
         """Atmosphere with density from :func:`air_density`."""
         rho = air_density(temperature_c, pressure_pa, altitude_m, relative_humidity)
         return cls(density=rho, gravity=gravity, wind=tuple(wind))

@@ -7,6 +7,7 @@ thin-walled sphere, I = 2/3 m r^2, as the seeds use (seed 000 eq 15; seed 002);
 Cross (2020) measured a real ball with a ~3 mm wall nearer 0.55 m r^2: pass
 ``inertia_factor=0.55`` to use it.
 """
+
 from __future__ import annotations
 
 import math
@@ -14,9 +15,9 @@ from dataclasses import dataclass
 
 from tennislab.errors import check_range
 
-ITF_MASS_RANGE = (0.0560, 0.0594)      #: [kg] ITF Rules, Appendix I
+ITF_MASS_RANGE = (0.0560, 0.0594)  #: [kg] ITF Rules, Appendix I
 ITF_DIAMETER_RANGE = (0.0654, 0.0686)  #: [m] type 2 ball, ITF Rules, Appendix I
-THIN_SHELL = 2.0 / 3.0                 #: I/(m r^2) for a thin spherical shell
+THIN_SHELL = 2.0 / 3.0  #: I/(m r^2) for a thin spherical shell
 
 
 @dataclass(frozen=True)
@@ -47,16 +48,17 @@ class Ball:
     @property
     def area(self) -> float:
         """Cross-sectional area pi r^2 [m^2]."""
-        return math.pi * self.radius ** 2
+        return math.pi * self.radius**2
 
     @property
     def inertia(self) -> float:
         """Moment of inertia about a diameter [kg m^2]."""
-        return self.inertia_factor * self.mass * self.radius ** 2
+        return self.inertia_factor * self.mass * self.radius**2
 
     @property
     def itf_compliant(self) -> bool:
         """True when mass and diameter are within the ITF type-2 ranges."""
         d = 2.0 * self.radius
-        return (ITF_MASS_RANGE[0] <= self.mass <= ITF_MASS_RANGE[1]
-                and ITF_DIAMETER_RANGE[0] <= d <= ITF_DIAMETER_RANGE[1])
+        return (
+            ITF_MASS_RANGE[0] <= self.mass <= ITF_MASS_RANGE[1] and ITF_DIAMETER_RANGE[0] <= d <= ITF_DIAMETER_RANGE[1]
+        )

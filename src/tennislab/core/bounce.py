@@ -22,6 +22,7 @@ contact point at -r e_z from the centre.
 The normal force acting off-centre (Cross 2002) is represented only through
 e_x.  ``e`` is constant (real balls' e falls with impact speed).
 """
+
 from __future__ import annotations
 
 import math
@@ -32,7 +33,7 @@ import numpy as np
 
 from tennislab.errors import InputError, check_vector
 
-MODES = ("slide", "roll", "grip")   #: mode codes 0, 1, 2 of the kernel
+MODES = ("slide", "roll", "grip")  #: mode codes 0, 1, 2 of the kernel
 
 
 @nb.njit(cache=True)
@@ -102,6 +103,7 @@ def bounce(velocity_in, spin_in, surface, ball=None) -> BounceResult:
     """
     from tennislab.core.ball import Ball
     from tennislab.core.surfaces import get_surface
+
     s = get_surface(surface)
     ball = ball or Ball()
     vin = np.array(check_vector("velocity_in", velocity_in), dtype=np.float64)
@@ -119,6 +121,7 @@ def bounce_batch(velocity_in, spin_in, surface, ball=None):
     """Vectorised :func:`bounce`: (N, 3) arrays in, (vout, wout, mode codes) out."""
     from tennislab.core.ball import Ball
     from tennislab.core.surfaces import get_surface
+
     s = get_surface(surface)
     ball = ball or Ball()
     vin = np.ascontiguousarray(velocity_in, dtype=np.float64).reshape(-1, 3)

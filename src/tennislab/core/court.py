@@ -18,6 +18,7 @@ taut cord down at one point, so each half is a near-straight segment (a cord
 sagging under its own weight only would be a catenary; the difference is a few
 millimetres for a cord at 1 kN tension).  Outside the posts there is no net.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -66,8 +67,7 @@ class Court:
     post_offset: float = 0.914
 
     def __post_init__(self):
-        for f in ("length", "singles_width", "doubles_width", "service_line",
-                  "net_center_height", "net_post_height"):
+        for f in ("length", "singles_width", "doubles_width", "service_line", "net_center_height", "net_post_height"):
             check_range(f, getattr(self, f), 0.0, 100.0, "m", lo_open=True)
         check_range("line_width", self.line_width, 0.0, 0.2, "m")
         check_range("baseline_width", self.baseline_width, 0.0, 0.2, "m")

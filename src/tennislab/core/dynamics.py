@@ -14,6 +14,7 @@ showing almost none).  Cross & Lindsey 2014 measured about 2 % spin loss over
 eq 1; lift: seed 000 eq 2, seed 002 eqs 3 and 5-7 (whose component form is
 omega x v; its eq 3 writes v x omega, a sign slip noted in docs/seeds.md).
 """
+
 from __future__ import annotations
 
 import math
@@ -24,8 +25,7 @@ from numba import types
 from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 
 _F = types.float64
-DERIVATIVE_SIGNATURE = types.void(
-    _F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
+DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})

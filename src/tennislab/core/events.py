@@ -4,6 +4,7 @@ Events (located by root-finding on each step's interpolant, never at a step
 end): the first crossing of the net plane x = 0, the apex (first vz = 0 going
 down) and the first ground contact (ball centre at height r).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -12,16 +13,32 @@ import numpy as np
 
 # Columns of the batch event table (see tennislab.core.integrators).
 COLUMNS = (
-    "land_t", "land_x", "land_y", "land_z", "land_vx", "land_vy", "land_vz",
-    "land_wx", "land_wy", "land_wz",
-    "net_t", "net_y", "net_z", "net_h", "net_status",
-    "apex_t", "apex_x", "apex_y", "apex_z",
-    "n_steps", "status",
+    "land_t",
+    "land_x",
+    "land_y",
+    "land_z",
+    "land_vx",
+    "land_vy",
+    "land_vz",
+    "land_wx",
+    "land_wy",
+    "land_wz",
+    "net_t",
+    "net_y",
+    "net_z",
+    "net_h",
+    "net_status",
+    "apex_t",
+    "apex_x",
+    "apex_y",
+    "apex_z",
+    "n_steps",
+    "status",
 )
 COL = {name: i for i, name in enumerate(COLUMNS)}
 NCOLS = len(COLUMNS)
 
-NET_NONE, NET_OVER, NET_HIT = 0, 1, 2       #: net_status codes
+NET_NONE, NET_OVER, NET_HIT = 0, 1, 2  #: net_status codes
 NET_RESULTS = ("none", "over", "net")
 STATUS_OK, STATUS_NO_LANDING, STATUS_BAD_START = 0, 1, 2  #: status codes
 

@@ -86,11 +86,12 @@ extrapolation.  ``constant`` holds both fixed (the sensitivity case); the
 effect of +-15 % in T_c and +-0.05 in COR on the seed's Table 1 is in
 docs/serve.md ("Sensitivity to the ball data").
 """
+
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -106,12 +107,12 @@ DATA_STATUS = "placeholder"
 #: 7 m/s COR lies in the ITF rebound band (0.729-0.761 at 7.06 m/s, ITF Rules of
 #: Tennis App. I, computed); every other number is a placeholder.
 RIGID_SURFACE_POINTS = (
-    (7.0, 5.2e-3, 0.75),    # COR: ITF band [C]; T_c: placeholder
-    (10.0, 5.0e-3, 0.72),   # placeholder (trend of Haake et al. 2003)
-    (15.0, 4.6e-3, 0.68),   # placeholder
+    (7.0, 5.2e-3, 0.75),  # COR: ITF band [C]; T_c: placeholder
+    (10.0, 5.0e-3, 0.72),  # placeholder (trend of Haake et al. 2003)
+    (15.0, 4.6e-3, 0.68),  # placeholder
     (20.0, 4.35e-3, 0.64),  # placeholder
     (25.0, 4.15e-3, 0.60),  # placeholder
-    (30.0, 4.0e-3, 0.57),   # placeholder
+    (30.0, 4.0e-3, 0.57),  # placeholder
 )
 V_REF = 20.0  #: reference speed of the power laws [m/s]
 
@@ -180,7 +181,7 @@ class BallImpactModel:
         """(k_b [N/m], c_b [N s/m]) of a ball of ``mass`` [kg] at impact speed v (seed eqs 5-6)."""
         tc = self.contact_time(v)
         e = self.cor(v)
-        k = mass * math.pi ** 2 / tc ** 2
+        k = mass * math.pi**2 / tc**2
         c = -2.0 * mass / tc * np.log(e)
         return k, c
 
@@ -190,9 +191,11 @@ _REGISTRY: dict[str, Callable[..., BallImpactModel]] = {}
 
 def register_ball_model(name: str):
     """Decorator registering a factory ``f(**params) -> BallImpactModel``."""
+
     def deco(factory):
         _REGISTRY[name] = factory
         return factory
+
     return deco
 
 
@@ -225,9 +228,12 @@ def haake2003() -> BallImpactModel:
     """Power-law fit to :data:`RIGID_SURFACE_POINTS` (placeholder transcription of
     Haake, Carre & Goodwill 2003, J. Sports Sci. 21:839; see module docstring):
     T_c = 4.34 ms (v/20)^-0.185, COR = 0.629 (v/20)^-0.187."""
-    return model_from_points("haake2003", RIGID_SURFACE_POINTS,
-                             source="Haake, Carre & Goodwill 2003 J. Sports Sci. 21:839 (trend; "
-                                    f"{DATA_STATUS} points, see tennislab.core.haake2003)")
+    return model_from_points(
+        "haake2003",
+        RIGID_SURFACE_POINTS,
+        source="Haake, Carre & Goodwill 2003 J. Sports Sci. 21:839 (trend; "
+        f"{DATA_STATUS} points, see tennislab.core.haake2003)",
+    )
 
 
 @register_ball_model("constant")
@@ -235,8 +241,7 @@ def constant(contact_time: float = 4.35e-3, cor: float = 0.64) -> BallImpactMode
     """T_c and COR independent of speed (defaults: the 20 m/s point of the data) [s], [-]."""
     check_range("contact_time", contact_time, 0.0, 0.1, "s", lo_open=True)
     check_range("cor", cor, 0.0, 1.0, lo_open=True)
-    return BallImpactModel("constant", contact_time, 0.0, cor, 0.0,
-                           source="speed-independent (sensitivity case)")
+    return BallImpactModel("constant", contact_time, 0.0, cor, 0.0, source="speed-independent (sensitivity case)")
 
 
 def get_ball_model(model="haake2003", **params) -> BallImpactModel:

@@ -55,6 +55,7 @@ so omega > 0 is topspin (spin vector +y).  Launch angle gamma = atan2(v_z, v_x)
 = -beta + atan2(v_t, v_n): a flat serve (alpha ~ 0) leaves at gamma ~ -beta
 (below the horizontal), a higher alpha raises it.
 """
+
 from __future__ import annotations
 
 import math
@@ -78,8 +79,19 @@ FRICTION_MODELS = {"elastoplastic": 0, "seed-clamp": 1}
 REGIMES = ("slide", "roll")
 
 #: Output columns of :func:`impact_batch`.
-OUT_COLUMNS = ("v_n", "v_t", "omega", "contact_time", "regime", "racket_v_n", "racket_v_t",
-               "peak_force", "grip_time", "n_steps", "status")
+OUT_COLUMNS = (
+    "v_n",
+    "v_t",
+    "omega",
+    "contact_time",
+    "regime",
+    "racket_v_n",
+    "racket_v_t",
+    "peak_force",
+    "grip_time",
+    "n_steps",
+    "status",
+)
 NOUT = len(OUT_COLUMNS)
 _O = {n: i for i, n in enumerate(OUT_COLUMNS)}
 
@@ -117,8 +129,9 @@ class ImpactParams:
 
     def __post_init__(self):
         if self.friction_model not in FRICTION_MODELS:
-            raise InputError(f"friction_model: unknown {self.friction_model!r}; choose from "
-                             f"{', '.join(FRICTION_MODELS)}")
+            raise InputError(
+                f"friction_model: unknown {self.friction_model!r}; choose from {', '.join(FRICTION_MODELS)}"
+            )
         check_range("racket_mass", self.racket_mass, 0.0, 10.0, "kg", lo_open=True)
         check_range("string_stiffness", self.string_stiffness, 1e2, 1e7, "N/m")
         check_range("friction", self.friction, 0.0, 5.0)
@@ -126,11 +139,20 @@ class ImpactParams:
         check_range("oblique_cor_factor", self.oblique_cor_factor, 0.5, 2.0)
 
     @classmethod
-    def from_options(cls, racket_mass=None, string_stiffness=None, friction=None, ball=None,
-                     ball_model=None, **kw) -> "ImpactParams":
+    def from_options(
+        cls, racket_mass=None, string_stiffness=None, friction=None, ball=None, ball_model=None, **kw
+    ) -> ImpactParams:
         """Build from CLI-style options; ``None`` keeps each default."""
-        opts = {k: v for k, v in (("racket_mass", racket_mass), ("string_stiffness", string_stiffness),
-                                  ("friction", friction), ("ball", ball)) if v is not None}
+        opts = {
+            k: v
+            for k, v in (
+                ("racket_mass", racket_mass),
+                ("string_stiffness", string_stiffness),
+                ("friction", friction),
+                ("ball", ball),
+            )
+            if v is not None
+        }
         if ball_model is not None:
             opts["ball_model"] = get_ball_model(ball_model)
         opts.update({k: v for k, v in kw.items() if v is not None})
@@ -161,6 +183,7 @@ class ImpactParams:
 # ----------------------------------------------------------------------------------------------
 # compiled kernel
 # ----------------------------------------------------------------------------------------------
+
 
 @nb.njit(cache=True)
 def _node(s, p):
@@ -379,6 +402,7 @@ def _impact_serial_kernel(vn, vt, P, steps, dt, method, out):
 # Python API
 # ----------------------------------------------------------------------------------------------
 
+
 def _check_method(method: str) -> int:
     try:
         return METHODS[method]
@@ -386,9 +410,18 @@ def _check_method(method: str) -> int:
         raise InputError(f"method: unknown {method!r}; choose from {', '.join(METHODS)}") from None
 
 
-def impact_batch(speed, alpha, params: ImpactParams | None = None, *, toss_n=0.0, toss_t=0.0,
-                 steps: int = 400, dt: float = 0.0, method: str = "rk4",
-                 parallel: bool = True) -> dict[str, np.ndarray]:
+def impact_batch(
+    speed,
+    alpha,
+    params: ImpactParams | None = None,
+    *,
+    toss_n=0.0,
+    toss_t=0.0,
+    steps: int = 400,
+    dt: float = 0.0,
+    method: str = "rk4",
+    parallel: bool = True,
+) -> dict[str, np.ndarray]:
     """Impacts for arrays of racket speed V [m/s] and impact angle alpha [rad] (broadcast).
 
     ``toss_n``, ``toss_t``: ball velocity before impact in the racket frame [m/s]
@@ -415,8 +448,7 @@ def impact_batch(speed, alpha, params: ImpactParams | None = None, *, toss_n=0.0
         raise InputError("impact: the racket must approach the ball (V cos(alpha) > toss normal speed)")
     P = params.vectors(vn)
     out = np.empty((vn.size, NOUT))
-    (_impact_batch_kernel if parallel and vn.size > 1 else _impact_serial_kernel)(vn, vt, P, steps, float(dt),
-                                                                                    m, out)
+    (_impact_batch_kernel if parallel and vn.size > 1 else _impact_serial_kernel)(vn, vt, P, steps, float(dt), m, out)
     res = {c: out[:, i].reshape(shape) for i, c in enumerate(OUT_COLUMNS)}
     # back to the ground frame (add the toss)
     res["v_n"] = res["v_n"] + un.reshape(shape)
@@ -458,9 +490,18 @@ class ImpactResult:
 HIST_COLUMNS = ("t", "x1", "x2", "x3", "v1", "v2", "e", "w1", "w2", "w3", "F_N", "F_t")
 
 
-def impact(speed: float, alpha: float, params: ImpactParams | None = None, *, toss_n: float = 0.0,
-           toss_t: float = 0.0, steps: int = 400, dt: float = 0.0, method: str = "rk4",
-           history: bool = False) -> ImpactResult:
+def impact(
+    speed: float,
+    alpha: float,
+    params: ImpactParams | None = None,
+    *,
+    toss_n: float = 0.0,
+    toss_t: float = 0.0,
+    steps: int = 400,
+    dt: float = 0.0,
+    method: str = "rk4",
+    history: bool = False,
+) -> ImpactResult:
     """One impact: racket speed V [m/s] at impact angle alpha [rad] (see module docstring).
 
     ``steps`` per half period (RK4 step h = T/steps), or a fixed step ``dt`` [s] if > 0
@@ -490,15 +531,26 @@ def impact(speed: float, alpha: float, params: ImpactParams | None = None, *, to
             H[c] = H[c] + u
     if out[_O["status"]] != 0:
         raise InputError("impact: contact did not end (check the stiffness and masses)")
-    return ImpactResult(out[0] + toss_n, out[1] + toss_t, out[2], out[3], REGIMES[int(out[4])],
-                        None if out[8] < 0 else float(out[8]), out[5] + toss_n, out[6] + toss_t,
-                        out[7], H)
+    return ImpactResult(
+        out[0] + toss_n,
+        out[1] + toss_t,
+        out[2],
+        out[3],
+        REGIMES[int(out[4])],
+        None if out[8] < 0 else float(out[8]),
+        out[5] + toss_n,
+        out[6] + toss_t,
+        out[7],
+        H,
+    )
 
 
-def impact_reference(speed: float, alpha: float, params: ImpactParams | None = None, *,
-                     rtol: float = 1e-11, atol: float = 1e-13) -> ImpactResult:
+def impact_reference(
+    speed: float, alpha: float, params: ImpactParams | None = None, *, rtol: float = 1e-11, atol: float = 1e-13
+) -> ImpactResult:
     """The same ODE integrated by SciPy ``solve_ivp`` (DOP853) with an F_N = 0 event (reference)."""
     from scipy.integrate import solve_ivp
+
     params = params or ImpactParams()
     vn, vt = speed * math.cos(alpha), speed * math.sin(alpha)
     p = params.vectors(vn)[0]
@@ -512,34 +564,58 @@ def impact_reference(speed: float, alpha: float, params: ImpactParams | None = N
 
     def ev(t, y):
         return normal_force(np.ascontiguousarray(y), p)
+
     ev.terminal = True
     ev.direction = -1
-    sol = solve_ivp(f, (0.0, 0.1), s0, method="DOP853", rtol=rtol, atol=atol, events=ev,
-                    first_step=1e-7, max_step=1e-5, dense_output=True)
+    sol = solve_ivp(
+        f,
+        (0.0, 0.1),
+        s0,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        events=ev,
+        first_step=1e-7,
+        max_step=1e-5,
+        dense_output=True,
+    )
     te = float(sol.t_events[0][0])
     y = sol.y_events[0][0]
     r = p[P_R]
     slip = sol.y[6] - sol.y[7] - r * sol.y[8]
     gi = np.nonzero(slip * slip[0] <= 0)[0] if slip[0] != 0 else np.array([0])
     regime = "roll" if gi.size else "slide"
-    return ImpactResult(float(y[4]), float(y[7]), float(y[8]), te, regime,
-                        float(sol.t[gi[0]]) if gi.size else None, float(y[3]), float(y[6]),
-                        float(max(normal_force(np.ascontiguousarray(sol.y[:, i]), p)
-                                  for i in range(sol.y.shape[1]))))
+    return ImpactResult(
+        float(y[4]),
+        float(y[7]),
+        float(y[8]),
+        te,
+        regime,
+        float(sol.t[gi[0]]) if gi.size else None,
+        float(y[3]),
+        float(y[6]),
+        float(max(normal_force(np.ascontiguousarray(sol.y[:, i]), p) for i in range(sol.y.shape[1]))),
+    )
 
 
 def energy(s, p) -> float:
     """Mechanical energy of an impact state [J] (kinetic + the three springs)."""
     x3, _ = _node(np.asarray(s, float), np.asarray(p, float))
     mk, mb, inertia = p[P_MK], p[P_MB], p[P_I]
-    return (0.5 * mk * (s[3] ** 2 + s[6] ** 2) + 0.5 * mb * (s[4] ** 2 + s[7] ** 2)
-            + 0.5 * inertia * s[8] ** 2 + 0.5 * p[P_KK] * (s[0] - x3) ** 2
-            + 0.5 * p[P_KB] * (x3 - s[1]) ** 2 + 0.5 * p[P_KT] * s[5] ** 2)
+    return (
+        0.5 * mk * (s[3] ** 2 + s[6] ** 2)
+        + 0.5 * mb * (s[4] ** 2 + s[7] ** 2)
+        + 0.5 * inertia * s[8] ** 2
+        + 0.5 * p[P_KK] * (s[0] - x3) ** 2
+        + 0.5 * p[P_KB] * (x3 - s[1]) ** 2
+        + 0.5 * p[P_KT] * s[5] ** 2
+    )
 
 
 # ----------------------------------------------------------------------------------------------
 # frames (seed eq 21)
 # ----------------------------------------------------------------------------------------------
+
 
 def to_court(v_n, v_t, beta):
     """Racket-frame velocity (v_n, v_t) -> court (v_x, v_z) for face angle beta [rad] (seed eq 21).

@@ -22,6 +22,7 @@ brushes toward the server's right (-y; a right-hander's slice, spin about +z,
 curving left), phi in between (e.g. -45 deg, "7 to 1 o'clock") a kick serve
 (topspin and sidespin).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -57,8 +58,16 @@ def racket_velocity(speed, alpha, beta, azimuth=0.0, brush=0.0):
     return V * (np.cos(a) * n + np.sin(a) * (np.cos(ph) * tu + np.sin(ph) * tl))
 
 
-def impact_3d(racket_velocity, normal, params: ImpactParams | None = None, ball_velocity=(0.0, 0.0, 0.0), *,
-              steps: int = 400, dt: float = 0.0, method: str = "rk4") -> dict[str, np.ndarray]:
+def impact_3d(
+    racket_velocity,
+    normal,
+    params: ImpactParams | None = None,
+    ball_velocity=(0.0, 0.0, 0.0),
+    *,
+    steps: int = 400,
+    dt: float = 0.0,
+    method: str = "rk4",
+) -> dict[str, np.ndarray]:
     """Impacts of racket velocities (N, 3) [m/s] on faces with unit normals (N, 3).
 
     Returns ``velocity`` (N, 3) [m/s] and ``spin`` (N, 3) [rad/s] of the ball after
@@ -83,8 +92,9 @@ def impact_3d(racket_velocity, normal, params: ImpactParams | None = None, ball_
     helper = np.where(np.abs(n[:, 2:3]) < 0.9, np.array([[0.0, 0.0, 1.0]]), np.array([[1.0, 0.0, 0.0]]))
     fallback = np.cross(np.cross(n, helper), n)
     fallback /= np.linalg.norm(fallback, axis=-1, keepdims=True)
-    t = np.where(ut[:, None] > 1e-12 * np.maximum(np.abs(Un)[:, None], 1.0),
-                 Ut / np.maximum(ut, 1e-300)[:, None], fallback)
+    t = np.where(
+        ut[:, None] > 1e-12 * np.maximum(np.abs(Un)[:, None], 1.0), Ut / np.maximum(ut, 1e-300)[:, None], fallback
+    )
     speed = np.hypot(Un, ut)
     alpha = np.arctan2(ut, Un)
     if np.any(alpha >= np.pi / 2):
@@ -92,6 +102,15 @@ def impact_3d(racket_velocity, normal, params: ImpactParams | None = None, ball_
     r = impact_batch(speed, alpha, params, steps=steps, dt=dt, method=method)
     vel = u + r["v_n"][:, None] * n + r["v_t"][:, None] * t
     spin = r["omega"][:, None] * np.cross(t, n)
-    return {"velocity": vel, "spin": spin, "alpha": alpha, "contact_time": r["contact_time"],
-            "regime": r["regime"], "v_n": r["v_n"], "v_t": r["v_t"], "omega": r["omega"],
-            "normal": n, "tangent": t}
+    return {
+        "velocity": vel,
+        "spin": spin,
+        "alpha": alpha,
+        "contact_time": r["contact_time"],
+        "regime": r["regime"],
+        "v_n": r["v_n"],
+        "v_t": r["v_t"],
+        "omega": r["omega"],
+        "normal": n,
+        "tangent": t,
+    }

@@ -9,6 +9,7 @@ section II.4).  Events are found by safeguarded Newton iteration on the
 interpolant, to ~1e-14 in the step fraction, never at a step end.  The right-hand side is
 :func:`tennislab.core.dynamics.derivative`, the same one the SciPy path uses.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,28 +21,42 @@ from numba import types
 from tennislab.core.aero import AERO_FUNCTION_TYPE
 from tennislab.core.court import net_height_linear
 from tennislab.core.dynamics import derivative
-from tennislab.core.events import (COL, NCOLS, NET_HIT, NET_NONE, NET_OVER,
-                                   STATUS_BAD_START, STATUS_NO_LANDING, STATUS_OK)
+from tennislab.core.events import (
+    COL,
+    NCOLS,
+    NET_HIT,
+    NET_NONE,
+    NET_OVER,
+    STATUS_BAD_START,
+    STATUS_NO_LANDING,
+    STATUS_OK,
+)
 
 # Dormand-Prince 5(4) tableau
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
-_A = np.array([
-    [0, 0, 0, 0, 0],
-    [1 / 5, 0, 0, 0, 0],
-    [3 / 40, 9 / 40, 0, 0, 0],
-    [44 / 45, -56 / 15, 32 / 9, 0, 0],
-    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0],
-    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656]])
+_A = np.array(
+    [
+        [0, 0, 0, 0, 0],
+        [1 / 5, 0, 0, 0, 0],
+        [3 / 40, 9 / 40, 0, 0, 0],
+        [44 / 45, -56 / 15, 32 / 9, 0, 0],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
+    ]
+)
 _B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84])
 _E = np.array([-71 / 57600, 0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
-_P = np.array([
-    [1, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
-    [0, 0, 0, 0],
-    [0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
-    [0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
-    [0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
-    [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
-    [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423]])
+_P = np.array(
+    [
+        [1, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+        [0, 0, 0, 0],
+        [0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
+        [0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+        [0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
+        [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+        [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+    ]
+)
 
 # scalar copies of the tableau for the unrolled stages
 _A21 = _A[1, 0]
@@ -116,7 +131,7 @@ def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
         q2 += kc * P[k, 2]
         q3 += kc * P[k, 3]
     y0c = y0[c] - target
-    x = lo + (1.0 - lo) * f0 / (f0 - f1)    # secant first guess
+    x = lo + (1.0 - lo) * f0 / (f0 - f1)  # secant first guess
     for _ in range(60):
         fx = y0c + x * (q0 + x * (q1 + x * (q2 + x * q3)))
         dfx = q0 + x * (2.0 * q1 + x * (3.0 * q2 + x * 4.0 * q3))
@@ -240,17 +255,14 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
             ytmp[c] = y[c] + h * (_A51 * K[0, c] + _A52 * K[1, c] + _A53 * K[2, c] + _A54 * K[3, c])
         derivative(ytmp, K[4], aero, aero_p, k, g, r, wx, wy, wz, decay)
         for c in range(9):
-            ytmp[c] = y[c] + h * (_A61 * K[0, c] + _A62 * K[1, c] + _A63 * K[2, c] + _A64 * K[3, c]
-                                  + _A65 * K[4, c])
+            ytmp[c] = y[c] + h * (_A61 * K[0, c] + _A62 * K[1, c] + _A63 * K[2, c] + _A64 * K[3, c] + _A65 * K[4, c])
         derivative(ytmp, K[5], aero, aero_p, k, g, r, wx, wy, wz, decay)
         for c in range(9):
-            ynew[c] = y[c] + h * (_B1 * K[0, c] + _B3 * K[2, c] + _B4 * K[3, c] + _B5 * K[4, c]
-                                  + _B6 * K[5, c])
+            ynew[c] = y[c] + h * (_B1 * K[0, c] + _B3 * K[2, c] + _B4 * K[3, c] + _B5 * K[4, c] + _B6 * K[5, c])
         derivative(ynew, K[6], aero, aero_p, k, g, r, wx, wy, wz, decay)
         errsum = 0.0
         for c in range(9):
-            acc = (_E1 * K[0, c] + _E3 * K[2, c] + _E4 * K[3, c] + _E5 * K[4, c] + _E6 * K[5, c]
-                   + _E7 * K[6, c])
+            acc = _E1 * K[0, c] + _E3 * K[2, c] + _E4 * K[3, c] + _E5 * K[4, c] + _E6 * K[5, c] + _E7 * K[6, c]
             sc = atol + rtol * max(abs(y[c]), abs(ynew[c]))
             e = h * acc / sc
             errsum += e * e
@@ -259,7 +271,7 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
             h *= 0.2
             continue
         if err > 1.0:
-            h *= max(0.2, 0.9 * err ** -0.2)
+            h *= max(0.2, 0.9 * err**-0.2)
             continue
         nsteps += 1
         # ---- events within [t, t + h]
@@ -273,7 +285,7 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
                 ta = _root(5, 0.0, y, K, h, P, y[5], ynew[5])
                 th_land = _root(2, r, y, K, h, P, _dense_comp(ta, 2, y, K, h, P) - r, ynew[2] - r, ta)
             elif nsteps == 1:
-                th_land = 0.0               # started on the ground, not going up
+                th_land = 0.0  # started on the ground, not going up
         if not net_done and side * y[0] > 0.0 and side * ynew[0] <= 0.0:
             th = _root(0, 0.0, y, K, h, P, y[0], ynew[0])
             if th <= th_land:
@@ -305,7 +317,7 @@ def integrate_one(y_init, aero, aero_p, consts, row, work):
         for c in range(9):
             y[c] = ynew[c]
             fcur[c] = K[6, c]
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** -0.2))
+        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
         h *= fac
     row[_c_n_steps] = nsteps
     row[_c_status] = STATUS_OK if landed else STATUS_NO_LANDING

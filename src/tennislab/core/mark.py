@@ -26,6 +26,7 @@ so the mark is derived, not fitted):
 Line-calling geometry on the discs (a mark touching a line is in) is in
 :func:`depth_in_rect` and :func:`depth_in_halfplane`.
 """
+
 from __future__ import annotations
 
 import math
@@ -84,21 +85,48 @@ class BallMark:
     discs: np.ndarray
 
     def as_dict(self) -> dict:
-        return {"length": self.length, "width": self.width, "x": float(self.center[0]),
-                "y": float(self.center[1]), "start_x": float(self.start[0]), "start_y": float(self.start[1]),
-                "direction": self.direction, "compression": self.compression,
-                "contact_time": self.contact_time, "skid": self.skid}
+        return {
+            "length": self.length,
+            "width": self.width,
+            "x": float(self.center[0]),
+            "y": float(self.center[1]),
+            "start_x": float(self.start[0]),
+            "start_y": float(self.start[1]),
+            "direction": self.direction,
+            "compression": self.compression,
+            "contact_time": self.contact_time,
+            "skid": self.skid,
+        }
 
-    def translated(self, dx: float, dy: float) -> "BallMark":
+    def translated(self, dx: float, dy: float) -> BallMark:
         d = np.array([dx, dy])
         discs = self.discs.copy()
         discs[:, :2] += d
-        return BallMark(self.start + d, self.center + d, self.direction, self.length, self.width,
-                        self.compression, self.contact_time, self.skid, self.displacement, discs)
+        return BallMark(
+            self.start + d,
+            self.center + d,
+            self.direction,
+            self.length,
+            self.width,
+            self.compression,
+            self.contact_time,
+            self.skid,
+            self.displacement,
+            discs,
+        )
 
 
-def contact_kinematics(vz_in: float, vt_in, vt_out, slip_in, mu: float, e: float, alpha: float,
-                       radius: float, params: MarkParams = MarkParams()):
+def contact_kinematics(
+    vz_in: float,
+    vt_in,
+    vt_out,
+    slip_in,
+    mu: float,
+    e: float,
+    alpha: float,
+    radius: float,
+    params: MarkParams = MarkParams(),
+):
     """Times, centre displacement (K, 2), patch radius (K,) and skid of one contact.
 
     vz_in : incoming vertical speed magnitude [m/s]; vt_in, vt_out : horizontal
@@ -127,12 +155,13 @@ def contact_kinematics(vz_in: float, vt_in, vt_out, slip_in, mu: float, e: float
     skid = float(np.sum(0.5 * (sp[1:] + sp[:-1]) * dt))
     dmax = min(abs(vz_in) * T / math.pi, radius)
     delta = dmax * np.sin(np.pi * t / T)
-    a = np.sqrt(np.clip(2.0 * radius * delta - delta ** 2, 0.0, None))
+    a = np.sqrt(np.clip(2.0 * radius * delta - delta**2, 0.0, None))
     return t, disp, a, skid, dmax
 
 
-def ball_mark(start, velocity_in, velocity_out, spin_in, surface, ball=None,
-              params: MarkParams = MarkParams()) -> BallMark:
+def ball_mark(
+    start, velocity_in, velocity_out, spin_in, surface, ball=None, params: MarkParams = MarkParams()
+) -> BallMark:
     """The mark of one bounce.
 
     start : first-contact point (x, y) [m]; velocity_in/out [m/s] (3,); spin_in [rad/s] (3,);
@@ -140,6 +169,7 @@ def ball_mark(start, velocity_in, velocity_out, spin_in, surface, ball=None,
     """
     from tennislab.core.ball import Ball
     from tennislab.core.surfaces import get_surface
+
     s = get_surface(surface)
     ball = ball or Ball()
     r = ball.radius
@@ -147,8 +177,9 @@ def ball_mark(start, velocity_in, velocity_out, spin_in, surface, ball=None,
     vout = np.asarray(velocity_out, dtype=float)
     win = np.asarray(spin_in, dtype=float)
     slip = np.array([vin[0] - r * win[1], vin[1] + r * win[0]])
-    t, disp, a, skid, dmax = contact_kinematics(abs(vin[2]), vin[:2], vout[:2], slip, s.mu, s.e,
-                                                ball.inertia_factor, r, params)
+    t, disp, a, skid, dmax = contact_kinematics(
+        abs(vin[2]), vin[:2], vout[:2], slip, s.mu, s.e, ball.inertia_factor, r, params
+    )
     start = np.asarray(start, dtype=float)[:2]
     centres = start[None, :] + disp
     dvec = disp[-1]
@@ -179,7 +210,7 @@ def impulse_time_fraction(pmag, mu_pn, T):
     if pmag <= 0.0 or mu_pn <= pmag:
         return 0.5
     fs = pmag / mu_pn
-    ts = math.acos(1.0 - 2.0 * fs) / math.pi   # t*/T where the cap is reached
+    ts = math.acos(1.0 - 2.0 * fs) / math.pi  # t*/T where the cap is reached
     return (0.5 * ts - math.sin(math.pi * ts) / (2.0 * math.pi)) / fs + (1.0 - ts)
 
 

@@ -12,6 +12,7 @@ leaves the ground slower than ``min_vz`` (it is then rolling).
 :func:`fly_bounces_batch` does the same for N initial states with the compiled
 batch integrator (positions and velocities only; no marks).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -42,9 +43,17 @@ class Bounce:
     mark: BallMark
 
     def as_dict(self) -> dict:
-        return {"x": self.x, "y": self.y, "t": self.t, "velocity_in": self.velocity_in,
-                "velocity_out": self.velocity_out, "spin_in": self.spin_in, "spin_out": self.spin_out,
-                "mode": self.mode, "mark": self.mark.as_dict()}
+        return {
+            "x": self.x,
+            "y": self.y,
+            "t": self.t,
+            "velocity_in": self.velocity_in,
+            "velocity_out": self.velocity_out,
+            "spin_in": self.spin_in,
+            "spin_out": self.spin_out,
+            "mode": self.mode,
+            "mark": self.mark.as_dict(),
+        }
 
 
 @dataclass(frozen=True)
@@ -63,15 +72,32 @@ def bounce_at(landing, surface, params: FlightParams, mark_params: MarkParams = 
     """The :class:`Bounce` at a :class:`~tennislab.core.events.Landing`."""
     s = get_surface(surface)
     res = bounce(landing.velocity, landing.spin, s, params.ball)
-    mk = ball_mark(landing.position[:2], landing.velocity, res.velocity_out, landing.spin, s, params.ball,
-                   mark_params)
-    return Bounce(landing.x, landing.y, landing.t, np.asarray(landing.velocity).copy(), res.velocity_out,
-                  np.asarray(landing.spin).copy(), res.spin_out, res.mode, mk)
+    mk = ball_mark(landing.position[:2], landing.velocity, res.velocity_out, landing.spin, s, params.ball, mark_params)
+    return Bounce(
+        landing.x,
+        landing.y,
+        landing.t,
+        np.asarray(landing.velocity).copy(),
+        res.velocity_out,
+        np.asarray(landing.spin).copy(),
+        res.spin_out,
+        res.mode,
+        mk,
+    )
 
 
-def fly_bounces(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightParams | None = None, *,
-                surface="hard", bounces: int = 1, mark_params: MarkParams = MarkParams(),
-                rtol: float = 1e-10, atol: float = 1e-12) -> Rally:
+def fly_bounces(
+    position,
+    velocity,
+    spin=(0.0, 0.0, 0.0),
+    params: FlightParams | None = None,
+    *,
+    surface="hard",
+    bounces: int = 1,
+    mark_params: MarkParams = MarkParams(),
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> Rally:
     """Integrate a flight through up to ``bounces`` bounces on ``surface``.
 
     Returns a :class:`Rally`; ``segments[i]`` is the flight ending at bounce i (the
@@ -91,15 +117,21 @@ def fly_bounces(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightParams |
         if b.velocity_out[2] < MIN_VZ:
             break
         p0 = (b.x + b.mark.displacement[0], b.y + b.mark.displacement[1], params.ball.radius)
-        tr = fly(p0, b.velocity_out, b.spin_out, params, rtol=rtol, atol=atol,
-                 t0=b.t + mark_params.contact_time)
+        tr = fly(p0, b.velocity_out, b.spin_out, params, rtol=rtol, atol=atol, t0=b.t + mark_params.contact_time)
         segs.append(tr)
     return Rally(segs, bnc)
 
 
-def fly_bounces_batch(states, params: FlightParams | None = None, *, surface="hard", bounces: int = 1,
-                      contact_time: float = MarkParams().contact_time, rtol: float = 1e-7,
-                      atol: float = 1e-7) -> dict[str, np.ndarray]:
+def fly_bounces_batch(
+    states,
+    params: FlightParams | None = None,
+    *,
+    surface="hard",
+    bounces: int = 1,
+    contact_time: float = MarkParams().contact_time,
+    rtol: float = 1e-7,
+    atol: float = 1e-7,
+) -> dict[str, np.ndarray]:
     """N flights through ``bounces`` bounces with the compiled batch integrator.
 
     Returns arrays (N, bounces): ``x``, ``y``, ``t`` of each first contact,
@@ -140,10 +172,12 @@ def fly_bounces_batch(states, params: FlightParams | None = None, *, surface="ha
         out["mode"][idx, j] = modes
         disp = np.empty((idx.size, 2))
         for i in range(idx.size):
-            contact_displacement(vin[i, 0], vin[i, 1], vout[i, 0], vout[i, 1], vin[i, 2], s.mu, s.e,
-                                 contact_time, disp[i])
-        new = np.column_stack([out["x"][idx, j] + disp[:, 0], out["y"][idx, j] + disp[:, 1],
-                               np.full(idx.size, r), vout, wout])
+            contact_displacement(
+                vin[i, 0], vin[i, 1], vout[i, 0], vout[i, 1], vin[i, 2], s.mu, s.e, contact_time, disp[i]
+            )
+        new = np.column_stack(
+            [out["x"][idx, j] + disp[:, 0], out["y"][idx, j] + disp[:, 1], np.full(idx.size, r), vout, wout]
+        )
         keep = vout[:, 2] >= MIN_VZ
         st[idx[keep]] = new[keep]
         t0[idx] = tl + contact_time

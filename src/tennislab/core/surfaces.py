@@ -39,6 +39,7 @@ own (``Surface("mycourt", e=..., mu=...)`` or ``register_surface``) when a
 court has been tested.  ``e`` is held constant; real balls' e falls with
 impact speed (Haake, Carre & Goodwill 2003).
 """
+
 from __future__ import annotations
 
 import math
@@ -51,8 +52,7 @@ ITF_CPR_SPEED = 30.0
 ITF_CPR_ANGLE = math.radians(16.0)
 
 #: CPR category bounds (ITF classification) as (upper bound inclusive, name)
-CPR_CATEGORIES = ((29.0, "slow"), (34.0, "medium-slow"), (39.0, "medium"),
-                  (44.0, "medium-fast"), (math.inf, "fast"))
+CPR_CATEGORIES = ((29.0, "slow"), (34.0, "medium-slow"), (39.0, "medium"), (44.0, "medium-fast"), (math.inf, "fast"))
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,7 @@ class Surface:
         check_range("surface mu", self.mu, 0.0, 2.0)
         check_range("surface e_x", self.e_x, 0.0, 1.0)
 
-    def with_(self, **kw) -> "Surface":
+    def with_(self, **kw) -> Surface:
         """A copy with some parameters replaced (e.g. ``hard.with_(mu=0.7)``)."""
         return replace(self, **kw)
 
@@ -114,14 +114,42 @@ def get_surface(surface="hard", **overrides) -> Surface:
     return s.with_(**kw) if kw else s
 
 
-register_surface(Surface("clay", e=0.90, mu=0.80, category="slow",
-                         source="Cross 2003 Sports Eng. 6:93; Cross 2010 Sports Technol. 3:112 [S, unverified]"))
-register_surface(Surface("grass", e=0.75, mu=0.53, category="fast",
-                         source="Cross 2003 Sports Eng. 6:93; Cross 2010 Sports Technol. 3:112 [S, unverified]"))
-register_surface(Surface("hard", e=0.80, mu=0.65, category="medium",
-                         source="representative acrylic court; Carre, Johnson & Haake 2002 [A]"))
-register_surface(Surface("carpet", e=0.80, mu=0.50, category="fast",
-                         source="representative indoor carpet; Carre, Johnson & Haake 2002 [A]"))
+register_surface(
+    Surface(
+        "clay",
+        e=0.90,
+        mu=0.80,
+        category="slow",
+        source="Cross 2003 Sports Eng. 6:93; Cross 2010 Sports Technol. 3:112 [S, unverified]",
+    )
+)
+register_surface(
+    Surface(
+        "grass",
+        e=0.75,
+        mu=0.53,
+        category="fast",
+        source="Cross 2003 Sports Eng. 6:93; Cross 2010 Sports Technol. 3:112 [S, unverified]",
+    )
+)
+register_surface(
+    Surface(
+        "hard",
+        e=0.80,
+        mu=0.65,
+        category="medium",
+        source="representative acrylic court; Carre, Johnson & Haake 2002 [A]",
+    )
+)
+register_surface(
+    Surface(
+        "carpet",
+        e=0.80,
+        mu=0.50,
+        category="fast",
+        source="representative indoor carpet; Carre, Johnson & Haake 2002 [A]",
+    )
+)
 
 
 def cpr_category(cpr: float) -> str:
@@ -138,8 +166,9 @@ def cpr_formula(e: float, mu: float) -> float:
     return 100.0 * (1.0 - mu) + 150.0 * (0.81 - e)
 
 
-def court_pace_rating(surface, ball=None, speed: float = ITF_CPR_SPEED,
-                      angle: float = ITF_CPR_ANGLE, spin: float = 0.0) -> dict:
+def court_pace_rating(
+    surface, ball=None, speed: float = ITF_CPR_SPEED, angle: float = ITF_CPR_ANGLE, spin: float = 0.0
+) -> dict:
     """Simulate the ITF court-pace test on a surface with the bounce model.
 
     Parameters
@@ -155,6 +184,7 @@ def court_pace_rating(surface, ball=None, speed: float = ITF_CPR_SPEED,
     """
     from tennislab.core.ball import Ball
     from tennislab.core.bounce import bounce
+
     s = get_surface(surface)
     ball = ball or Ball()
     vin = (speed * math.cos(angle), 0.0, -speed * math.sin(angle))
@@ -162,5 +192,4 @@ def court_pace_rating(surface, ball=None, speed: float = ITF_CPR_SPEED,
     e_app = res.velocity_out[2] / -vin[2]
     mu_app = (vin[0] - res.velocity_out[0]) / (-vin[2] * (1.0 + e_app))
     cpr = cpr_formula(e_app, mu_app)
-    return {"surface": s.name, "e": e_app, "mu": mu_app, "cpr": cpr,
-            "category": cpr_category(cpr), "mode": res.mode}
+    return {"surface": s.name, "e": e_app, "mu": mu_app, "cpr": cpr, "category": cpr_category(cpr), "mode": res.mode}

@@ -4,6 +4,7 @@ Columns: ``speed_ms, spin_rpm, cd, cl`` (header required), one row per grid
 point of a full speed x spin grid, in any order.  Returns the grid axes in SI
 (speed [m/s], spin [rad/s]) and the coefficient matrices (n_speed x n_spin).
 """
+
 from __future__ import annotations
 
 import csv
@@ -28,8 +29,9 @@ def read_aero_table(path: str):
         cols = [c.strip() for c in (reader.fieldnames or [])]
         missing = [c for c in REQUIRED if c not in cols]
         if missing:
-            raise InputError(f"aero table {path}: missing column(s) {', '.join(missing)}; "
-                             f"required: {', '.join(REQUIRED)}")
+            raise InputError(
+                f"aero table {path}: missing column(s) {', '.join(missing)}; required: {', '.join(REQUIRED)}"
+            )
         rows = []
         for i, row in enumerate(reader, start=2):
             row = {k.strip(): v for k, v in row.items() if k is not None}
@@ -46,8 +48,10 @@ def read_aero_table(path: str):
     v = np.unique(a[:, 0])
     w = np.unique(a[:, 1])
     if len(v) * len(w) != len(a):
-        raise InputError(f"aero table {path}: rows must form a full speed x spin grid "
-                         f"({len(v)} speeds x {len(w)} spins != {len(a)} rows)")
+        raise InputError(
+            f"aero table {path}: rows must form a full speed x spin grid "
+            f"({len(v)} speeds x {len(w)} spins != {len(a)} rows)"
+        )
     cd = np.full((len(v), len(w)), np.nan)
     cl = np.full((len(v), len(w)), np.nan)
     iv = np.searchsorted(v, a[:, 0])

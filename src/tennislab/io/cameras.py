@@ -13,6 +13,7 @@ Detections CSV: ``t,camera,u,v[,sigma_px]`` - time [s] (equal for synchronised
 frames), camera name (or 0-based index), pixel coordinates, optional pixel
 noise (default 0.5 px).
 """
+
 from __future__ import annotations
 
 import csv
@@ -85,9 +86,25 @@ def read_cameras(path: str) -> list[Camera]:
 
 
 def cameras_to_json(cams: list[Camera]) -> str:
-    return json.dumps({"cameras": [{"name": c.name, "fx": c.fx, "fy": c.fy, "cx": c.cx, "cy": c.cy,
-                                    "width": c.width, "height": c.height, "R": c.R.tolist(),
-                                    "position": c.C.tolist()} for c in cams]}, indent=1)
+    return json.dumps(
+        {
+            "cameras": [
+                {
+                    "name": c.name,
+                    "fx": c.fx,
+                    "fy": c.fy,
+                    "cx": c.cx,
+                    "cy": c.cy,
+                    "width": c.width,
+                    "height": c.height,
+                    "R": c.R.tolist(),
+                    "position": c.C.tolist(),
+                }
+                for c in cams
+            ]
+        },
+        indent=1,
+    )
 
 
 def parse_detections(text: str, cams: list[Camera], name: str = "detections") -> dict:
@@ -121,8 +138,9 @@ def parse_detections(text: str, cams: list[Camera], name: str = "detections") ->
                 raise InputError(f"{name}: row {r}: camera index {ci} outside 0..{len(cams) - 1}")
         T.append(_num(f"{name}: row {r}, t", row[ix["t"]]))
         UV.append((_num(f"{name}: row {r}, u", row[ix["u"]]), _num(f"{name}: row {r}, v", row[ix["v"]])))
-        S.append(_num(f"{name}: row {r}, sigma_px", row[ix["sigma_px"]], 0.0, 1e3)
-                 if "sigma_px" in ix else DEFAULT_SIGMA_PX)
+        S.append(
+            _num(f"{name}: row {r}, sigma_px", row[ix["sigma_px"]], 0.0, 1e3) if "sigma_px" in ix else DEFAULT_SIGMA_PX
+        )
         C.append(ci)
     if not T:
         raise InputError(f"{name}: no detections")

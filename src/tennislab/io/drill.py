@@ -23,6 +23,7 @@ Every error is an :class:`InputError` naming the field by its path (e.g.
 ``program[2].random[0].weight``) and the allowed values.  A shipped drill
 (``src/tennislab/data/drills/NAME.yaml``) can be loaded by NAME.
 """
+
 from __future__ import annotations
 
 import csv
@@ -42,9 +43,30 @@ MAX_REPEATS = 1000
 MAX_SHOTS = 100_000
 
 #: Columns of the compiled-drill CSV, in order.
-CSV_COLUMNS = ("index", "time_s", "name", "type", "target_x", "target_y", "zone", "height_m", "speed_kmh",
-               "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg", "rpm1", "rpm2", "interval_s",
-               "landing_x", "landing_y", "miss_mm", "net_clearance_m", "in_zone", "ok")
+CSV_COLUMNS = (
+    "index",
+    "time_s",
+    "name",
+    "type",
+    "target_x",
+    "target_y",
+    "zone",
+    "height_m",
+    "speed_kmh",
+    "elevation_deg",
+    "heading_deg",
+    "spin_rpm",
+    "spin_axis_deg",
+    "rpm1",
+    "rpm2",
+    "interval_s",
+    "landing_x",
+    "landing_y",
+    "miss_mm",
+    "net_clearance_m",
+    "in_zone",
+    "ok",
+)
 
 
 def shipped_drills() -> list[str]:
@@ -68,8 +90,9 @@ def load_drill(path_or_name: str, spec: MachineSpec | None = None) -> Drill:
     if not os.path.exists(path):
         shipped = _shipped_path(path_or_name)
         if shipped is None:
-            raise InputError(f"{path_or_name}: no such drill file, and not a shipped drill "
-                             f"(shipped: {', '.join(shipped_drills())})")
+            raise InputError(
+                f"{path_or_name}: no such drill file, and not a shipped drill (shipped: {', '.join(shipped_drills())})"
+            )
         path = shipped
     with open(path) as fh:
         text = fh.read()
@@ -83,6 +106,7 @@ def parse_drill(text: str, source: str = "<string>", fmt: str = "yaml", spec: Ma
             data = json.loads(text)
         else:
             import yaml
+
             data = yaml.safe_load(text)
     except Exception as exc:  # the parsers' own errors: one line
         msg = str(exc).replace("\n", " ")
@@ -105,11 +129,20 @@ def parse_drill_text(text: str, path: str = "<string>") -> dict:
     from dataclasses import asdict
 
     from tennislab.launcher.drills import expand_program
+
     shots = [asdict(s) for s in d.shots.values()]
-    return {"name": d.name, "description": d.description, "version": d.version,
-            "machine": {"position": list(d.spec.position), "roller_radius_m": d.spec.roller_radius,
-                        "roller_axis_distance_m": d.spec.roller_axis_distance},
-            "shots": shots, "sequence": expand_program(d)}
+    return {
+        "name": d.name,
+        "description": d.description,
+        "version": d.version,
+        "machine": {
+            "position": list(d.spec.position),
+            "roller_radius_m": d.spec.roller_radius,
+            "roller_axis_distance_m": d.spec.roller_axis_distance,
+        },
+        "shots": shots,
+        "sequence": expand_program(d),
+    }
 
 
 def _dict(name, v, allowed=None) -> dict:
@@ -176,6 +209,7 @@ def drill_from_dict(data, source: str = "", spec: MachineSpec | None = None) -> 
         kw["roller_axis_distance"] = _number("machine.roller_axis_distance_m", m["roller_axis_distance_m"])
     if kw:
         from dataclasses import replace
+
         try:
             spec = replace(spec, **kw)
         except InputError as exc:
@@ -218,18 +252,24 @@ def drill_from_dict(data, source: str = "", spec: MachineSpec | None = None) -> 
         if len(kinds) != 1:
             raise InputError(f"{where}: needs exactly one of shot, sequence, random")
         kind = kinds[0]
-        allowed = {"shot": {"shot", "repeats"}, "sequence": {"sequence", "repeats"},
-                   "random": {"random", "count", "seed"}}[kind]
+        allowed = {
+            "shot": {"shot", "repeats"},
+            "sequence": {"sequence", "repeats"},
+            "random": {"random", "count", "seed"},
+        }[kind]
         _dict(where, raw, allowed)
         if kind == "shot":
-            return Repeat(shot_ref(f"{where}.shot", raw["shot"]),
-                          _int(f"{where}.repeats", raw.get("repeats", 1), 1, MAX_REPEATS))
+            return Repeat(
+                shot_ref(f"{where}.shot", raw["shot"]), _int(f"{where}.repeats", raw.get("repeats", 1), 1, MAX_REPEATS)
+            )
         if kind == "sequence":
             seq = raw["sequence"]
             if not isinstance(seq, list) or not seq:
                 raise InputError(f"{where}.sequence: expected a non-empty list of items")
-            return Sequence(tuple(item(f"{where}.sequence[{i}]", x) for i, x in enumerate(seq)),
-                            _int(f"{where}.repeats", raw.get("repeats", 1), 1, MAX_REPEATS))
+            return Sequence(
+                tuple(item(f"{where}.sequence[{i}]", x) for i, x in enumerate(seq)),
+                _int(f"{where}.repeats", raw.get("repeats", 1), 1, MAX_REPEATS),
+            )
         ch = raw["random"]
         if not isinstance(ch, list) or not ch:
             raise InputError(f"{where}.random: expected a non-empty list of {{shot, weight}}")
@@ -243,22 +283,34 @@ def drill_from_dict(data, source: str = "", spec: MachineSpec | None = None) -> 
             if not (0 < w <= 1e6):
                 raise InputError(f"{where}.random[{i}].weight: {w:g} is outside the allowed range (0, 1e6]")
             weights.append(w)
-        return RandomChoice(tuple(names), tuple(weights), _int(f"{where}.count", raw.get("count", 1), 1, MAX_REPEATS),
-                            _int(f"{where}.seed", raw.get("seed", 0), 0, 2 ** 32 - 1))
+        return RandomChoice(
+            tuple(names),
+            tuple(weights),
+            _int(f"{where}.count", raw.get("count", 1), 1, MAX_REPEATS),
+            _int(f"{where}.seed", raw.get("seed", 0), 0, 2**32 - 1),
+        )
 
     prog = data.get("program")
     if prog is None:
         if not shots:
-            raise InputError("shots: no shots and no program (give shots, or a program of shot, sequence or "
-                             "random items)")
-        program = tuple(Repeat(n) for n in shots)   # default: every shot once, in order
+            raise InputError(
+                "shots: no shots and no program (give shots, or a program of shot, sequence or random items)"
+            )
+        program = tuple(Repeat(n) for n in shots)  # default: every shot once, in order
     else:
         if not isinstance(prog, list) or not prog:
             raise InputError("program: a non-empty list of items (shot, sequence or random) if given")
         program = tuple(item(f"program[{i}]", x) for i, x in enumerate(prog))
-    drill = Drill(name.strip(), desc.strip(), spec, shots, program,
-                  _int("repeats", data.get("repeats", 1), 1, MAX_REPEATS), source,
-                  None if version is None else str(version))
+    drill = Drill(
+        name.strip(),
+        desc.strip(),
+        spec,
+        shots,
+        program,
+        _int("repeats", data.get("repeats", 1), 1, MAX_REPEATS),
+        source,
+        None if version is None else str(version),
+    )
     n = _count(program) * drill.repeats
     if n > MAX_SHOTS:
         raise InputError(f"program: expands to {n} shots, more than the allowed {MAX_SHOTS}")

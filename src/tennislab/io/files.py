@@ -3,6 +3,7 @@
 A file is written to a temporary name in the destination directory and renamed
 into place (``os.replace`` is atomic on POSIX and Windows).
 """
+
 from __future__ import annotations
 
 import os
@@ -28,9 +29,11 @@ def atomic_path(path: str, write_fn) -> None:
 
 def atomic_write(path: str, write_fn, mode: str = "w") -> None:
     """Write ``path`` atomically through a file handle: ``write_fn(fh)``."""
+
     def _w(tmp):
         with open(tmp, mode) as fh:
             write_fn(fh)
+
     atomic_path(path, _w)
 
 

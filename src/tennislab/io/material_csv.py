@@ -6,6 +6,7 @@ Friction tables: column ``friction_angle_deg`` [deg], optional
 ``contact_length_m`` [m].  Extra columns are ignored; blank lines and lines
 starting with ``#`` are skipped.  Errors name the file, the line and the column.
 """
+
 from __future__ import annotations
 
 import csv

@@ -15,6 +15,7 @@ Format (SI units, court frame of :mod:`tennislab.core.court`)::
   :class:`~tennislab.errors.InputError` with a one-line message naming it
   (row numbers count lines of the file from 1).
 """
+
 from __future__ import annotations
 
 import csv
@@ -26,8 +27,8 @@ import numpy as np
 
 from tennislab.errors import InputError
 
-MIN_POINTS = 10          #: fewest rows of a track
-MAX_ROWS = 2_000_000     #: largest track read
+MIN_POINTS = 10  #: fewest rows of a track
+MAX_ROWS = 2_000_000  #: largest track read
 REQUIRED = ("t", "x", "y", "z")
 
 
@@ -52,8 +53,7 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
             raise InputError(f"{name}: not UTF-8 text (byte {exc.start})") from None
     if "\x00" in text:
         raise InputError(f"{name}: contains NUL bytes (not a CSV text file)")
-    lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines())
-             if ln.strip() and not ln.lstrip().startswith("#")]
+    lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError(f"{name}: empty (expected a header t,x,y,z[,sigma] and rows)")
     try:
@@ -63,8 +63,10 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
     header = [h.strip().lower() for h in rows[0]]
     missing = [c for c in REQUIRED if c not in header]
     if missing:
-        raise InputError(f"{name}: missing column(s) {', '.join(missing)} in the header "
-                         f"(need t,x,y,z and optionally sigma; got {','.join(header)[:80]!r})")
+        raise InputError(
+            f"{name}: missing column(s) {', '.join(missing)} in the header "
+            f"(need t,x,y,z and optionally sigma; got {','.join(header)[:80]!r})"
+        )
     dup = [c for c in set(header) if header.count(c) > 1 and c in REQUIRED + ("sigma",)]
     if dup:
         raise InputError(f"{name}: duplicate column {dup[0]!r} in the header")
@@ -96,8 +98,9 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
     dt = np.diff(t)
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0)) + 1
-        raise InputError(f"{name}: times must be strictly increasing (row {lines[k + 1][0]}: "
-                         f"t = {t[k]:g} s after {t[k - 1]:g} s)")
+        raise InputError(
+            f"{name}: times must be strictly increasing (row {lines[k + 1][0]}: t = {t[k]:g} s after {t[k - 1]:g} s)"
+        )
     xyz = np.ascontiguousarray(out[:, 1:4])
     if np.any(np.abs(xyz) > 1000.0):
         k = int(np.argmax(np.any(np.abs(xyz) > 1000.0, axis=1)))
@@ -108,8 +111,9 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
         bad = ~((sigma > 0) & (sigma <= 1.0))
         if bad.any():
             k = int(np.argmax(bad))
-            raise InputError(f"{name}: row {lines[k + 1][0]}, column 'sigma': {sigma[k]:g} m is outside "
-                             f"the allowed range (0, 1] m")
+            raise InputError(
+                f"{name}: row {lines[k + 1][0]}, column 'sigma': {sigma[k]:g} m is outside the allowed range (0, 1] m"
+            )
     return Track(t, xyz, sigma)
 
 

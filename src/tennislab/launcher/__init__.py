@@ -7,8 +7,25 @@
 * :mod:`.materials` - Young's modulus and friction coefficient from test tables (seed section 5)
 * :mod:`.drills` - training programs compiled to machine settings
 """
-from tennislab.launcher.machine import (DEFAULT_POSITION, DEFAULT_SPEC, MachineSpec, Range, Settings,
-                                        launch_states, settings_states, spin_vector)
 
-__all__ = ["DEFAULT_POSITION", "DEFAULT_SPEC", "MachineSpec", "Range", "Settings", "launch_states",
-           "settings_states", "spin_vector"]
+from tennislab.launcher.machine import (
+    DEFAULT_POSITION,
+    DEFAULT_SPEC,
+    MachineSpec,
+    Range,
+    Settings,
+    launch_states,
+    settings_states,
+    spin_vector,
+)
+
+__all__ = [
+    "DEFAULT_POSITION",
+    "DEFAULT_SPEC",
+    "MachineSpec",
+    "Range",
+    "Settings",
+    "launch_states",
+    "settings_states",
+    "spin_vector",
+]

@@ -25,6 +25,7 @@ Unreachable targets raise :class:`~tennislab.errors.InputError` saying why
 (beyond the reach at that speed, nearer than the shortest flight, outside the
 heading range, only into the net).
 """
+
 from __future__ import annotations
 
 import math
@@ -46,12 +47,10 @@ SOLUTIONS = ("low", "high")
 
 def launcher_params(**options) -> FlightParams:
     """:class:`FlightParams` with the launcher's default aero model ``launcher2015`` (seed 002)."""
-    options.setdefault("aero", "launcher2015")
-    return FlightParams.from_options(**options)
+    return FlightParams.from_options(preset="seed002", **options)
 
 
-def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None,
-                 **fly_kw):
+def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None, **fly_kw):
     """Forward model for one shot with the reference integrator :func:`tennislab.core.flight.fly`."""
     params = params or launcher_params()
     spec.validate(settings)
@@ -59,8 +58,9 @@ def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: F
     return fly(s[0:3], s[3:6], s[6:9], params, **fly_kw)
 
 
-def fly_settings_batch(spec: MachineSpec, params: FlightParams | None = None, rtol: float = 1e-7,
-                       atol: float = 1e-7, **settings_arrays):
+def fly_settings_batch(
+    spec: MachineSpec, params: FlightParams | None = None, rtol: float = 1e-7, atol: float = 1e-7, **settings_arrays
+):
     """Forward model for arrays of settings (keywords of :func:`launch_states`) -> ``FlightTable``."""
     params = params or launcher_params()
     return fly_batch(launch_states(spec, **settings_arrays), params, rtol=rtol, atol=atol)
@@ -117,8 +117,9 @@ class _Shooter:
 
     def __call__(self, elev, head):
         self.calls += 1
-        st = launch_states(self.spec, elevation_deg=np.asarray(elev, float),
-                           heading_deg=np.asarray(head, float), **self.fixed)
+        st = launch_states(
+            self.spec, elevation_deg=np.asarray(elev, float), heading_deg=np.asarray(head, float), **self.fixed
+        )
         return fly_batch(st, self.params, rtol=AIM_RTOL, atol=AIM_ATOL)
 
 
@@ -159,8 +160,15 @@ def _fmt(speed, spin, axis, height):
     return f"{speed:g} km/h, {spin:g} rpm, spin axis {axis:g} deg, height {height:g} m"
 
 
-def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: float = 0.0,
-            height_m: float = 1.0, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None):
+def aim_all(
+    target,
+    speed_kmh: float,
+    spin_rpm: float = 0.0,
+    spin_axis_deg: float = 0.0,
+    height_m: float = 1.0,
+    spec: MachineSpec = DEFAULT_SPEC,
+    params: FlightParams | None = None,
+):
     """Every aim solution that exists for a target: ``({"low"|"high": AimSolution}, {name: reason})``.
 
     ``target`` (x, y) [m] on the court; speed [km/h], spin [rpm], spin axis [deg]
@@ -171,9 +179,15 @@ def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: floa
     """
     params = params or launcher_params()
     tx, ty = check_vector("target", target, 2)
-    q = {f: spec.range_of(f).quantise(spec.range_of(f).check(f, v))
-         for f, v in (("speed_kmh", speed_kmh), ("spin_rpm", spin_rpm), ("spin_axis_deg", spin_axis_deg),
-                      ("height_m", height_m))}
+    q = {
+        f: spec.range_of(f).quantise(spec.range_of(f).check(f, v))
+        for f, v in (
+            ("speed_kmh", speed_kmh),
+            ("spin_rpm", spin_rpm),
+            ("spin_axis_deg", spin_axis_deg),
+            ("height_m", height_m),
+        )
+    }
     if q["height_m"] < params.ball.radius:
         raise InputError(f"height_m: {q['height_m']:g} m is below the ball radius {params.ball.radius:g} m")
     px, py = spec.position
@@ -185,8 +199,10 @@ def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: floa
     b0 = math.degrees(math.atan2(dy, dx))
     hr = spec.heading
     if not (hr.lo - 10.0 <= b0 <= hr.hi + 10.0):
-        raise InputError(f"target: ({tx:g}, {ty:g}) m lies at heading {b0:.1f} deg from the machine at "
-                         f"({px:g}, {py:g}) m, outside the heading range [{hr.lo:g}, {hr.hi:g}] deg")
+        raise InputError(
+            f"target: ({tx:g}, {ty:g}) m lies at heading {b0:.1f} deg from the machine at "
+            f"({px:g}, {py:g}) m, outside the heading range [{hr.lo:g}, {hr.hi:g}] deg"
+        )
     shoot = _Shooter(spec, params, q["height_m"], q["speed_kmh"], q["spin_rpm"], q["spin_axis_deg"])
     er = spec.elevation
     grid = np.arange(er.lo, er.hi + 0.5 * er.step, er.step)
@@ -197,12 +213,16 @@ def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: floa
     if not ok.any():
         raise InputError(f"target: no shot lands at {desc}")
     if np.nanmax(f) < 0:
-        raise InputError(f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, beyond its reach "
-                         f"{dist + np.nanmax(f):.2f} m at {desc}; raise speed_kmh (max {spec.speed.hi:g})")
+        raise InputError(
+            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, beyond its reach "
+            f"{dist + np.nanmax(f):.2f} m at {desc}; raise speed_kmh (max {spec.speed.hi:g})"
+        )
     if np.nanmin(f) > 0:
-        raise InputError(f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, nearer than its "
-                         f"shortest flight {dist + np.nanmin(f):.2f} m at {desc}; lower speed_kmh "
-                         f"(min {spec.speed.lo:g}) or height_m")
+        raise InputError(
+            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, nearer than its "
+            f"shortest flight {dist + np.nanmin(f):.2f} m at {desc}; lower speed_kmh "
+            f"(min {spec.speed.lo:g}) or height_m"
+        )
     brackets = {}
     for i in range(len(grid) - 1):
         if not (ok[i] and ok[i + 1]):
@@ -213,11 +233,15 @@ def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: floa
             brackets["high"] = (grid[i], grid[i + 1], f[i], f[i + 1])
     reasons = {}
     if "low" not in brackets:
-        reasons["low"] = (f"elevation_deg: no low solution within the allowed range [{er.lo:g}, {er.hi:g}] deg: "
-                          f"even at {er.lo:g} deg the ball flies beyond the target ({desc})")
+        reasons["low"] = (
+            f"elevation_deg: no low solution within the allowed range [{er.lo:g}, {er.hi:g}] deg: "
+            f"even at {er.lo:g} deg the ball flies beyond the target ({desc})"
+        )
     if "high" not in brackets:
-        reasons["high"] = (f"elevation_deg: no high (lob) solution within the allowed range [{er.lo:g}, "
-                           f"{er.hi:g}] deg: even at {er.hi:g} deg the ball flies beyond the target ({desc})")
+        reasons["high"] = (
+            f"elevation_deg: no high (lob) solution within the allowed range [{er.lo:g}, "
+            f"{er.hi:g}] deg: even at {er.hi:g} deg the ball flies beyond the target ({desc})"
+        )
     need_net = _net_required(spec, (tx, ty))
     out = {}
     for name, (a_lo, a_hi, f_lo, f_hi) in brackets.items():
@@ -227,8 +251,9 @@ def aim_all(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: floa
         widen = 3 * er.step
         a, b, J = _newton(shoot, (tx, ty), a0, b0, max(er.lo, a_lo - widen), min(er.hi, a_hi + widen))
         if not (hr.lo <= b <= hr.hi):
-            reasons[name] = (f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range "
-                             f"[{hr.lo:g}, {hr.hi:g}] deg")
+            reasons[name] = (
+                f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range [{hr.lo:g}, {hr.hi:g}] deg"
+            )
             continue
         try:
             out[name] = _quantise(shoot, spec, q, name, (tx, ty), a, b, J, need_net)
@@ -252,27 +277,51 @@ def _quantise(shoot, spec, q, name, target, a, b, J, need_net) -> AimSolution:
     if not good.any():
         a_q, b_q = spec.elevation.quantise(a), spec.heading.quantise(b)
         i = int(np.argmin(np.hypot(A - a_q, B - b_q)))
-        raise InputError(f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes "
-                         f"into the net (clearance {clr[i]:.3f} m); try the other solution or another "
-                         f"speed/spin")
+        raise InputError(
+            f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes "
+            f"into the net (clearance {clr[i]:.3f} m); try the other solution or another "
+            f"speed/spin"
+        )
     i = int(np.argmin(np.where(good, miss, np.inf)))
     bound = 0.5 * spec.elevation.step * np.hypot(*J[:, 0]) + 0.5 * spec.heading.step * np.hypot(*J[:, 1])
     if miss[i] * 1e3 > 1.05 * bound * 1e3 + 1.0:
         # the steps near the exact solution go into the net; the nearest one that clears it is far off
-        raise InputError(f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes into "
-                         f"the net at the machine's {spec.elevation.step:g} deg steps (the nearest step "
-                         f"clearing it lands {miss[i]:.2f} m from the target); try the other solution or "
-                         f"another speed/spin")
+        raise InputError(
+            f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes into "
+            f"the net at the machine's {spec.elevation.step:g} deg steps (the nearest step "
+            f"clearing it lands {miss[i]:.2f} m from the target); try the other solution or "
+            f"another speed/spin"
+        )
     speed = math.sqrt(tab["land_vx"][i] ** 2 + tab["land_vy"][i] ** 2 + tab["land_vz"][i] ** 2)
     st = Settings(q["height_m"], q["speed_kmh"], float(A[i]), float(B[i]), q["spin_rpm"], q["spin_axis_deg"])
-    return AimSolution(name, tuple(map(float, target)), st, float(a), float(b),
-                       (float(xy[i, 0]), float(xy[i, 1])), float(miss[i] * 1e3), float(clr[i]),
-                       ("none", "over", "net")[int(tab["net_status"][i])], float(tab["land_t"][i]),
-                       float(tab["apex_z"][i]), speed, float(bound * 1e3), tuple(spec.position))
+    return AimSolution(
+        name,
+        tuple(map(float, target)),
+        st,
+        float(a),
+        float(b),
+        (float(xy[i, 0]), float(xy[i, 1])),
+        float(miss[i] * 1e3),
+        float(clr[i]),
+        ("none", "over", "net")[int(tab["net_status"][i])],
+        float(tab["land_t"][i]),
+        float(tab["apex_z"][i]),
+        speed,
+        float(bound * 1e3),
+        tuple(spec.position),
+    )
 
 
-def aim(target, speed_kmh: float, spin_rpm: float = 0.0, spin_axis_deg: float = 0.0, height_m: float = 1.0,
-        spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None, solution: str = "low") -> AimSolution:
+def aim(
+    target,
+    speed_kmh: float,
+    spin_rpm: float = 0.0,
+    spin_axis_deg: float = 0.0,
+    height_m: float = 1.0,
+    spec: MachineSpec = DEFAULT_SPEC,
+    params: FlightParams | None = None,
+    solution: str = "low",
+) -> AimSolution:
     """The ``low`` or ``high`` (lob) quantised aim for a target; InputError saying why if it does not exist."""
     if solution not in SOLUTIONS:
         raise InputError(f"solution: {solution!r} is not one of {', '.join(SOLUTIONS)}")
@@ -299,6 +348,7 @@ def aim_result_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: 
     ``quantisation_bound_mm``, ``machine``.
     """
     from tennislab.launcher.rollers import roller_geometry, roller_speeds
+
     params = params or launcher_params()
     g = roller_geometry(spec, params.ball)
     st = sol.settings
@@ -317,13 +367,29 @@ def aim_result_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: 
         "flight_time_s": sol.flight_time_s,
         "apex_z_m": sol.apex_z_m,
         "landing_speed_kmh": sol.landing_speed_ms / KMH,
-        "machine": {"position": list(sol.position), "roller_radius_m": spec.roller_radius,
-                    "roller_axis_distance_m": spec.roller_axis_distance},
-        "physics": {"aero": params.aero.name, "mass": params.ball.mass, "radius": params.ball.radius,
-                    "air_density": params.atmosphere.density, "gravity": params.atmosphere.gravity,
-                    "wind": list(params.atmosphere.wind)},
+        "machine": {
+            "position": list(sol.position),
+            "roller_radius_m": spec.roller_radius,
+            "roller_axis_distance_m": spec.roller_axis_distance,
+        },
+        "physics": {
+            "aero": params.aero.name,
+            "mass": params.ball.mass,
+            "radius": params.ball.radius,
+            "air_density": params.atmosphere.density,
+            "gravity": params.atmosphere.gravity,
+            "wind": list(params.atmosphere.wind),
+        },
     }
 
 
-__all__ = ["AimSolution", "aim", "aim_all", "pick_solution", "aim_result_dict", "fly_settings", "fly_settings_batch",
-           "launcher_params"]
+__all__ = [
+    "AimSolution",
+    "aim",
+    "aim_all",
+    "pick_solution",
+    "aim_result_dict",
+    "fly_settings",
+    "fly_settings_batch",
+    "launcher_params",
+]

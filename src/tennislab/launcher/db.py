@@ -32,6 +32,7 @@ reader opens the file with ``mode=ro``.  Every user error (missing, truncated or
 foreign file; stale hash; target off the court; no hit in range) is an
 :class:`~tennislab.errors.InputError` with a one-line message.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -62,8 +63,7 @@ FILL_RTOL = 1e-7
 FILL_ATOL = 1e-7
 
 HIT_SETTINGS = ("height_m", "speed_kmh", "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg")
-HIT_RESULTS = ("land_x", "land_y", "net_clearance_m", "flight_time_s", "bounce_speed_ms",
-               "bounce_spin_rpm", "apex_z_m")
+HIT_RESULTS = ("land_x", "land_y", "net_clearance_m", "flight_time_s", "bounce_speed_ms", "bounce_spin_rpm", "apex_z_m")
 HIT_COLUMNS = ("id",) + HIT_SETTINGS + HIT_RESULTS
 
 # ----------------------------------------------------------------- migrations
@@ -157,7 +157,7 @@ MIGRATIONS = {1: _V1, 2: _V2, 3: _V3, 4: _V4}
 
 
 def _now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def _db_error(path: str, exc: Exception) -> InputError:
@@ -193,8 +193,10 @@ def check_not_truncated(path: str) -> None:
     valid = head[92:96] == head[24:28]
     size = os.path.getsize(path)
     if valid and n_pages and size < n_pages * page:
-        raise InputError(f"--db {path}: truncated file ({size} bytes, its header says "
-                         f"{n_pages} pages of {page} bytes = {n_pages * page} bytes)")
+        raise InputError(
+            f"--db {path}: truncated file ({size} bytes, its header says "
+            f"{n_pages} pages of {page} bytes = {n_pages * page} bytes)"
+        )
 
 
 def _check_identity(conn: sqlite3.Connection, path: str) -> int:
@@ -204,13 +206,17 @@ def _check_identity(conn: sqlite3.Connection, path: str) -> int:
     if version == 0:
         n = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
         if n or app not in (0, APPLICATION_ID):
-            raise InputError(f"--db {path}: a SQLite file of another application (it has tables "
-                             "but no tennislab schema version); refusing to modify it")
+            raise InputError(
+                f"--db {path}: a SQLite file of another application (it has tables "
+                "but no tennislab schema version); refusing to modify it"
+            )
     elif app != APPLICATION_ID:
         raise InputError(f"--db {path}: a SQLite file of another application (application_id {app:#x})")
     if version > max(MIGRATIONS):
-        raise InputError(f"--db {path}: schema version {version} is newer than this tennislab "
-                         f"understands ({max(MIGRATIONS)}); upgrade tennislab")
+        raise InputError(
+            f"--db {path}: schema version {version} is newer than this tennislab "
+            f"understands ({max(MIGRATIONS)}); upgrade tennislab"
+        )
     return version
 
 
@@ -290,6 +296,7 @@ def open_readonly(path: str) -> sqlite3.Connection:
         raise InputError(f"--db {path}: is a directory")
     check_not_truncated(path)
     from urllib.parse import quote
+
     uri = "file:" + quote(os.path.abspath(path)) + "?mode=ro"
     conn = None
     try:
@@ -299,11 +306,15 @@ def open_readonly(path: str) -> sqlite3.Connection:
         if app != APPLICATION_ID or version == 0:
             raise InputError(f"--db {path}: not a tennislab launcher database")
         if version > SCHEMA_VERSION:
-            raise InputError(f"--db {path}: schema version {version} is newer than this tennislab "
-                             f"understands ({SCHEMA_VERSION}); upgrade tennislab")
+            raise InputError(
+                f"--db {path}: schema version {version} is newer than this tennislab "
+                f"understands ({SCHEMA_VERSION}); upgrade tennislab"
+            )
         if version < MIN_READ_VERSION:
-            raise InputError(f"--db {path}: schema version {version} is older than {MIN_READ_VERSION}; "
-                             "rerun `launcher table` on it to migrate it (finished chunks are skipped)")
+            raise InputError(
+                f"--db {path}: schema version {version} is older than {MIN_READ_VERSION}; "
+                "rerun `launcher table` on it to migrate it (finished chunks are skipped)"
+            )
         conn.execute("SELECT count(*) FROM machine").fetchone()
     except (sqlite3.DatabaseError, InputError) as exc:
         _fail_open(conn, path, exc)
@@ -314,8 +325,7 @@ def open_readonly(path: str) -> sqlite3.Connection:
 def _plain(obj):
     """Canonical JSON-able form: dataclasses -> dicts, numpy -> lists/floats, tuples -> lists."""
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
-                if not f.name.startswith("_")}
+        return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj) if not f.name.startswith("_")}
     if isinstance(obj, dict):
         return {str(k): _plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -360,9 +370,12 @@ def config_dict(spec, params, position=None) -> dict:
     ``position`` the machine's (x, y) on court [m] if it is not part of the spec.
     """
     pos = _machine_position(spec, position)
-    return {"machine": _plain(spec), "position": [float(pos[0]), float(pos[1])],
-            "physics": physics_dict(params),
-            "format": {"hits_format": HITS_FORMAT}}
+    return {
+        "machine": _plain(spec),
+        "position": [float(pos[0]), float(pos[1])],
+        "physics": physics_dict(params),
+        "format": {"hits_format": HITS_FORMAT},
+    }
 
 
 def _machine_position(spec, position):
@@ -418,22 +431,35 @@ def check_config(conn: sqlite3.Connection, cfg: dict, path: str = "") -> str:
     if stored[0] != h:
         diffs = _diff(stored[1], json.loads(canonical_json(cfg)))
         what = "; ".join(diffs[:3]) + (f"; and {len(diffs) - 3} more" if len(diffs) > 3 else "")
-        raise InputError(f"--db {path}: built for another machine/physics (hash {stored[0][:12]} in the "
-                         f"file, {h[:12]} given): {what or 'format changed'}")
+        raise InputError(
+            f"--db {path}: built for another machine/physics (hash {stored[0][:12]} in the "
+            f"file, {h[:12]} given): {what or 'format changed'}"
+        )
     return h
 
 
 def bind_config(conn: sqlite3.Connection, cfg: dict, path: str = "") -> str:
     """Record the machine config in a new file, or check it against an existing one."""
     from tennislab import __version__
+
     h = config_hash(cfg)
     conn.execute("BEGIN IMMEDIATE")
     try:
         if conn.execute("SELECT 1 FROM machine WHERE id = 1").fetchone() is None:
             pos = cfg["position"]
-            conn.execute("INSERT INTO machine VALUES (1, ?, ?, ?, ?, ?, ?, ?, ?)",
-                         (h, canonical_json(cfg["machine"]), pos[0], pos[1],
-                          canonical_json(cfg["physics"]), canonical_json(cfg), __version__, _now()))
+            conn.execute(
+                "INSERT INTO machine VALUES (1, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (
+                    h,
+                    canonical_json(cfg["machine"]),
+                    pos[0],
+                    pos[1],
+                    canonical_json(cfg["physics"]),
+                    canonical_json(cfg),
+                    __version__,
+                    _now(),
+                ),
+            )
         conn.execute("COMMIT")
     except BaseException:
         conn.execute("ROLLBACK")
@@ -468,12 +494,15 @@ def insert_hits(conn: sqlite3.Connection, hits: dict) -> int:
     conn.executemany(f"INSERT INTO hits VALUES ({','.join('?' * len(HIT_COLUMNS))})", rows)
     x, y = hits["land_x"], hits["land_y"]
     sp, sw = hits["speed_kmh"], hits["spin_rpm"]
-    conn.executemany("INSERT INTO hits_rtree VALUES (?,?,?,?,?,?,?,?,?)",
-                     zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist()
-                                               for a in (x, x, y, y, sp, sp, sw, sw)]))
+    conn.executemany(
+        "INSERT INTO hits_rtree VALUES (?,?,?,?,?,?,?,?,?)",
+        zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist() for a in (x, x, y, y, sp, sp, sw, sw)]),
+    )
     if conn.execute("SELECT 1 FROM sqlite_master WHERE name = 'hits_xy'").fetchone():  # schema 3
-        conn.executemany("INSERT INTO hits_xy VALUES (?,?,?,?,?)",
-                         zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist() for a in (x, x, y, y)]))
+        conn.executemany(
+            "INSERT INTO hits_xy VALUES (?,?,?,?,?)",
+            zip(ids[keep].tolist(), *[np.asarray(a, float)[keep].tolist() for a in (x, x, y, y)]),
+        )
     return int(keep.sum())
 
 
@@ -498,13 +527,18 @@ def _parse_drill(path: str, data: bytes) -> tuple[str, str | None, list, list | 
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a drill file (not UTF-8 text)") from None
     from tennislab.io.drill import parse_drill_text
+
     d = parse_drill_text(text, path)
     name, version, shots = d.get("name"), d.get("version"), d.get("shots")
     if not shots:
         raise InputError(f"{path}: drill {name!r} has no shots")
     seq = d.get("sequence")
-    return str(name), None if version is None else str(version), [_plain(x) for x in shots], \
-        None if seq is None else _plain(seq)
+    return (
+        str(name),
+        None if version is None else str(version),
+        [_plain(x) for x in shots],
+        None if seq is None else _plain(seq),
+    )
 
 
 def import_drill(conn: sqlite3.Connection, path: str) -> dict:
@@ -525,17 +559,21 @@ def import_drill(conn: sqlite3.Connection, path: str) -> dict:
         rev = 1 if row is None else row[1] + 1
         if row is not None:
             conn.execute("DELETE FROM drill_shots WHERE drill_id = ?", (row[0],))
-            conn.execute("UPDATE drills SET filename = ?, format_version = ?, revision = ?, sha256 = ?, "
-                         "source = ?, sequence_json = ?, imported_utc = ? WHERE id = ?",
-                         (os.path.basename(path), version, rev, sha, data, _seq_json(seq), _now(), row[0]))
+            conn.execute(
+                "UPDATE drills SET filename = ?, format_version = ?, revision = ?, sha256 = ?, "
+                "source = ?, sequence_json = ?, imported_utc = ? WHERE id = ?",
+                (os.path.basename(path), version, rev, sha, data, _seq_json(seq), _now(), row[0]),
+            )
             did = row[0]
         else:
-            did = conn.execute("INSERT INTO drills (name, filename, format_version, revision, sha256, source, "
-                               "sequence_json, imported_utc) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
-                               (name, os.path.basename(path), version, rev, sha, data, _seq_json(seq),
-                                _now())).lastrowid
-        conn.executemany("INSERT INTO drill_shots VALUES (?, ?, ?)",
-                         [(did, i, canonical_json(s)) for i, s in enumerate(shots)])
+            did = conn.execute(
+                "INSERT INTO drills (name, filename, format_version, revision, sha256, source, "
+                "sequence_json, imported_utc) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (name, os.path.basename(path), version, rev, sha, data, _seq_json(seq), _now()),
+            ).lastrowid
+        conn.executemany(
+            "INSERT INTO drill_shots VALUES (?, ?, ?)", [(did, i, canonical_json(s)) for i, s in enumerate(shots)]
+        )
         conn.execute("COMMIT")
     except BaseException:
         conn.execute("ROLLBACK")
@@ -548,9 +586,12 @@ def _seq_json(seq) -> str | None:
 
 
 def drill_info(conn: sqlite3.Connection, name: str) -> dict:
-    row = conn.execute("SELECT d.name, d.filename, d.format_version, d.revision, d.sha256, d.imported_utc, "
-                       "(SELECT count(*) FROM drill_shots s WHERE s.drill_id = d.id) "
-                       "FROM drills d WHERE d.name = ?", (name,)).fetchone()
+    row = conn.execute(
+        "SELECT d.name, d.filename, d.format_version, d.revision, d.sha256, d.imported_utc, "
+        "(SELECT count(*) FROM drill_shots s WHERE s.drill_id = d.id) "
+        "FROM drills d WHERE d.name = ?",
+        (name,),
+    ).fetchone()
     if row is None:
         names = [r[0] for r in conn.execute("SELECT name FROM drills ORDER BY name")]
         raise InputError(f"drill {name!r}: not in the database (stored: {', '.join(names) or 'none'})")
@@ -577,11 +618,10 @@ def drill_sequence(conn: sqlite3.Connection, name: str) -> list | None:
 def drill_shots(conn: sqlite3.Connection, name: str) -> list[dict]:
     """The drill's distinct shots (resolved fields), in file order."""
     drill_info(conn, name)
-    return [json.loads(r[0]) for r in conn.execute(
-        "SELECT s.shot_json FROM drill_shots s JOIN drills d ON d.id = s.drill_id WHERE d.name = ? "
-        "ORDER BY s.idx", (name,))]
-
-
-# the lookup functions live in tennislab.launcher.lookup; re-exported here (their historical home)
-from tennislab.launcher.lookup import (TIE_M, check_target, first_box, has_hits, lookup,  # noqa: E402,F401
-                                       nearest_hit, scan_nearest, table_ranges, table_stats, target_area)
+    return [
+        json.loads(r[0])
+        for r in conn.execute(
+            "SELECT s.shot_json FROM drill_shots s JOIN drills d ON d.id = s.drill_id WHERE d.name = ? ORDER BY s.idx",
+            (name,),
+        )
+    ]

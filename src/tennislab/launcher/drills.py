@@ -15,6 +15,7 @@ give defaults for speed, spin, spin axis, solution and height; a drill's
 format (YAML or JSON) is read by :mod:`tennislab.io.drill`; schema in
 docs/launcher.md.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -68,8 +69,14 @@ for _t in (
     register_shot_type(_t)
 
 #: Fields a shot may set and their defaults when nothing sets them.
-SHOT_DEFAULTS = {"speed_kmh": 70.0, "spin_rpm": 0.0, "spin_axis_deg": 0.0, "solution": "low",
-                 "height_m": 1.0, "interval_s": 4.0}
+SHOT_DEFAULTS = {
+    "speed_kmh": 70.0,
+    "spin_rpm": 0.0,
+    "spin_axis_deg": 0.0,
+    "solution": "low",
+    "height_m": 1.0,
+    "interval_s": 4.0,
+}
 
 
 @dataclass(frozen=True)
@@ -149,7 +156,7 @@ class Drill:
 def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, where: str) -> ShotSpec:
     """Fill a shot's fields from its type and the drill defaults, check ranges; InputError naming ``where``."""
     tname = fields_.get("type", defaults.get("type", "drive"))
-    tname = str(tname).strip().lower().replace("_", "-").replace(" ", "-")   # "serve return" -> serve-return
+    tname = str(tname).strip().lower().replace("_", "-").replace(" ", "-")  # "serve return" -> serve-return
     if tname not in SHOT_TYPES:
         raise InputError(f"{where}.type: unknown shot type {tname!r}; allowed: {', '.join(SHOT_TYPES)}")
     t = SHOT_TYPES[tname]
@@ -163,8 +170,12 @@ def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, wh
             val[k] = getattr(t, k)
         else:
             val[k] = dflt
-    for k, rng_field in (("speed_kmh", "speed_kmh"), ("spin_rpm", "spin_rpm"),
-                         ("spin_axis_deg", "spin_axis_deg"), ("height_m", "height_m")):
+    for k, rng_field in (
+        ("speed_kmh", "speed_kmh"),
+        ("spin_rpm", "spin_rpm"),
+        ("spin_axis_deg", "spin_axis_deg"),
+        ("height_m", "height_m"),
+    ):
         rng = spec.range_of(rng_field)
         val[k] = rng.quantise(rng.check(f"{where}.{k}", val[k]))
     val["interval_s"] = spec.check_interval(val["interval_s"], f"{where}.interval_s")
@@ -188,12 +199,24 @@ def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, wh
         if target is None:
             target = (0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]))
         elif not (b[0] <= target[0] <= b[1] and b[2] <= target[1] <= b[3]):
-            raise InputError(f"{where}.target: ({target[0]:g}, {target[1]:g}) m is outside its zone "
-                             f"[{b[0]:g}, {b[1]:g}] x [{b[2]:g}, {b[3]:g}] m")
+            raise InputError(
+                f"{where}.target: ({target[0]:g}, {target[1]:g}) m is outside its zone "
+                f"[{b[0]:g}, {b[1]:g}] x [{b[2]:g}, {b[3]:g}] m"
+            )
     else:
         zone = "full-doubles"
-    return ShotSpec(name, tname, (float(target[0]), float(target[1])), zone, val["speed_kmh"], val["spin_rpm"],
-                    val["spin_axis_deg"], val["height_m"], val["solution"], val["interval_s"])
+    return ShotSpec(
+        name,
+        tname,
+        (float(target[0]), float(target[1])),
+        zone,
+        val["speed_kmh"],
+        val["spin_rpm"],
+        val["spin_axis_deg"],
+        val["height_m"],
+        val["solution"],
+        val["interval_s"],
+    )
 
 
 def expand_program(drill: Drill) -> list[str]:
@@ -214,6 +237,7 @@ def expand_program(drill: Drill) -> list[str]:
                 out.extend(it.shots[i] for i in idx)
             else:  # pragma: no cover - the loader builds only these
                 raise InputError(f"program: unknown item {it!r}")
+
     for _ in range(drill.repeats):
         run(drill.program)
     return out
@@ -225,7 +249,7 @@ class CompiledShot:
 
     label: str
     shot: ShotSpec
-    solution: object = None       #: :class:`~tennislab.launcher.aim.AimSolution`
+    solution: object = None  #: :class:`~tennislab.launcher.aim.AimSolution`
     rollers: tuple = (np.nan, np.nan)
     in_zone: bool = False
     clears_net: bool = False
@@ -242,7 +266,7 @@ class CompiledDrill:
 
     drill: Drill
     unique: list
-    shots: list = field(default_factory=list)   # (index, time_s, CompiledShot)
+    shots: list = field(default_factory=list)  # (index, time_s, CompiledShot)
 
     @property
     def ok(self) -> bool:
@@ -258,27 +282,62 @@ class CompiledDrill:
         for i, t, c in self.shots:
             s, sol = c.shot, c.solution
             st = sol.settings
-            out.append({
-                "index": i, "time_s": t, "name": s.name, "type": s.type,
-                "target_x": s.target[0], "target_y": s.target[1], "zone": s.zone_label(),
-                "height_m": st.height_m, "speed_kmh": st.speed_kmh, "elevation_deg": st.elevation_deg,
-                "heading_deg": st.heading_deg, "spin_rpm": st.spin_rpm, "spin_axis_deg": st.spin_axis_deg,
-                "rpm1": c.rollers[0], "rpm2": c.rollers[1], "interval_s": s.interval_s,
-                "landing_x": sol.landing[0], "landing_y": sol.landing[1], "miss_mm": sol.miss_mm,
-                "net_clearance_m": sol.net_clearance_m, "in_zone": c.in_zone, "ok": c.ok,
-            })
+            out.append(
+                {
+                    "index": i,
+                    "time_s": t,
+                    "name": s.name,
+                    "type": s.type,
+                    "target_x": s.target[0],
+                    "target_y": s.target[1],
+                    "zone": s.zone_label(),
+                    "height_m": st.height_m,
+                    "speed_kmh": st.speed_kmh,
+                    "elevation_deg": st.elevation_deg,
+                    "heading_deg": st.heading_deg,
+                    "spin_rpm": st.spin_rpm,
+                    "spin_axis_deg": st.spin_axis_deg,
+                    "rpm1": c.rollers[0],
+                    "rpm2": c.rollers[1],
+                    "interval_s": s.interval_s,
+                    "landing_x": sol.landing[0],
+                    "landing_y": sol.landing[1],
+                    "miss_mm": sol.miss_mm,
+                    "net_clearance_m": sol.net_clearance_m,
+                    "in_zone": c.in_zone,
+                    "ok": c.ok,
+                }
+            )
         return out
 
     def as_dict(self) -> dict:
         d = self.drill
         return {
-            "name": d.name, "description": d.description, "source": d.source,
-            "machine": {"position": list(d.spec.position), "roller_radius_m": d.spec.roller_radius,
-                        "roller_axis_distance_m": d.spec.roller_axis_distance},
-            "ok": self.ok, "n_shots": len(self.shots), "duration_s": self.duration_s,
-            "distinct": [{"label": u.label, "name": u.shot.name, "type": u.shot.type, "ok": u.ok,
-                          "in_zone": u.in_zone, "clears_net": u.clears_net, "problem": u.problem,
-                          "solution": u.shot.solution, "zone": u.shot.zone_label()} for u in self.unique],
+            "name": d.name,
+            "description": d.description,
+            "source": d.source,
+            "machine": {
+                "position": list(d.spec.position),
+                "roller_radius_m": d.spec.roller_radius,
+                "roller_axis_distance_m": d.spec.roller_axis_distance,
+            },
+            "ok": self.ok,
+            "n_shots": len(self.shots),
+            "duration_s": self.duration_s,
+            "distinct": [
+                {
+                    "label": u.label,
+                    "name": u.shot.name,
+                    "type": u.shot.type,
+                    "ok": u.ok,
+                    "in_zone": u.in_zone,
+                    "clears_net": u.clears_net,
+                    "problem": u.problem,
+                    "solution": u.shot.solution,
+                    "zone": u.shot.zone_label(),
+                }
+                for u in self.unique
+            ],
             "shots": self.rows(),
         }
 
@@ -291,6 +350,7 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
     failed check (``CompiledDrill.ok`` False), not raised.
     """
     from tennislab.launcher.aim import aim, aim_result_dict, launcher_params
+
     params = params or launcher_params()
     spec = drill.spec
     names = expand_program(drill)
@@ -302,8 +362,16 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
         key = shot.aim_key
         if key not in by_key:
             try:
-                sol = aim(shot.target, shot.speed_kmh, shot.spin_rpm, shot.spin_axis_deg, shot.height_m,
-                          spec, params, solution=shot.solution)
+                sol = aim(
+                    shot.target,
+                    shot.speed_kmh,
+                    shot.spin_rpm,
+                    shot.spin_axis_deg,
+                    shot.height_m,
+                    spec,
+                    params,
+                    solution=shot.solution,
+                )
             except InputError as exc:
                 raise InputError(f"shots.{name}: {exc}") from None
             by_key[key] = sol
@@ -311,10 +379,14 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
         r = aim_result_dict(sol, spec, params)["rollers"]
         x0, x1, y0, y1 = shot.zone_bounds()
         in_zone = bool(x0 <= sol.landing[0] <= x1 and y0 <= sol.landing[1] <= y1)
-        clears = sol.net_result == "over" or (sol.net_result == "none" and
-                                              (spec.position[0] < 0) == (sol.landing[0] < 0))
-        problem = "" if in_zone else (f"lands at ({sol.landing[0]:.2f}, {sol.landing[1]:.2f}) m outside zone "
-                                      f"{shot.zone_label()}")
+        clears = sol.net_result == "over" or (
+            sol.net_result == "none" and (spec.position[0] < 0) == (sol.landing[0] < 0)
+        )
+        problem = (
+            ""
+            if in_zone
+            else (f"lands at ({sol.landing[0]:.2f}, {sol.landing[1]:.2f}) m outside zone {shot.zone_label()}")
+        )
         if not clears:
             problem = (problem + "; " if problem else "") + "does not clear the net"
         c = CompiledShot(name, shot, sol, (r["rpm1"], r["rpm2"]), in_zone, clears, problem)
@@ -328,5 +400,18 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
     return out
 
 
-__all__ = ["SHOT_TYPES", "ShotType", "register_shot_type", "ShotSpec", "Repeat", "Sequence", "RandomChoice",
-           "Drill", "resolve_shot", "expand_program", "compile_drill", "CompiledDrill", "CompiledShot"]
+__all__ = [
+    "SHOT_TYPES",
+    "ShotType",
+    "register_shot_type",
+    "ShotSpec",
+    "Repeat",
+    "Sequence",
+    "RandomChoice",
+    "Drill",
+    "resolve_shot",
+    "expand_program",
+    "compile_drill",
+    "CompiledDrill",
+    "CompiledShot",
+]

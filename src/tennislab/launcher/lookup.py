@@ -5,6 +5,7 @@ R*Tree search when speed and spin are both given, the covering-index band
 search otherwise (schema 4), the brute-force reference :func:`scan_nearest`,
 and the checks of a target and of the table's ranges.
 """
+
 from __future__ import annotations
 
 import json
@@ -17,8 +18,10 @@ import numpy as np
 from tennislab.errors import InputError, check_finite
 from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, count_hits_fast
 
-_COLS_SQL = ("SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
-             "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits ")
+_COLS_SQL = (
+    "SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
+    "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits "
+)
 _BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
 _SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
 
@@ -32,9 +35,20 @@ def _half_window(value, step):
     return max(1e-6, step / 3.0) if step else 1e-6
 
 
-def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: float | None = None,
-                spin_rpm: float | None = None, speed_tol: float = 1e-3, spin_tol: float = 1e-3,
-                start_m: float = 0.05, max_m: float = 64.0, tie_m: float = TIE_M, where: dict | None = None):
+def nearest_hit(
+    conn: sqlite3.Connection,
+    x: float,
+    y: float,
+    *,
+    speed_kmh: float | None = None,
+    spin_rpm: float | None = None,
+    speed_tol: float = 1e-3,
+    spin_tol: float = 1e-3,
+    start_m: float = 0.05,
+    max_m: float = 64.0,
+    tie_m: float = TIE_M,
+    where: dict | None = None,
+):
     """The stored hit whose landing is nearest (x, y) among those matching speed and spin.
 
     Ties (misses within ``tie_m``) go to the larger net clearance, then to the
@@ -52,11 +66,13 @@ def nearest_hit(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh: floa
     col, val, tol = ("speed_kmh", speed_kmh, speed_tol) if spin_rpm is None else ("spin_rpm", spin_rpm, spin_tol)
     col = None if speed_kmh is None and spin_rpm is None else col
     if (speed_kmh is None or spin_rpm is None) and conn.execute(
-            "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)).fetchone():
+        "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
+    ).fetchone():
         found = _band_candidates(conn, x, y, max_m, tie_m, where, col, val, tol)
     else:
-        found = _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, max_m + tie_m,
-                                tie_m, where)
+        found = _box_candidates(
+            conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, max_m + tie_m, tie_m, where
+        )
     return None if found is None else _pick(conn, x, y, *found, max_m, tie_m)
 
 
@@ -69,7 +85,7 @@ def _pick(conn, x, y, rows, n_entries, n_read, max_m, tie_m):
     if not rows:
         return None
     a = np.array(rows, dtype=float)
-    a = a[np.argsort(a[:, 0], kind="stable")]        # ascending id: equal clearances go to the smaller id
+    a = a[np.argsort(a[:, 0], kind="stable")]  # ascending id: equal clearances go to the smaller id
     miss = np.hypot(a[:, 1] - x, a[:, 2] - y)
     dmin = float(miss.min())
     if dmin > max_m:
@@ -97,19 +113,27 @@ def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_
     s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
     w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
     free = speed_kmh is None and spin_rpm is None
-    sql = (f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
-           + (" JOIN hits h ON h.id = r.id" if extra else "") + " WHERE " + _BOX
-           + ("" if free else _SPEED_SPIN) + extra)
+    sql = (
+        f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
+        + (" JOIN hits h ON h.id = r.id" if extra else "")
+        + " WHERE "
+        + _BOX
+        + ("" if free else _SPEED_SPIN)
+        + extra
+    )
     fixed = ([] if free else [s_lo, s_hi, w_lo, w_hi]) + xargs
     d = min(start_m, lim)
     while True:
         rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
         if rows:
             b = np.array(rows)
-            lo = np.hypot(np.maximum(np.maximum(b[:, 1] - x, x - b[:, 2]), 0.0),
-                          np.maximum(np.maximum(b[:, 3] - y, y - b[:, 4]), 0.0))
-            hi = np.hypot(np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)),
-                          np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y)))
+            lo = np.hypot(
+                np.maximum(np.maximum(b[:, 1] - x, x - b[:, 2]), 0.0),
+                np.maximum(np.maximum(b[:, 3] - y, y - b[:, 4]), 0.0),
+            )
+            hi = np.hypot(
+                np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)), np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y))
+            )
             dmin_hi = float(hi.min())
             if dmin_hi + tie_m <= d or d >= lim:
                 break
@@ -121,9 +145,10 @@ def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_
     ids = [int(i) for i in b[lo <= dmin_hi + tie_m, 0]]
     cand = []
     for i in range(0, len(ids), 900):  # SQLite before 3.32 binds at most 999 variables
-        part = ids[i:i + 900]
-        cand += conn.execute(f"SELECT id, land_x, land_y, net_clearance_m FROM hits WHERE id IN "
-                             f"({','.join('?' * len(part))})", part).fetchall()
+        part = ids[i : i + 900]
+        cand += conn.execute(
+            f"SELECT id, land_x, land_y, net_clearance_m FROM hits WHERE id IN ({','.join('?' * len(part))})", part
+        ).fetchall()
     return cand, len(rows), len(cand)
 
 
@@ -134,7 +159,7 @@ _BAND_INDEX = {None: "hits_cell", "speed_kmh": "hits_speed_cell", "spin_rpm": "h
 
 
 def _band(y: float) -> int:
-    return int(y * 100.0 + 1000000.0)   # the arithmetic of _BAND (CAST truncates toward zero)
+    return int(y * 100.0 + 1000000.0)  # the arithmetic of _BAND (CAST truncates toward zero)
 
 
 def _band_dy(b: int, y: float) -> float:
@@ -163,10 +188,13 @@ def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
             pre.append(row)
             row = conn.execute(seek.format(">"), (row[0],)).fetchone()
     extra, xargs = _filters(where)
-    head = (f"SELECT id, land_x, land_y, net_clearance_m FROM hits INDEXED BY {idx} WHERE "
-            f"{'' if col is None else col + ' = ? AND '}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}")
-    probe = (f"SELECT * FROM ({head} ORDER BY land_x LIMIT 1) UNION ALL "
-             f"SELECT * FROM ({head} ORDER BY land_x DESC LIMIT 1)")
+    head = (
+        f"SELECT id, land_x, land_y, net_clearance_m FROM hits INDEXED BY {idx} WHERE "
+        f"{'' if col is None else col + ' = ? AND '}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
+    )
+    probe = (
+        f"SELECT * FROM ({head} ORDER BY land_x LIMIT 1) UNION ALL SELECT * FROM ({head} ORDER BY land_x DESC LIMIT 1)"
+    )
     best, lim, n, k, band = math.inf, max_m + tie_m, 0, 0, _band(y)
     while pre:
         todo = [b for b in {band - k, band + k} if _band_dy(b, y) < min(best, lim)]
@@ -186,7 +214,7 @@ def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
             parts += [(*p, b, x - h, x + h, *xargs) for p in pre]
     rows = []
     for i in range(0, len(parts), 100):
-        chunk = parts[i:i + 100]
+        chunk = parts[i : i + 100]
         rows += conn.execute(" UNION ALL ".join([head] * len(chunk)), [v for p in chunk for v in p]).fetchall()
     return rows, n + len(rows), 1
 
@@ -225,18 +253,34 @@ def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float =
     return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
 
 
-def has_hits(conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3,
-             spin_tol: float = 1e-3) -> bool:
+def has_hits(
+    conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3, spin_tol: float = 1e-3
+) -> bool:
     """True if any stored hit has this speed and spin (an R*Tree query, not a scan)."""
     inf = 1e30
     s = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
     w = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    return conn.execute("SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
-                        "AND min_spin <= ? LIMIT 1", (s[0], s[1], w[0], w[1])).fetchone() is not None
+    return (
+        conn.execute(
+            "SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
+            "AND min_spin <= ? LIMIT 1",
+            (s[0], s[1], w[0], w[1]),
+        ).fetchone()
+        is not None
+    )
 
 
-def scan_nearest(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin_rpm=None,
-                 speed_tol: float = 1e-3, spin_tol: float = 1e-3, tie_m: float = TIE_M):
+def scan_nearest(
+    conn: sqlite3.Connection,
+    x: float,
+    y: float,
+    *,
+    speed_kmh=None,
+    spin_rpm=None,
+    speed_tol: float = 1e-3,
+    spin_tol: float = 1e-3,
+    tie_m: float = TIE_M,
+):
     """The same answer as :func:`nearest_hit` by a full scan of ``hits`` (baseline for benchmarks/tests).
 
     Reads the nearest 64 rows; when all of them tie, scans again for 8 times as many.
@@ -248,8 +292,10 @@ def scan_nearest(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None
     if spin_rpm is not None:
         where.append("spin_rpm BETWEEN ? AND ?")
         args += [spin_rpm - spin_tol, spin_rpm + spin_tol]
-    sql = (f"SELECT {', '.join(HIT_COLUMNS)}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
-           f"FROM hits NOT INDEXED {'WHERE ' + ' AND '.join(where) if where else ''} ORDER BY d2 LIMIT ?")
+    sql = (
+        f"SELECT {', '.join(HIT_COLUMNS)}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
+        f"FROM hits NOT INDEXED {'WHERE ' + ' AND '.join(where) if where else ''} ORDER BY d2 LIMIT ?"
+    )
     k = 64
     while True:
         rows = conn.execute(sql, [x, x, y, y] + args + [k]).fetchall()
@@ -260,7 +306,7 @@ def scan_nearest(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None
             break
         k *= 8
     cand = np.flatnonzero(miss <= miss.min() + tie_m)
-    best = min(cand, key=lambda i: (-rows[i][9], rows[i][0]))   # larger clearance, then smaller id
+    best = min(cand, key=lambda i: (-rows[i][9], rows[i][0]))  # larger clearance, then smaller id
     out = dict(zip(HIT_COLUMNS, rows[best][:-1]))
     out["miss_m"] = float(miss[best])
     return out
@@ -290,19 +336,32 @@ def target_area(machine_x: float) -> str:
 def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tuple[float, float]:
     """Validate a target in the doubles area (lines included) of the half opposite the machine."""
     from tennislab.core.court import ITF_COURT
+
     court = court or ITF_COURT
     x = check_finite("target x", x)
     y = check_finite("target y", y)
     area = target_area(machine_x)
     if not court.contains(area, x, y):
         b = court.area_bounds(area)
-        raise InputError(f"--target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
-                         f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m")
+        raise InputError(
+            f"--target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
+            f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m"
+        )
     return x, y
 
 
-def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin_rpm=None,
-           steps: dict | None = None, max_miss_m: float = 1.0, path: str = "", where: dict | None = None) -> dict:
+def lookup(
+    conn: sqlite3.Connection,
+    x: float,
+    y: float,
+    *,
+    speed_kmh=None,
+    spin_rpm=None,
+    steps: dict | None = None,
+    max_miss_m: float = 1.0,
+    path: str = "",
+    where: dict | None = None,
+) -> dict:
     """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
 
     ``steps`` (grid step per setting, from the machine spec) sets how close a
@@ -317,22 +376,36 @@ def lookup(conn: sqlite3.Connection, x: float, y: float, *, speed_kmh=None, spin
     t0 = time.perf_counter()
     st = _half_window(speed_kmh, steps.get("speed_kmh"))
     wt = _half_window(spin_rpm, steps.get("spin_rpm"))
-    hit = nearest_hit(conn, x, y, speed_kmh=speed_kmh, spin_rpm=spin_rpm, speed_tol=st, spin_tol=wt,
-                      max_m=max_miss_m, where=where, start_m=d0)
+    hit = nearest_hit(
+        conn,
+        x,
+        y,
+        speed_kmh=speed_kmh,
+        spin_rpm=spin_rpm,
+        speed_tol=st,
+        spin_tol=wt,
+        max_m=max_miss_m,
+        where=where,
+        start_m=d0,
+    )
     ms = (time.perf_counter() - t0) * 1e3
     if hit is None:
         if count_hits_fast(conn) == 0:
             raise InputError(f"--db {path}: the table holds no hits; fill it with `launcher table`")
-        want = ", ".join([f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
-                         + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()])
+        want = ", ".join(
+            [f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
+            + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()]
+        )
         if not has_hits(conn, speed_kmh, spin_rpm, st, wt):
             rng = table_ranges(conn)
-            raise InputError(f"--target: no hit with {want} in the table (filled: speed "
-                             f"{rng['speed_kmh'][0]:g}-{rng['speed_kmh'][1]:g} km/h, spin "
-                             f"{rng['spin_rpm'][0]:g}-{rng['spin_rpm'][1]:g} rpm)")
-        raise InputError(f"--target: no hit in range: nothing{' with ' + want if want else ''} lands within "
-                         f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)")
+            raise InputError(
+                f"--target: no hit with {want} in the table (filled: speed "
+                f"{rng['speed_kmh'][0]:g}-{rng['speed_kmh'][1]:g} km/h, spin "
+                f"{rng['spin_rpm'][0]:g}-{rng['spin_rpm'][1]:g} rpm)"
+            )
+        raise InputError(
+            f"--target: no hit in range: nothing{' with ' + want if want else ''} lands within "
+            f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)"
+        )
     hit["lookup_ms"] = ms
     return hit
-
-

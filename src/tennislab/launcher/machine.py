@@ -35,6 +35,7 @@ Conventions (court frame of :mod:`tennislab.core.court`; the machine faces +x)
   outer edge of the near baseline (x = -11.885 m), so the machine stands off
   the court and shoots toward the far half (x > 0).  Any position is allowed.
 """
+
 from __future__ import annotations
 
 import math
@@ -63,8 +64,9 @@ class Range:
         v = check_finite(name, value)
         tol = 1e-9 * max(1.0, abs(self.step))
         if v < self.lo - tol or v > self.hi + tol:
-            raise InputError(f"{name}: {v:g} {self.unit} is outside the allowed range "
-                             f"[{self.lo:g}, {self.hi:g}] {self.unit}")
+            raise InputError(
+                f"{name}: {v:g} {self.unit} is outside the allowed range [{self.lo:g}, {self.hi:g}] {self.unit}"
+            )
         return min(max(v, self.lo), self.hi)
 
     def quantise(self, value):
@@ -151,15 +153,14 @@ class MachineSpec:
 
     def __post_init__(self):
         check_range("roller_radius", self.roller_radius, 0.0, 1.0, "m", lo_open=True)
-        check_range("roller_axis_distance", self.roller_axis_distance, 2 * self.roller_radius, 3.0, "m",
-                    lo_open=True)
+        check_range("roller_axis_distance", self.roller_axis_distance, 2 * self.roller_radius, 3.0, "m", lo_open=True)
         object.__setattr__(self, "position", check_vector("position", self.position, 2))
         for name in ("height", "speed", "elevation", "heading", "spin", "spin_axis", "interval"):
             r = getattr(self, name)
             if not (r.lo <= r.hi and r.step > 0):
                 raise InputError(f"{name}: range needs lo <= hi and step > 0, got {r}")
 
-    def with_position(self, x: float, y: float) -> "MachineSpec":
+    def with_position(self, x: float, y: float) -> MachineSpec:
         """The same machine standing at (x, y) [m]."""
         return replace(self, position=(x, y))
 
@@ -176,8 +177,10 @@ class MachineSpec:
             rng = getattr(self, attr)
             v = rng.check(fname, getattr(settings, fname))
             if require_steps and not rng.on_step(v):
-                raise InputError(f"{fname}: {v:g} {rng.unit} is not on the machine's {rng.step:g} "
-                                 f"{rng.unit} steps in [{rng.lo:g}, {rng.hi:g}] {rng.unit}")
+                raise InputError(
+                    f"{fname}: {v:g} {rng.unit} is not on the machine's {rng.step:g} "
+                    f"{rng.unit} steps in [{rng.lo:g}, {rng.hi:g}] {rng.unit}"
+                )
         return settings
 
     def quantise(self, settings: Settings) -> Settings:
@@ -189,8 +192,10 @@ class MachineSpec:
         """Validate a launch interval [s] (range and 1 s steps) and return it."""
         v = self.interval.check(name, interval_s)
         if not self.interval.on_step(v):
-            raise InputError(f"{name}: {v:g} s is not on the machine's {self.interval.step:g} s steps "
-                             f"in [{self.interval.lo:g}, {self.interval.hi:g}] s")
+            raise InputError(
+                f"{name}: {v:g} s is not on the machine's {self.interval.step:g} s steps "
+                f"in [{self.interval.lo:g}, {self.interval.hi:g}] s"
+            )
         return v
 
 
@@ -213,8 +218,9 @@ def spin_vector(spin_rads, elevation_rad, heading_rad, spin_axis_rad):
     return w * (np.cos(g) * h + np.sin(g) * u)
 
 
-def launch_states(spec: MachineSpec, height_m, speed_kmh, elevation_deg, heading_deg,
-                  spin_rpm=0.0, spin_axis_deg=0.0) -> np.ndarray:
+def launch_states(
+    spec: MachineSpec, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm=0.0, spin_axis_deg=0.0
+) -> np.ndarray:
     """Initial flight states (N, 9) for :func:`tennislab.core.flight.fly_batch`.
 
     Every argument is a scalar or an array (edge units: m, km/h, deg, rpm, deg);
@@ -224,9 +230,12 @@ def launch_states(spec: MachineSpec, height_m, speed_kmh, elevation_deg, heading
     or :func:`validate_arrays` first for user input.
     """
     try:
-        h, v, a, b, w, g = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in
-                                                 (height_m, speed_kmh, elevation_deg, heading_deg,
-                                                  spin_rpm, spin_axis_deg)))
+        h, v, a, b, w, g = np.broadcast_arrays(
+            *(
+                np.asarray(x, dtype=float)
+                for x in (height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg)
+            )
+        )
     except ValueError as exc:
         raise InputError(f"launch_states: settings arrays do not broadcast together ({exc})") from None
     h, v, a, b, w, g = (x.reshape(-1) for x in (h, v, a, b, w, g))
@@ -237,12 +246,12 @@ def launch_states(spec: MachineSpec, height_m, speed_kmh, elevation_deg, heading
     out[:, 1] = spec.position[1]
     out[:, 2] = h
     vs = v * KMH
-    out[:, 3] = vs * ca * cb                       # v d, d = (ca cb, ca sb, sa)
+    out[:, 3] = vs * ca * cb  # v d, d = (ca cb, ca sb, sa)
     out[:, 4] = vs * ca * sb
     out[:, 5] = vs * sa
     ws = w * RPM
-    wh, wu = ws * cg, ws * sg                      # omega = w (cos g h + sin g u)
-    out[:, 6] = -wh * sb - wu * sa * cb            # h = (-sb, cb, 0), u = (-sa cb, -sa sb, ca)
+    wh, wu = ws * cg, ws * sg  # omega = w (cos g h + sin g u)
+    out[:, 6] = -wh * sb - wu * sa * cb  # h = (-sb, cb, 0), u = (-sa cb, -sa sb, ca)
     out[:, 7] = wh * cb - wu * sa * sb
     out[:, 8] = wu * ca
     return out

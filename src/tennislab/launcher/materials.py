@@ -33,6 +33,7 @@ on an inclined plane (Table 3).  The seed adopts mu = 2.05 (roller segment,
 35 mm contact length, eta = 64 deg).  Table 3's other coefficients are tan(eta) to
 the printed rounding except the plane's 39 deg row: tan 39 deg = 0.81, printed 0.80.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,9 +54,16 @@ SEED_CONTACT_AREA = 2.12e-4
 
 #: Seed 002 Table 1: loading weight [kg], deformation [m], seed's E [MPa].
 SEED_TABLE1 = (
-    (0.55, 0.0005, 3.40), (1.10, 0.0011, 3.09), (1.65, 0.0018, 2.83), (2.20, 0.0021, 3.24),
-    (2.75, 0.0025, 3.40), (3.30, 0.0029, 3.52), (3.85, 0.0030, 3.96), (4.40, 0.0033, 4.12),
-    (4.95, 0.0036, 4.50), (5.50, 0.0040, 4.25),
+    (0.55, 0.0005, 3.40),
+    (1.10, 0.0011, 3.09),
+    (1.65, 0.0018, 2.83),
+    (2.20, 0.0021, 3.24),
+    (2.75, 0.0025, 3.40),
+    (3.30, 0.0029, 3.52),
+    (3.85, 0.0030, 3.96),
+    (4.40, 0.0033, 4.12),
+    (4.95, 0.0036, 4.50),
+    (5.50, 0.0040, 4.25),
 )
 #: ITF forward-deformation limits at 8.165 kg (seed 002 Table 2): (type, min [m], max [m], seed's E [MPa] at min, max).
 ITF_DEFORMATION_LIMITS = (
@@ -66,10 +74,24 @@ ITF_DEFORMATION_LIMITS = (
 ITF_LOAD_KG = 8.165
 #: Seed 002 Table 3: configuration -> rows (contact length [m], friction angle [deg], seed's mu).
 SEED_TABLE3 = {
-    "plane": ((0.008, 32, 0.63), (0.010, 34, 0.67), (0.015, 37, 0.75), (0.020, 39, 0.80),
-              (0.025, 41, 0.87), (0.030, 43, 0.93), (0.035, 44, 0.97)),
-    "roller": ((0.005, 30, 0.58), (0.010, 34, 0.67), (0.015, 40, 0.84), (0.020, 46, 1.04),
-               (0.025, 53, 1.33), (0.030, 59, 1.66), (0.035, 64, 2.05)),
+    "plane": (
+        (0.008, 32, 0.63),
+        (0.010, 34, 0.67),
+        (0.015, 37, 0.75),
+        (0.020, 39, 0.80),
+        (0.025, 41, 0.87),
+        (0.030, 43, 0.93),
+        (0.035, 44, 0.97),
+    ),
+    "roller": (
+        (0.005, 30, 0.58),
+        (0.010, 34, 0.67),
+        (0.015, 40, 0.84),
+        (0.020, 46, 1.04),
+        (0.025, 53, 1.33),
+        (0.030, 59, 1.66),
+        (0.035, 64, 2.05),
+    ),
 }
 
 
@@ -88,12 +110,20 @@ class YoungResult:
     diameter: float
 
     def as_dict(self) -> dict:
-        rows = [{"load_n": float(f), "deformation_m": float(d), "young_modulus_mpa": float(e) / 1e6}
-                for f, d, e in zip(self.load, self.deformation, self.modulus)]
-        return {"rows": rows, "mean_mpa": self.mean / 1e6, "min_mpa": self.minimum / 1e6,
-                "max_mpa": self.maximum / 1e6, "range_mpa": (self.maximum - self.minimum) / 1e6,
-                "slope_modulus_mpa": self.slope_modulus / 1e6, "contact_area_m2": self.contact_area,
-                "diameter_m": self.diameter}
+        rows = [
+            {"load_n": float(f), "deformation_m": float(d), "young_modulus_mpa": float(e) / 1e6}
+            for f, d, e in zip(self.load, self.deformation, self.modulus)
+        ]
+        return {
+            "rows": rows,
+            "mean_mpa": self.mean / 1e6,
+            "min_mpa": self.minimum / 1e6,
+            "max_mpa": self.maximum / 1e6,
+            "range_mpa": (self.maximum - self.minimum) / 1e6,
+            "slope_modulus_mpa": self.slope_modulus / 1e6,
+            "contact_area_m2": self.contact_area,
+            "diameter_m": self.diameter,
+        }
 
 
 def _arrays(*named):
@@ -112,8 +142,9 @@ def _arrays(*named):
     return out
 
 
-def young_modulus(load_n, deformation_m, diameter: float = 2 * SEED_BALL_RADIUS,
-                  contact_area: float = SEED_CONTACT_AREA) -> YoungResult:
+def young_modulus(
+    load_n, deformation_m, diameter: float = 2 * SEED_BALL_RADIUS, contact_area: float = SEED_CONTACT_AREA
+) -> YoungResult:
     """Young's modulus E = F 2r / (s dl) [Pa] per row (seed 002 section 5.1, eq 13), mean and slope fit.
 
     ``load_n`` F [N] and ``deformation_m`` dl [m] (diameter reduction) per row; ``diameter``
@@ -123,17 +154,29 @@ def young_modulus(load_n, deformation_m, diameter: float = 2 * SEED_BALL_RADIUS,
     """
     f, dl = _arrays(("load_n", load_n), ("deformation_m", deformation_m))
     if (f <= 0).any():
-        raise InputError(f"load_n: row {int(np.argmax(f <= 0)) + 1}: {f[f <= 0][0]:g} N must be > 0 (allowed (0, inf) N)")
+        raise InputError(
+            f"load_n: row {int(np.argmax(f <= 0)) + 1}: {f[f <= 0][0]:g} N must be > 0 (allowed (0, inf) N)"
+        )
     if (dl <= 0).any() or (dl >= diameter).any():
         bad = int(np.argmax((dl <= 0) | (dl >= diameter)))
-        raise InputError(f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range "
-                         f"(0, {diameter:g}) m")
+        raise InputError(
+            f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range (0, {diameter:g}) m"
+        )
     if not (0 < contact_area < 0.01):
         raise InputError(f"contact_area_m2: {contact_area:g} m^2 is outside the allowed range (0, 0.01) m^2")
     e = f * diameter / (contact_area * dl)
     k = float(np.sum(f * dl) / np.sum(dl * dl))
-    return YoungResult(f, dl, e, float(e.mean()), float(e.min()), float(e.max()),
-                       k * diameter / contact_area, float(contact_area), float(diameter))
+    return YoungResult(
+        f,
+        dl,
+        e,
+        float(e.mean()),
+        float(e.min()),
+        float(e.max()),
+        k * diameter / contact_area,
+        float(contact_area),
+        float(diameter),
+    )
 
 
 def implied_contact_area(load_n, deformation_m, modulus_pa, diameter: float = 2 * SEED_BALL_RADIUS) -> np.ndarray:

@@ -50,6 +50,7 @@ r_r = 0.1 m; independently, a solid polyurethane wheel (density ~1200 kg/m^3)
 of 0.2 m diameter and 50 mm width has 1.9 kg.  Default 2.0 kg (a seed-implied
 value, stated as such); t_r scales linearly with m_r (docs/launcher.md).
 """
+
 from __future__ import annotations
 
 import math
@@ -73,17 +74,17 @@ DEFAULT_THROW_TIME = 1.0
 class PowerReport:
     """Energy and power of one throw (SI units)."""
 
-    speed: float                 #: V [m/s]
-    spin: float                  #: omega [rad/s]
-    ball_energy: float           #: 1/2 m V^2 + 1/2 I_p omega^2 [J] (eq 20)
-    roller_inertia: float        #: I_r [kg m^2] (eq 19)
-    impulse: tuple               #: (J1, J2) [N s]
-    work: tuple                  #: (W1, W2) energy each roller gives up per throw [J]
-    omega: tuple                 #: roller speeds at release (eqs 16-17) [rad/s]
-    omega0: tuple                #: roller speeds before the throw [rad/s]
-    startup_energy: tuple        #: 1/2 I_r omega_i0^2 [J]
-    throw_time: float            #: t_d [s]
-    motor_power: float           #: P [W]
+    speed: float  #: V [m/s]
+    spin: float  #: omega [rad/s]
+    ball_energy: float  #: 1/2 m V^2 + 1/2 I_p omega^2 [J] (eq 20)
+    roller_inertia: float  #: I_r [kg m^2] (eq 19)
+    impulse: tuple  #: (J1, J2) [N s]
+    work: tuple  #: (W1, W2) energy each roller gives up per throw [J]
+    omega: tuple  #: roller speeds at release (eqs 16-17) [rad/s]
+    omega0: tuple  #: roller speeds before the throw [rad/s]
+    startup_energy: tuple  #: 1/2 I_r omega_i0^2 [J]
+    throw_time: float  #: t_d [s]
+    motor_power: float  #: P [W]
     slip: bool
 
     @property
@@ -114,14 +115,24 @@ class PowerReport:
             "rpm_drop": [(a - b) / RPM for a, b in zip(self.omega0, self.omega)],
             "startup_energy_j": list(self.startup_energy),
             "roller_inertia_kgm2": self.roller_inertia,
-            "throw_time_s": self.throw_time, "motor_power_w": self.motor_power,
-            "slip": self.slip, "speed_kmh": self.speed * 3.6, "spin_rpm": self.spin / RPM,
+            "throw_time_s": self.throw_time,
+            "motor_power_w": self.motor_power,
+            "slip": self.slip,
+            "speed_kmh": self.speed * 3.6,
+            "spin_rpm": self.spin / RPM,
         }
 
 
-def power_report(speed: float, spin: float = 0.0, roller_mass: float = DEFAULT_ROLLER_MASS,
-                 motor_power: float = DEFAULT_MOTOR_POWER, throw_time: float = DEFAULT_THROW_TIME,
-                 spec: MachineSpec = DEFAULT_SPEC, ball: Ball | None = None, slip: bool = False) -> PowerReport:
+def power_report(
+    speed: float,
+    spin: float = 0.0,
+    roller_mass: float = DEFAULT_ROLLER_MASS,
+    motor_power: float = DEFAULT_MOTOR_POWER,
+    throw_time: float = DEFAULT_THROW_TIME,
+    spec: MachineSpec = DEFAULT_SPEC,
+    ball: Ball | None = None,
+    slip: bool = False,
+) -> PowerReport:
     """Energy per throw, motor power and start-up time for ball speed V [m/s] and spin omega [rad/s].
 
     ``roller_mass`` [kg] of each (solid cylinder) roller, ``motor_power`` [W] of
@@ -137,10 +148,10 @@ def power_report(speed: float, spin: float = 0.0, roller_mass: float = DEFAULT_R
     check_range("throw_time", throw_time, 0.0, 3600.0, "s", lo_open=True)
     g = roller_geometry(spec, ball)
     rl, rr = g.deformed_radius, spec.roller_radius
-    i_r = 0.5 * roller_mass * rr ** 2
+    i_r = 0.5 * roller_mass * rr**2
     i_p = ball.inertia
     m = ball.mass
-    e_ball = 0.5 * m * speed ** 2 + 0.5 * i_p * spin ** 2
+    e_ball = 0.5 * m * speed**2 + 0.5 * i_p * spin**2
     j1 = 0.5 * (m * speed - i_p * spin / rl)
     j2 = 0.5 * (m * speed + i_p * spin / rl)
     v1, v2 = (float(v) for v in surface_speeds(speed, spin, rl))
@@ -149,6 +160,18 @@ def power_report(speed: float, spin: float = 0.0, roller_mass: float = DEFAULT_R
     o1, o2 = (float(w) for w in roller_speeds(speed, spin, rr, rl))
     o10 = math.copysign(math.sqrt(max(o1 * o1 + 2.0 * w_1 / i_r, 0.0)), o1)
     o20 = math.copysign(math.sqrt(max(o2 * o2 + 2.0 * w_2 / i_r, 0.0)), o2)
-    e0 = (0.5 * i_r * o10 ** 2, 0.5 * i_r * o20 ** 2)
-    return PowerReport(float(speed), float(spin), e_ball, i_r, (j1, j2), (w_1, w_2), (o1, o2), (o10, o20), e0,
-                       float(throw_time), float(motor_power), bool(slip))
+    e0 = (0.5 * i_r * o10**2, 0.5 * i_r * o20**2)
+    return PowerReport(
+        float(speed),
+        float(spin),
+        e_ball,
+        i_r,
+        (j1, j2),
+        (w_1, w_2),
+        (o1, o2),
+        (o10, o20),
+        e0,
+        float(throw_time),
+        float(motor_power),
+        bool(slip),
+    )

@@ -38,6 +38,7 @@ because eqs 14-15 use the deformed radius r_l, i.e. the ball must roll without
 slip by the time it reaches the nip: F_w = m V^2 / (2 L).  This is a modelling
 choice (documented in docs/launcher.md), not a seed value.
 """
+
 from __future__ import annotations
 
 import math
@@ -83,9 +84,11 @@ def roller_geometry(spec: MachineSpec = DEFAULT_SPEC, ball: Ball | None = None) 
     if gap <= 0:
         raise InputError(f"roller_axis_distance: {d:g} m must exceed twice the roller radius {2 * rr:g} m")
     if gap >= 2.0 * r:
-        raise InputError(f"roller_axis_distance: gap {gap:g} m between the rollers is not smaller than the "
-                         f"ball diameter {2 * r:g} m; the rollers cannot grip the ball "
-                         f"(allowed gap (0, {2 * r:g}) m)")
+        raise InputError(
+            f"roller_axis_distance: gap {gap:g} m between the rollers is not smaller than the "
+            f"ball diameter {2 * r:g} m; the rollers cannot grip the ball "
+            f"(allowed gap (0, {2 * r:g}) m)"
+        )
     cos_l = (d / 2.0) / (rr + r)
     lam = math.acos(cos_l)
     return RollerGeometry(rr, d, r, gap, gap / 2.0, 2.0 * r - gap, lam, (rr + r) * math.sin(lam))
@@ -122,22 +125,22 @@ def ball_from_rollers(omega_1, omega_2, roller_radius: float, deformed_radius: f
 class RollerReport:
     """Roller speeds and the pull-in and no-slip checks for one throw (SI units, rpm where named)."""
 
-    speed: float             #: ball speed V [m/s]
-    spin: float              #: ball spin omega [rad/s]
+    speed: float  #: ball speed V [m/s]
+    spin: float  #: ball spin omega [rad/s]
     geometry: RollerGeometry
-    omega_1: float           #: roller 1 (slower for positive spin) [rad/s]
-    omega_2: float           #: roller 2 [rad/s]
-    surface_1: float         #: V1 [m/s]
-    surface_2: float         #: V2 [m/s]
-    friction: float          #: mu [-]
-    friction_angle: float    #: eta = atan(mu) [rad]
-    pulls_in: bool           #: lambda <= eta (eq 11)
-    young_modulus: float     #: E [Pa]
-    contact_area: float      #: s [m^2]
-    normal_force: float      #: N = E s dl / (2 r) [N] (eq 13)
-    friction_force: float    #: T = mu N [N]
-    inertia_force: float     #: F_w = m V^2 / (2 L) [N]
-    throws: bool             #: 2 T >= F_w (eq 12, corrected direction)
+    omega_1: float  #: roller 1 (slower for positive spin) [rad/s]
+    omega_2: float  #: roller 2 [rad/s]
+    surface_1: float  #: V1 [m/s]
+    surface_2: float  #: V2 [m/s]
+    friction: float  #: mu [-]
+    friction_angle: float  #: eta = atan(mu) [rad]
+    pulls_in: bool  #: lambda <= eta (eq 11)
+    young_modulus: float  #: E [Pa]
+    contact_area: float  #: s [m^2]
+    normal_force: float  #: N = E s dl / (2 r) [N] (eq 13)
+    friction_force: float  #: T = mu N [N]
+    inertia_force: float  #: F_w = m V^2 / (2 L) [N]
+    throws: bool  #: 2 T >= F_w (eq 12, corrected direction)
     max_no_slip_speed: float  #: largest V with 2 T >= F_w [m/s]
 
     @property
@@ -151,24 +154,39 @@ class RollerReport:
     def as_dict(self) -> dict:
         g = self.geometry
         return {
-            "rpm1": self.rpm1, "rpm2": self.rpm2,
-            "surface_speed1_ms": self.surface_1, "surface_speed2_ms": self.surface_2,
+            "rpm1": self.rpm1,
+            "rpm2": self.rpm2,
+            "surface_speed1_ms": self.surface_1,
+            "surface_speed2_ms": self.surface_2,
             "grab_angle_deg": math.degrees(g.grab_angle),
             "friction_angle_deg": math.degrees(self.friction_angle),
-            "friction": self.friction, "pulls_in": self.pulls_in,
-            "deformed_radius_m": g.deformed_radius, "deformation_m": g.deformation, "gap_m": g.gap,
+            "friction": self.friction,
+            "pulls_in": self.pulls_in,
+            "deformed_radius_m": g.deformed_radius,
+            "deformation_m": g.deformation,
+            "gap_m": g.gap,
             "entry_length_m": g.entry_length,
-            "young_modulus_pa": self.young_modulus, "contact_area_m2": self.contact_area,
-            "normal_force_n": self.normal_force, "friction_force_n": self.friction_force,
-            "inertia_force_n": self.inertia_force, "throws": self.throws,
+            "young_modulus_pa": self.young_modulus,
+            "contact_area_m2": self.contact_area,
+            "normal_force_n": self.normal_force,
+            "friction_force_n": self.friction_force,
+            "inertia_force_n": self.inertia_force,
+            "throws": self.throws,
             "max_no_slip_speed_kmh": self.max_no_slip_speed * 3.6,
-            "speed_kmh": self.speed * 3.6, "spin_rpm": self.spin / RPM,
+            "speed_kmh": self.speed * 3.6,
+            "spin_rpm": self.spin / RPM,
         }
 
 
-def roller_report(speed: float, spin: float = 0.0, spec: MachineSpec = DEFAULT_SPEC, ball: Ball | None = None,
-                  friction: float = SEED_FRICTION, young_modulus: float = SEED_YOUNG_MODULUS,
-                  contact_area: float = SEED_CONTACT_AREA) -> RollerReport:
+def roller_report(
+    speed: float,
+    spin: float = 0.0,
+    spec: MachineSpec = DEFAULT_SPEC,
+    ball: Ball | None = None,
+    friction: float = SEED_FRICTION,
+    young_modulus: float = SEED_YOUNG_MODULUS,
+    contact_area: float = SEED_CONTACT_AREA,
+) -> RollerReport:
     """Roller speeds (eqs 14-17), pull-in (eqs 8-11) and no-slip (eqs 12-13) for V [m/s], omega [rad/s].
 
     Defaults: mu = 2.05 and E = 4.2 MPa (the values seed 002 adopts), s = 2.12 cm^2
@@ -187,8 +205,24 @@ def roller_report(speed: float, spin: float = 0.0, spec: MachineSpec = DEFAULT_S
     eta = math.atan(friction)
     n = young_modulus * contact_area * g.deformation / (2.0 * ball.radius)
     t = friction * n
-    fw = ball.mass * speed ** 2 / (2.0 * g.entry_length)
+    fw = ball.mass * speed**2 / (2.0 * g.entry_length)
     vmax = math.sqrt(2.0 * t * 2.0 * g.entry_length / ball.mass)
-    return RollerReport(float(speed), float(spin), g, float(w1), float(w2), float(v1), float(v2),
-                        float(friction), eta, bool(g.grab_angle <= eta), float(young_modulus),
-                        float(contact_area), n, t, fw, bool(2.0 * t >= fw), vmax)
+    return RollerReport(
+        float(speed),
+        float(spin),
+        g,
+        float(w1),
+        float(w2),
+        float(v1),
+        float(v2),
+        float(friction),
+        eta,
+        bool(g.grab_angle <= eta),
+        float(young_modulus),
+        float(contact_area),
+        n,
+        t,
+        fw,
+        bool(2.0 * t >= fw),
+        vmax,
+    )

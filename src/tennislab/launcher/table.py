@@ -22,6 +22,7 @@ A row's ``id`` packs its per-setting grid indices in mixed radix
 (:func:`pack_ids`): stable for a machine spec, so a resumed or overlapping fill
 inserts each setting once.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -119,6 +120,7 @@ class TableGrid:
     def grid_spec(self):
         """The lazy :class:`tennislab.batch.grid.GridSpec` over the indices."""
         from tennislab.batch.grid import GridSpec
+
         return GridSpec({f: np.asarray(self.indices[f], dtype=np.int64) for f in AXES})
 
     def chunk(self, i: int, chunk_size: int) -> dict:
@@ -149,8 +151,21 @@ def make_grid(spec, ranges: dict | None = None, strides: dict | None = None) -> 
 
 
 #: Per-row columns of a flown chunk (:func:`fly_chunk`), besides the settings of :data:`AXES`.
-ROW_COLUMNS = ("id",) + AXES + ("land_x", "land_y", "net_clearance_m", "flight_time_s", "bounce_speed_ms",
-                               "bounce_spin_rpm", "apex_z_m", "status", "net_status")
+ROW_COLUMNS = (
+    ("id",)
+    + AXES
+    + (
+        "land_x",
+        "land_y",
+        "net_clearance_m",
+        "flight_time_s",
+        "bounce_speed_ms",
+        "bounce_spin_rpm",
+        "apex_z_m",
+        "status",
+        "net_status",
+    )
+)
 
 
 def fly_chunk(indices: dict, spec, params) -> dict:
@@ -162,6 +177,7 @@ def fly_chunk(indices: dict, spec, params) -> dict:
     """
     from tennislab.core.flight import fly_batch
     from tennislab.launcher.machine import launch_states
+
     sizes = machine_sizes(spec)
     idx = {f: np.asarray(indices[f], dtype=np.int64) for f in AXES}
     vals = {f: axis_values(spec.range_of(f), idx[f]) for f in AXES}
@@ -171,15 +187,31 @@ def fly_chunk(indices: dict, spec, params) -> dict:
     if n == 0:
         out.update({c: np.empty(0) for c in ROW_COLUMNS if c not in out})
         return out
-    states = launch_states(spec, vals["height_m"], vals["speed_kmh"], vals["elevation_deg"],
-                           vals["heading_deg"], vals["spin_rpm"], vals["spin_axis_deg"])
+    states = launch_states(
+        spec,
+        vals["height_m"],
+        vals["speed_kmh"],
+        vals["elevation_deg"],
+        vals["heading_deg"],
+        vals["spin_rpm"],
+        vals["spin_axis_deg"],
+    )
     tab = fly_batch(states, params, rtol=_db.FILL_RTOL, atol=_db.FILL_ATOL)
     vel = np.stack([tab["land_vx"], tab["land_vy"], tab["land_vz"]], axis=1)
     spin = np.stack([tab["land_wx"], tab["land_wy"], tab["land_wz"]], axis=1)
-    out.update({"land_x": tab["land_x"], "land_y": tab["land_y"], "net_clearance_m": tab.clearance,
-                "flight_time_s": tab["land_t"], "bounce_speed_ms": np.linalg.norm(vel, axis=1),
-                "bounce_spin_rpm": np.linalg.norm(spin, axis=1) / RPM, "apex_z_m": tab["apex_z"],
-                "status": tab["status"].astype(np.int8), "net_status": tab["net_status"].astype(np.int8)})
+    out.update(
+        {
+            "land_x": tab["land_x"],
+            "land_y": tab["land_y"],
+            "net_clearance_m": tab.clearance,
+            "flight_time_s": tab["land_t"],
+            "bounce_speed_ms": np.linalg.norm(vel, axis=1),
+            "bounce_spin_rpm": np.linalg.norm(spin, axis=1) / RPM,
+            "apex_z_m": tab["apex_z"],
+            "status": tab["status"].astype(np.int8),
+            "net_status": tab["net_status"].astype(np.int8),
+        }
+    )
     return out
 
 
@@ -192,15 +224,21 @@ def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M, axi
     step nearest 0 deg; a fill passes its grid's rotation nearest 0 deg).
     """
     from tennislab.core.events import NET_OVER, STATUS_OK
+
     if axis0 is None:
         ax = spec.range_of("spin_axis_deg")
         axis0 = axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1)))
     side = 1.0 if spec.position[0] < 0 else -1.0  # the half opposite the machine
     x, y = side * np.asarray(rows["land_x"]), rows["land_y"]
     with np.errstate(invalid="ignore"):
-        ok = ((rows["status"] == STATUS_OK) & (rows["net_status"] == NET_OVER) & (x > 0.0)
-              & (x <= court.length / 2 + keep_margin) & (np.abs(y) <= court.doubles_width / 2 + keep_margin)
-              & ~((rows["spin_rpm"] == 0.0) & (rows["spin_axis_deg"] != axis0)))
+        ok = (
+            (rows["status"] == STATUS_OK)
+            & (rows["net_status"] == NET_OVER)
+            & (x > 0.0)
+            & (x <= court.length / 2 + keep_margin)
+            & (np.abs(y) <= court.doubles_width / 2 + keep_margin)
+            & ~((rows["spin_rpm"] == 0.0) & (rows["spin_axis_deg"] != axis0))
+        )
     return {c: np.asarray(rows[c])[ok] for c in _db.HIT_COLUMNS}
 
 
@@ -210,8 +248,9 @@ def fill_chunk(indices: dict, spec, params, keep_margin: float = KEEP_MARGIN_M) 
 
 
 # ------------------------------------------------------------ fill bookkeeping
-def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int,
-               register: bool = True) -> tuple[int | None, set]:
+def begin_fill(
+    conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size: int, register: bool = True
+) -> tuple[int | None, set]:
     """Register (or find) a fill of one settings grid; return (fill id, set of finished chunks).
 
     ``register=False`` only looks (and checks the chunk size): fill id None if the grid is new.
@@ -224,17 +263,24 @@ def begin_fill(conn: sqlite3.Connection, grid_json: str, n_rows: int, chunk_size
         if row is None and not register:
             fid = None
         elif row is None:
-            cur = conn.execute("INSERT INTO fills (grid_hash, grid_json, n_rows, chunk_size, n_chunks, "
-                               "started_utc) VALUES (?, ?, ?, ?, ?, ?)",
-                               (gh, grid_json, int(n_rows), int(chunk_size), n_chunks, _db._now()))
+            cur = conn.execute(
+                "INSERT INTO fills (grid_hash, grid_json, n_rows, chunk_size, n_chunks, "
+                "started_utc) VALUES (?, ?, ?, ?, ?, ?)",
+                (gh, grid_json, int(n_rows), int(chunk_size), n_chunks, _db._now()),
+            )
             fid = cur.lastrowid
         else:
             fid = row[0]
             if row[1] != chunk_size:
-                raise InputError(f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
-                                 f"resume with the same size (got {chunk_size})")
-        done = {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))} \
-            if fid is not None else set()
+                raise InputError(
+                    f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
+                    f"resume with the same size (got {chunk_size})"
+                )
+        done = (
+            {r[0] for r in conn.execute("SELECT chunk FROM fill_chunks WHERE fill_id = ?", (fid,))}
+            if fid is not None
+            else set()
+        )
         conn.execute("COMMIT")
     except BaseException:
         conn.execute("ROLLBACK")
@@ -257,9 +303,11 @@ def store_chunk(conn: sqlite3.Connection, fill_id: int, chunk: int, hits: dict) 
 
 def finish_fill(conn: sqlite3.Connection, fill_id: int) -> None:
     with conn:
-        conn.execute("UPDATE fills SET finished_utc = ? WHERE id = ? AND "
-                     "(SELECT count(*) FROM fill_chunks WHERE fill_id = ?) = n_chunks",
-                     (_db._now(), fill_id, fill_id))
+        conn.execute(
+            "UPDATE fills SET finished_utc = ? WHERE id = ? AND "
+            "(SELECT count(*) FROM fill_chunks WHERE fill_id = ?) = n_chunks",
+            (_db._now(), fill_id, fill_id),
+        )
 
 
 @dataclass
@@ -273,16 +321,28 @@ class FillReport:
     hits_inserted: int
     hits_total: int
     seconds: float
-    chunks_restored: int = 0    #: of ``chunks_run``: read back from ``out_dir`` instead of flown
+    chunks_restored: int = 0  #: of ``chunks_run``: read back from ``out_dir`` instead of flown
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)
 
 
-def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DEFAULT_CHUNK,
-               scheduler="local", n_workers: int | None = None, runner=None, progress=False,
-               out_dir: str | None = None, keep_margin: float = KEEP_MARGIN_M, max_chunks: int | None = None,
-               on_chunk=None) -> FillReport:
+def fill_table(
+    path: str,
+    spec,
+    params,
+    grid: TableGrid,
+    *,
+    chunk_size: int = DEFAULT_CHUNK,
+    scheduler="local",
+    n_workers: int | None = None,
+    runner=None,
+    progress=False,
+    out_dir: str | None = None,
+    keep_margin: float = KEEP_MARGIN_M,
+    max_chunks: int | None = None,
+    on_chunk=None,
+) -> FillReport:
     """Fill (or resume filling) the database at ``path`` with ``grid`` for ``spec`` and ``params``.
 
     Refuses a file built for another machine or physics (hash).  The chunks
@@ -302,7 +362,9 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
     called after each stored chunk.
     """
     import functools
+
     from tennislab.batch import run_batch
+
     chunk_size = int(chunk_size)
     if chunk_size < 1:
         raise InputError(f"--chunk-size: must be >= 1, got {chunk_size}")
@@ -334,14 +396,35 @@ def fill_table(path: str, spec, params, grid: TableGrid, *, chunk_size: int = DE
             if on_chunk is not None:
                 on_chunk(ci, len(hits["id"]))
 
-        res = run_batch(functools.partial(fly_chunk, spec=spec, params=params), grid.grid_spec(),
-                        scheduler=scheduler, n_workers=n_workers, chunk_size=chunk_size, out=out_dir,
-                        progress=progress, desc=f"launcher table -> {path}", collect=False,
-                        tag={"launcher_table": h}, on_chunk=insert, skip=done, max_chunks=max_chunks)
+        res = run_batch(
+            functools.partial(fly_chunk, spec=spec, params=params),
+            grid.grid_spec(),
+            scheduler=scheduler,
+            n_workers=n_workers,
+            chunk_size=chunk_size,
+            out=out_dir,
+            progress=progress,
+            desc=f"launcher table -> {path}",
+            collect=False,
+            tag={"launcher_table": h},
+            on_chunk=insert,
+            skip=done,
+            max_chunks=max_chunks,
+        )
         if tally["fid"] is not None:
             finish_fill(conn, tally["fid"])
         total = _db.count_hits(conn)
     finally:
         conn.close()
-    return FillReport(path, h, grid.size, n_chunks, res.skipped - res.restored, tally["run"], tally["inserted"],
-                      total, time.perf_counter() - t0, res.restored)
+    return FillReport(
+        path,
+        h,
+        grid.size,
+        n_chunks,
+        res.skipped - res.restored,
+        tally["run"],
+        tally["inserted"],
+        total,
+        time.perf_counter() - t0,
+        res.restored,
+    )

@@ -13,6 +13,7 @@ refined by Gauss-Newton on the reprojection error; its 3-D covariance is
 sigma_px^2 (J^T J)^-1, and the per-axis sigma handed to the track fit is
 sqrt(trace / 3) (the fit takes an isotropic sigma per point).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -70,6 +71,7 @@ def synthetic_rig(n: int = 8, court=None, f: float = 2500.0) -> list[Camera]:
     """``n`` cameras around the court (as broadcast line-calling rigs are: high in the stands,
     each aimed at a line region), 1920x1080 px."""
     from tennislab.core.court import ITF_COURT
+
     court = court or ITF_COURT
     L, d = court.half_length, court.doubles_width / 2
     cams = []
@@ -103,8 +105,8 @@ def triangulate(cams: list[Camera], uv: np.ndarray, sigma_px: np.ndarray, iters:
             z = Xc[2]
             pu = cam.fx * Xc[0] / z + cam.cx
             pv = cam.fy * Xc[1] / z + cam.cy
-            du = cam.fx * (cam.R[0] / z - Xc[0] * cam.R[2] / z ** 2)
-            dv = cam.fy * (cam.R[1] / z - Xc[1] * cam.R[2] / z ** 2)
+            du = cam.fx * (cam.R[0] / z - Xc[0] * cam.R[2] / z**2)
+            dv = cam.fy * (cam.R[1] / z - Xc[1] * cam.R[2] / z**2)
             res += [(pu - u) / s, (pv - v) / s]
             J += [du / s, dv / s]
         J = np.asarray(J)
@@ -152,8 +154,13 @@ def synthetic_detections(cams: list[Camera], t, xyz, sigma_px: float = 0.5, seed
     T, C, UV = [], [], []
     for ci, cam in enumerate(cams):
         uv = cam.project(xyz)
-        ok = np.isfinite(uv).all(axis=1) & (uv[:, 0] >= 0) & (uv[:, 0] <= cam.width) \
-            & (uv[:, 1] >= 0) & (uv[:, 1] <= cam.height)
+        ok = (
+            np.isfinite(uv).all(axis=1)
+            & (uv[:, 0] >= 0)
+            & (uv[:, 0] <= cam.width)
+            & (uv[:, 1] >= 0)
+            & (uv[:, 1] <= cam.height)
+        )
         T.append(np.asarray(t)[ok])
         C.append(np.full(ok.sum(), ci))
         UV.append(uv[ok] + rng.normal(0, sigma_px, (ok.sum(), 2)))

@@ -41,6 +41,7 @@ Errors found in the seed (details and numbers in docs/linecall.md):
 The model lands the ball where its centre reaches ``z_land`` (the seed uses the
 ground, 0; tennislab's flight engine uses the ball radius r).
 """
+
 from __future__ import annotations
 
 import math
@@ -65,27 +66,36 @@ class DropPoint:
     model: str
 
     def as_dict(self) -> dict:
-        return {"x": self.x, "y": self.y, "t": self.t, "range": self.range, "t_apex": self.t_apex,
-                "z_apex": self.z_apex, "model": self.model}
+        return {
+            "x": self.x,
+            "y": self.y,
+            "t": self.t,
+            "range": self.range,
+            "t_apex": self.t_apex,
+            "z_apex": self.z_apex,
+            "model": self.model,
+        }
 
 
 def _vertical(h, v0z, m_over_k, g, z_land, paper: bool):
     """(T, t1, z_max) of the seed's vertical motion with quadratic drag (eqs 2, 6-15)."""
-    c = math.sqrt(g / m_over_k)            # sqrt(g k / m)
-    vt = math.sqrt(g * m_over_k)           # terminal speed sqrt(m g / k)
+    c = math.sqrt(g / m_over_k)  # sqrt(g k / m)
+    vt = math.sqrt(g * m_over_k)  # terminal speed sqrt(m g / k)
     if v0z >= 0:
         a0 = math.atan(v0z / vt)
         t1 = a0 / c
         zmax = h - m_over_k * math.log(math.cos(a0))
     else:
         if -v0z >= vt:
-            raise InputError(f"velocity z: descending at {-v0z:g} m/s, faster than the terminal speed "
-                             f"{vt:g} m/s of the closed form (use --method numeric)")
-        t1 = -math.atanh(-v0z / vt) / c    # virtual apex before t = 0
+            raise InputError(
+                f"velocity z: descending at {-v0z:g} m/s, faster than the terminal speed "
+                f"{vt:g} m/s of the closed form (use --method numeric)"
+            )
+        t1 = -math.atanh(-v0z / vt) / c  # virtual apex before t = 0
         zmax = h + m_over_k * math.log(math.cosh(c * t1))
     if zmax < z_land:
         raise InputError(f"position z: the ball never reaches the landing height {z_land:g} m")
-    if paper:   # eq 15 as printed
+    if paper:  # eq 15 as printed
         E = math.exp(-(zmax - z_land) / m_over_k)
         T = t1 + math.log((2.0 - E + 2.0 * math.sqrt(1.0 - E)) / E) / c
     else:
@@ -93,8 +103,9 @@ def _vertical(h, v0z, m_over_k, g, z_land, paper: bool):
     return T, t1, zmax
 
 
-def no_spin_drop_point(position, velocity, m_over_k: float, g: float = 9.80665, z_land: float = 0.0,
-                       paper: bool = False) -> DropPoint:
+def no_spin_drop_point(
+    position, velocity, m_over_k: float, g: float = 9.80665, z_land: float = 0.0, paper: bool = False
+) -> DropPoint:
     """Seed 001 eqs 1-15 with the coordinate rotation: drop point of a non-spinning ball.
 
     position [m], velocity [m/s] (3-vectors); m_over_k = m / k [m] with the
@@ -112,8 +123,9 @@ def no_spin_drop_point(position, velocity, m_over_k: float, g: float = 9.80665, 
     return DropPoint(x0 + rng * ux, y0 + rng * uy, T, rng, t1, zmax, "seed001-eq15" + ("-paper" if paper else ""))
 
 
-def vertical_spin_drop_point(position, velocity, m_over_k: float, g_over_m: float, g: float = 9.80665,
-                             z_land: float = 0.0, drag: bool = True) -> DropPoint:
+def vertical_spin_drop_point(
+    position, velocity, m_over_k: float, g_over_m: float, g: float = 9.80665, z_land: float = 0.0, drag: bool = True
+) -> DropPoint:
     """Seed 001 eqs 16-29: spin about the vertical axis, Magnus force G v in the horizontal plane.
 
     g_over_m = G/m [1/s], signed: > 0 turns the heading counter-clockwise (to the
@@ -129,7 +141,7 @@ def vertical_spin_drop_point(position, velocity, m_over_k: float, g_over_m: floa
     vh = math.hypot(vx, vy)
     if drag:
         T, t1, zmax = _vertical(h, vz, mk, g, z_land, paper=False)
-    else:   # eq 16: z = h + v0z t - g t^2/2
+    else:  # eq 16: z = h + v0z t - g t^2/2
         disc = vz * vz + 2.0 * g * (h - z_land)
         if disc < 0:
             raise InputError(f"position z: the ball never reaches the landing height {z_land:g} m")
@@ -146,7 +158,7 @@ def vertical_spin_drop_point(position, velocity, m_over_k: float, g_over_m: floa
 
 def _turning_path(v0: float, m_over_k: float, om: float, t: float):
     """(x', y') at time t of a path with speed v0/(1 + beta t), beta = v0 k/m, heading om t."""
-    if not math.isfinite(m_over_k):     # seed eqs 27-28 (no drag)
+    if not math.isfinite(m_over_k):  # seed eqs 27-28 (no drag)
         if om == 0:
             return v0 * t, 0.0
         return v0 / om * math.sin(om * t), v0 / om * (1.0 - math.cos(om * t))
@@ -173,8 +185,9 @@ def closed_form_from_physics(position, velocity, spin, params, z_land: float | N
     v = np.array(check_vector("velocity", velocity))
     w = np.array(check_vector("spin", spin))
     if np.hypot(w[0], w[1]) > 1e-9 * max(1.0, abs(w[2])):
-        raise InputError("spin: the closed form (seed 001 eqs 16-29) handles spin about the vertical axis "
-                         "only; use --method numeric")
+        raise InputError(
+            "spin: the closed form (seed 001 eqs 16-29) handles spin about the vertical axis only; use --method numeric"
+        )
     if any(params.atmosphere.wind):
         raise InputError("wind: the closed form assumes still air (seed 001); use --method numeric")
     speed = float(np.linalg.norm(v))
@@ -195,11 +208,22 @@ def closed_form_from_physics(position, velocity, spin, params, z_land: float | N
 #: launch at (0, 0, 1) toward (p, q) = (2, 16) (its cos a = 2/sqrt 260, and its
 #: drop points lie on y/x = 8); spin example: G/m = 0.3495 /s, v0 = 15.75 m/s.
 SEED001_EXAMPLE = {
-    "m_over_k": 50.226, "g": 9.8, "h": 1.0, "pq": (2.0, 16.0),
-    "v0x": 0.3130 * 50.226, "v0z": 0.0439 * math.sqrt(50.226 * 9.8),
-    "g_over_m": 0.3495, "v0_spin": 15.75, "v0z_spin": 0.975,
-    "published": {"t1": 0.0993, "z_max": 1.0503, "drop": (1.5249, 12.1991),
-                  "T_spin": 0.5621, "drop_spin": (1.9474, 8.6042)},
+    "m_over_k": 50.226,
+    "g": 9.8,
+    "h": 1.0,
+    "pq": (2.0, 16.0),
+    "v0x": 0.3130 * 50.226,
+    "v0z": 0.0439 * math.sqrt(50.226 * 9.8),
+    "g_over_m": 0.3495,
+    "v0_spin": 15.75,
+    "v0z_spin": 0.975,
+    "published": {
+        "t1": 0.0993,
+        "z_max": 1.0503,
+        "drop": (1.5249, 12.1991),
+        "T_spin": 0.5621,
+        "drop_spin": (1.9474, 8.6042),
+    },
 }
 
 
@@ -217,13 +241,23 @@ def seed001_example() -> dict:
     spin_seed = vertical_spin_drop_point(pos, vs, ex["m_over_k"], -ex["g_over_m"], ex["g"], 0.0, drag=False)
     spin_drag = vertical_spin_drop_point(pos, vs, ex["m_over_k"], -ex["g_over_m"], ex["g"], 0.0, drag=True)
     vac_T = (vel[2] + math.sqrt(vel[2] ** 2 + 2 * ex["g"] * ex["h"])) / ex["g"]
-    return {"published": ex["published"], "corrected": fixed.as_dict(), "seed_equations": printed.as_dict(),
-            "vacuum_range": ex["v0x"] * vac_T, "spin_seed": spin_seed.as_dict(),
-            "spin_with_drag": spin_drag.as_dict()}
+    return {
+        "published": ex["published"],
+        "corrected": fixed.as_dict(),
+        "seed_equations": printed.as_dict(),
+        "vacuum_range": ex["v0x"] * vac_T,
+        "spin_seed": spin_seed.as_dict(),
+        "spin_with_drag": spin_drag.as_dict(),
+    }
 
 
-def closed_form_study(params=None, speeds=(10.0, 15.0, 20.0, 30.0, 45.0), angles_deg=(-6.0, 0.0, 5.0, 15.0, 30.0),
-                      spins=(0.0, 150.0), height: float = 1.0) -> list[dict]:
+def closed_form_study(
+    params=None,
+    speeds=(10.0, 15.0, 20.0, 30.0, 45.0),
+    angles_deg=(-6.0, 0.0, 5.0, 15.0, 30.0),
+    spins=(0.0, 150.0),
+    height: float = 1.0,
+) -> list[dict]:
     """Drop-point error of the closed form against the numerical model (:func:`fly`) over a grid.
 
     Shots start at (-11.885, 0, height) toward +x with the given speeds [m/s],
@@ -233,6 +267,7 @@ def closed_form_study(params=None, speeds=(10.0, 15.0, 20.0, 30.0, 45.0), angles
     relative error.
     """
     from tennislab.core.flight import FlightParams, fly
+
     params = params or FlightParams()
     rows = []
     for v in speeds:
@@ -249,6 +284,15 @@ def closed_form_study(params=None, speeds=(10.0, 15.0, 20.0, 30.0, 45.0), angles
                     continue
                 rng = math.hypot(tr.landing.x - pos[0], tr.landing.y - pos[1])
                 err = math.hypot(dp.x - tr.landing.x, dp.y - tr.landing.y)
-                rows.append({"speed": v, "angle_deg": a, "spin_z": w, "range": rng, "error": err,
-                             "rel_error": err / rng, "t_error": dp.t - tr.landing.t})
+                rows.append(
+                    {
+                        "speed": v,
+                        "angle_deg": a,
+                        "spin_z": w,
+                        "range": rng,
+                        "error": err,
+                        "rel_error": err / rng,
+                        "t_error": dp.t - tr.landing.t,
+                    }
+                )
     return rows

@@ -17,6 +17,7 @@ is the union of contact discs of :mod:`tennislab.core.mark`.
 Without ``--line``/``--target`` the area is the singles court of the half the
 ball lands in, and each of its lines is reported.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -25,7 +26,7 @@ from tennislab.core.court import ITF_COURT, Court
 from tennislab.core.mark import BallMark, depth_in_halfplane, depth_in_rect
 from tennislab.errors import InputError
 
-N_SAMPLES = 4000   #: Monte Carlo samples for p_in
+N_SAMPLES = 4000  #: Monte Carlo samples for p_in
 
 
 def default_target(x: float) -> str:
@@ -42,7 +43,7 @@ def line_halfplane(name: str, court: Court, mark_y: float = 0.0) -> tuple[int, f
     axis = 0 if (x1 - x0) < (y1 - y0) else 1
     lo, hi = (x0, x1) if axis == 0 else (y0, y1)
     mid = 0.5 * (lo + hi)
-    if abs(mid) < 1e-9:          # centre service line / centre mark: inside is the mark's side
+    if abs(mid) < 1e-9:  # centre service line / centre mark: inside is the mark's side
         inward = 1.0 if mark_y >= 0 else -1.0
     else:
         inward = -1.0 if mid > 0 else 1.0
@@ -81,8 +82,16 @@ def _decision(depth0: float, samples) -> dict:
     return {"call": "in" if depth0 >= 0 else "out", "distance_mm": depth0 * 1000.0, "p_in": p}
 
 
-def call_mark(mark: BallMark, *, court: Court = ITF_COURT, target: str | None = None,
-              line: str | None = None, bounce_cov=None, n_samples: int = N_SAMPLES, seed: int = 0) -> dict:
+def call_mark(
+    mark: BallMark,
+    *,
+    court: Court = ITF_COURT,
+    target: str | None = None,
+    line: str | None = None,
+    bounce_cov=None,
+    n_samples: int = N_SAMPLES,
+    seed: int = 0,
+) -> dict:
     """Decide a mark against ``line`` or ``target`` (default: the singles court of its half).
 
     Returns ``call`` (in/out), ``distance_mm``, ``p_in``, the ``target`` or ``line``

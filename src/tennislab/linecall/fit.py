@@ -34,6 +34,7 @@ Procedure:
 4. Covariance (J^T J)^-1 scaled by max(1, chi^2 per dof); without a sigma
    column the noise is estimated from the residuals (1.4826 MAD).
 """
+
 from __future__ import annotations
 
 import math
@@ -48,18 +49,18 @@ from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
 from tennislab.linecall import model as M
 
-SPIN_PRIOR = 500.0          #: [rad/s] sigma of the weak zero-mean prior on each spin component
-CONTACT_PRIOR = 0.3e-3      #: [s] suggested sigma of T_c (4-5 ms, Brody [S]: uniform -> 0.29 ms)
-SPIN_OUT_PRIOR = 150.0      #: [rad/s] sigma of the offset of the spin out from the bounce model
+SPIN_PRIOR = 500.0  #: [rad/s] sigma of the weak zero-mean prior on each spin component
+CONTACT_PRIOR = 0.3e-3  #: [s] suggested sigma of T_c (4-5 ms, Brody [S]: uniform -> 0.29 ms)
+SPIN_OUT_PRIOR = 150.0  #: [rad/s] sigma of the offset of the spin out from the bounce model
 #: zero-mean Gaussian priors (sigma) on parameters, by parameter index
-PRIOR_SIGMA = {6: SPIN_PRIOR, 7: SPIN_PRIOR, 8: SPIN_PRIOR, 15: SPIN_OUT_PRIOR, 16: SPIN_OUT_PRIOR,
-               17: SPIN_OUT_PRIOR}
-MIN_CONTACT_SIGMA = 1e-3    #: [m] floor of the contact-travel prior (slow balls)
-OUTLIER_SIGMA = 4.0         #: normalised 3-D residual above which a point is an outlier
-MIN_PRE_POINTS = 6          #: fewest points before the bounce
-MIN_POST_POINTS = 4         #: fewest points after the bounce to fit the outgoing velocity
-STEPS = np.array([1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6,
-                  1e-3, 1e-3, 1e-3])
+PRIOR_SIGMA = {6: SPIN_PRIOR, 7: SPIN_PRIOR, 8: SPIN_PRIOR, 15: SPIN_OUT_PRIOR, 16: SPIN_OUT_PRIOR, 17: SPIN_OUT_PRIOR}
+MIN_CONTACT_SIGMA = 1e-3  #: [m] floor of the contact-travel prior (slow balls)
+OUTLIER_SIGMA = 4.0  #: normalised 3-D residual above which a point is an outlier
+MIN_PRE_POINTS = 6  #: fewest points before the bounce
+MIN_POST_POINTS = 4  #: fewest points after the bounce to fit the outgoing velocity
+STEPS = np.array(
+    [1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3]
+)
 
 
 @dataclass(frozen=True)
@@ -161,8 +162,10 @@ def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float):
     i_min = int(np.argmin(z))
     n = t.size
     if i_min < MIN_PRE_POINTS - 1:
-        raise InputError(f"track: no bounce in range: only {i_min + 1} point(s) before the lowest point "
-                         f"(need {MIN_PRE_POINTS} before the bounce)")
+        raise InputError(
+            f"track: no bounce in range: only {i_min + 1} point(s) before the lowest point "
+            f"(need {MIN_PRE_POINTS} before the bounce)"
+        )
     pre = np.arange(0, i_min + 1)
     post = np.arange(i_min + 1, n)
     # the last pre points describe the approach best; a quadratic over <= 0.25 s
@@ -182,8 +185,9 @@ def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float):
     tau = min(cand)
     horizon = max(0.5, 0.5 * (t[-1] - t[0]))
     if tau > horizon + (t[-1] - t0):
-        raise InputError(f"track: no bounce in range: the ball would land {tau:.2f} s after the last point "
-                         f"before its lowest point")
+        raise InputError(
+            f"track: no bounce in range: the ball would land {tau:.2f} s after the last point before its lowest point"
+        )
     p = np.zeros(M.NPARAM)
     p[0] = np.polyval(cx, tau)
     p[1] = np.polyval(cy, tau)
@@ -218,12 +222,13 @@ def _segments(t, tb, tc, has_post, outlier):
     return seg.astype(np.int64)
 
 
-ROBUST_SCALE = 2.0   #: soft-L1 scale of the first round [sigma]
-COST_TOL = 1e-3      #: stop when an iteration lowers the cost (chi^2) by less than this
+ROBUST_SCALE = 2.0  #: soft-L1 scale of the first round [sigma]
+COST_TOL = 1e-3  #: stop when an iteration lowers the cost (chi^2) by less than this
 
 
-def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_idx, prior_sig, robust: bool,
-                         max_iter: int = 60):
+def _levenberg_marquardt(
+    p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_idx, prior_sig, robust: bool, max_iter: int = 60
+):
     """Minimise the (robust) cost over p[free] from x0.  Returns (x, cost, model evaluations).
 
     Levenberg-Marquardt with Marquardt's diagonal scaling (More 1978) on the normal equations
@@ -244,7 +249,7 @@ def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_id
         M.residuals(q, t, xyz, w, seg, kern, ap, consts, res, pos)
         r2 = (res.reshape(-1, 3) ** 2).sum(axis=1)
         if robust:
-            c = float(np.sum(2.0 * ROBUST_SCALE ** 2 * (np.sqrt(1.0 + r2 / ROBUST_SCALE ** 2) - 1.0)))
+            c = float(np.sum(2.0 * ROBUST_SCALE**2 * (np.sqrt(1.0 + r2 / ROBUST_SCALE**2) - 1.0)))
         else:
             c = float(np.sum(r2))
         return c + float(np.sum((x[prior_idx] / prior_sig) ** 2)), r2
@@ -257,11 +262,11 @@ def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_id
         q[free] = x
         M.jacobian(q, free, STEPS, t, xyz, w, seg, kern, ap, consts, res, J)
         nev += npar
-        wpt = 1.0 / np.sqrt(1.0 + r2 / ROBUST_SCALE ** 2) if robust else np.ones(n)
+        wpt = 1.0 / np.sqrt(1.0 + r2 / ROBUST_SCALE**2) if robust else np.ones(n)
         M.normal_equations(J, res, wpt, A, g)
         for j, sj in zip(prior_idx, prior_sig):
-            A[j, j] += 1.0 / sj ** 2
-            g[j] += x[j] / sj ** 2
+            A[j, j] += 1.0 / sj**2
+            g[j] += x[j] / sj**2
         d = np.maximum(np.diag(A).copy(), 1e-30)
         improved = False
         for _ in range(12):
@@ -278,21 +283,31 @@ def _levenberg_marquardt(p, free, x0, t, xyz, w, seg, kern, ap, consts, prior_id
                 break
             lam *= 10.0
         if not improved:
-            cost_of(x)      # restore the residual buffer at x
+            cost_of(x)  # restore the residual buffer at x
             break
         gain = cost - cn
         small = np.all(np.abs(step) <= 1e-10 + 1e-9 * np.abs(x))
         x, cost, r2 = xn, cn, r2n
         lam = max(lam / 10.0, 1e-12)
-        if gain < COST_TOL or small:    # cost is chi^2: a gain of 1e-3 moves parameters by ~0.03 sigma
+        if gain < COST_TOL or small:  # cost is chi^2: a gain of 1e-3 moves parameters by ~0.03 sigma
             break
     return x, cost, nev
 
 
-def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="hard", *,
-              fit_drag: bool = False, mark_params: MarkParams = MarkParams(), step: float = 8e-3,
-              max_rounds: int = 5, window: tuple | None = (0.6, 0.3),
-              contact_prior: float = 0.0) -> TrackFit:
+def fit_track(
+    t,
+    xyz,
+    sigma=None,
+    params: FlightParams | None = None,
+    surface="hard",
+    *,
+    fit_drag: bool = False,
+    mark_params: MarkParams = MarkParams(),
+    step: float = 8e-3,
+    max_rounds: int = 5,
+    window: tuple | None = (0.6, 0.3),
+    contact_prior: float = 0.0,
+) -> TrackFit:
     """Fit the flight model to a track (see the module docstring).
 
     t : (N,) strictly increasing times [s]; xyz : (N, 3) ball-centre positions [m];
@@ -328,8 +343,12 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     consts = M.make_consts(params, s, tc, step)
     kern, ap = params.aero.kernel, params.aero.params
     outlier = np.zeros(n, dtype=bool)
-    free_list = (list(range(9)) + ([9, 10, 11] if has_post else []) + ([12] if fit_drag else [])
-                 + (list(range(13, 18)) if has_post and contact_prior > 0 else []))
+    free_list = (
+        list(range(9))
+        + ([9, 10, 11] if has_post else [])
+        + ([12] if fit_drag else [])
+        + (list(range(13, 18)) if has_post and contact_prior > 0 else [])
+    )
     free = np.array(free_list, dtype=np.int64)
     pos = np.empty((n, 3))
     seg = _segments(t, p[2], tc, has_post, outlier)
@@ -338,7 +357,7 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     spin_idx = np.array([j for j, f in enumerate(free_list) if 6 <= f <= 8], dtype=np.int64)
     prior_idx = np.array([j for j, f in enumerate(free_list) if f in PRIOR_SIGMA], dtype=np.int64)
     psig = dict(PRIOR_SIGMA)
-    if contact_prior > 0:   # travel = T_c x mean horizontal speed: its sigma scales with the speed
+    if contact_prior > 0:  # travel = T_c x mean horizontal speed: its sigma scales with the speed
         vmean = 0.5 * (np.hypot(p[3], p[4]) + np.hypot(p[9], p[10]))
         psig[13] = psig[14] = max(float(contact_prior) * vmean, MIN_CONTACT_SIGMA)
     prior_sig = np.array([psig[free_list[j]] for j in prior_idx])
@@ -394,11 +413,11 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     g = np.empty(free.size)
     M.normal_equations(J, res, np.ones(n), A, g)
     for j, sj in zip(prior_idx, prior_sig):
-        A[j, j] += 1.0 / sj ** 2
+        A[j, j] += 1.0 / sj**2
     used = state["seg"] != M.SEG_OFF
     nres = 3 * np.count_nonzero(used)
     dof = max(nres - free.size, 1)
-    chi2 = float(np.sum(res ** 2)) / dof
+    chi2 = float(np.sum(res**2)) / dof
     try:
         cov = np.linalg.inv(A) * max(1.0, chi2)
     except np.linalg.LinAlgError:
@@ -410,7 +429,7 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     rms = float(math.sqrt(np.mean(r3[used] ** 2))) if used.any() else float("nan")
     # bounce-point covariance (marginal over every other parameter, t_b included)
     bc = cov[:2, :2].copy()
-    if not has_post:    # no data after the bounce: the bounce model gives the outgoing velocity
+    if not has_post:  # no data after the bounce: the bounce model gives the outgoing velocity
         p[9:12] = bounce(p[3:6], p[6:9], s, params.ball).velocity_out
     y_out = np.empty(9)
     M.post_start(p, consts, y_out)
@@ -423,5 +442,21 @@ def fit_track(t, xyz, sigma=None, params: FlightParams | None = None, surface="h
     r3_all[rows] = r3
     sig_all = np.full(n_all, np.nan)
     sig_all[rows] = sig
-    return TrackFit(p.copy(), free, cov, bc, sig_all, seg_all, out_all, r3_all, rms, chi2,
-                    has_post, spin_out, n_iter, params, s, mark_params)
+    return TrackFit(
+        p.copy(),
+        free,
+        cov,
+        bc,
+        sig_all,
+        seg_all,
+        out_all,
+        r3_all,
+        rms,
+        chi2,
+        has_post,
+        spin_out,
+        n_iter,
+        params,
+        s,
+        mark_params,
+    )

@@ -25,6 +25,7 @@ cubic Hermite interpolation on each step from the positions and velocities at
 its ends (error below 0.01 um for the shot library at 8 ms; tests/test_linecall.py
 checks against :func:`tennislab.core.flight.fly`).
 """
+
 from __future__ import annotations
 
 import math
@@ -223,9 +224,24 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
 def make_consts(params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
     """The constant vector of the model from :class:`FlightParams`, a surface and the contact time."""
     w = params.atmosphere.wind
-    return np.array([params.k, params.atmosphere.gravity, params.ball.radius, w[0], w[1], w[2],
-                     params.spin_decay, params.ball.inertia_factor, surface.e, surface.mu, surface.e_x,
-                     contact_time, step], dtype=np.float64)
+    return np.array(
+        [
+            params.k,
+            params.atmosphere.gravity,
+            params.ball.radius,
+            w[0],
+            w[1],
+            w[2],
+            params.spin_decay,
+            params.ball.inertia_factor,
+            surface.e,
+            surface.mu,
+            surface.e_x,
+            contact_time,
+            step,
+        ],
+        dtype=np.float64,
+    )
 
 
 def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
@@ -235,9 +251,17 @@ def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-
     if p.shape != (NPARAM,):
         raise ValueError(f"positions: p must have {NPARAM} entries, got shape {p.shape}")
     out = np.full((t.size, 3), np.nan)
-    model_positions(p, t, np.ascontiguousarray(seg, dtype=np.int64),
-                    params.aero.kernel, params.aero.params, make_consts(params, surface, contact_time, step),
-                    out, True, True)
+    model_positions(
+        p,
+        t,
+        np.ascontiguousarray(seg, dtype=np.int64),
+        params.aero.kernel,
+        params.aero.params,
+        make_consts(params, surface, contact_time, step),
+        out,
+        True,
+        True,
+    )
     return out
 
 

@@ -6,6 +6,7 @@ tracker's frame rate, and Gaussian noise of ``sigma`` per axis is added.
 :func:`shot_library` gives serves, groundstrokes (top- and backspin, side
 spin) and lobs landing near lines.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -30,10 +31,21 @@ class SyntheticTrack:
     name: str = ""
 
 
-def synthetic_track(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightParams | None = None, *,
-                    surface="hard", rate: float = 340.0, sigma: float = 3e-3, t_start: float = 0.0,
-                    after: float = 0.25, seed=None, name: str = "",
-                    mark_params: MarkParams = MarkParams()) -> SyntheticTrack:
+def synthetic_track(
+    position,
+    velocity,
+    spin=(0.0, 0.0, 0.0),
+    params: FlightParams | None = None,
+    *,
+    surface="hard",
+    rate: float = 340.0,
+    sigma: float = 3e-3,
+    t_start: float = 0.0,
+    after: float = 0.25,
+    seed=None,
+    name: str = "",
+    mark_params: MarkParams = MarkParams(),
+) -> SyntheticTrack:
     """Sample a shot at ``rate`` [Hz] from ``t_start`` [s] to ``after`` [s] past its bounce.
 
     A random phase of the frame clock is drawn from ``seed`` so that samples do
@@ -59,8 +71,11 @@ def synthetic_track(position, velocity, spin=(0.0, 0.0, 0.0), params: FlightPara
             truth[i] = seg1.sol(ti)[:3]
         else:  # during contact: centre moves along the ground, compressed
             f = (ti - b.t) / tc
-            truth[i] = (b.x + f * b.mark.displacement[0], b.y + f * b.mark.displacement[1],
-                        params.ball.radius - b.mark.compression * np.sin(np.pi * f))
+            truth[i] = (
+                b.x + f * b.mark.displacement[0],
+                b.y + f * b.mark.displacement[1],
+                params.ball.radius - b.mark.compression * np.sin(np.pi * f),
+            )
     xyz = truth + rng.normal(0.0, sigma, truth.shape)
     return SyntheticTrack(t, xyz, truth, b, sigma, name)
 
@@ -69,22 +84,71 @@ def shot_library() -> list[dict]:
     """Named shots (position [m], velocity [m/s], spin [rad/s]) from the near half to the far half."""
     shots = []
     for i, (vy, wz) in enumerate([(0.0, 0.0), (-1.2, -150.0), (1.5, 200.0)]):
-        shots.append({"name": f"flat-serve-{i}", "position": (-11.9, 0.4 + 0.3 * i, 2.85),
-                      "velocity": (52.0 - 3 * i, vy - 0.5, -4.6 + 0.2 * i), "spin": (0.0, 60.0, wz)})
-    shots.append({"name": "kick-serve", "position": (-11.9, 0.5, 2.75), "velocity": (36.0, -1.8, 0.8),
-                  "spin": (-150.0, 280.0, 120.0)})
-    shots.append({"name": "slice-serve", "position": (-11.9, 0.3, 2.8), "velocity": (42.0, -2.3, -2.2),
-                  "spin": (0.0, 100.0, -250.0)})
-    shots.append({"name": "topspin-forehand", "position": (-11.0, -2.0, 1.0),
-                  "velocity": (30.0, 2.0, 6.0), "spin": (0.0, 2500 * RPM, 0.0)})
-    shots.append({"name": "flat-drive", "position": (-10.5, 1.0, 0.9), "velocity": (34.0, -1.0, 4.0),
-                  "spin": (0.0, 800 * RPM, 0.0)})
-    shots.append({"name": "backhand-slice", "position": (-11.5, 2.0, 0.8), "velocity": (24.0, -1.0, 5.5),
-                  "spin": (0.0, -1800 * RPM, 0.0)})
-    shots.append({"name": "lob", "position": (-10.0, 0.0, 0.7), "velocity": (14.5, 0.5, 11.0),
-                  "spin": (0.0, 1500 * RPM, 0.0)})
-    shots.append({"name": "defensive-lob", "position": (-12.5, 3.0, 0.5), "velocity": (13.5, -1.0, 13.0),
-                  "spin": (0.0, -600 * RPM, 0.0)})
-    shots.append({"name": "sidespin-approach", "position": (-6.0, 0.0, 0.9), "velocity": (22.0, 3.2, 3.5),
-                  "spin": (0.0, 600 * RPM, 900 * RPM)})
+        shots.append(
+            {
+                "name": f"flat-serve-{i}",
+                "position": (-11.9, 0.4 + 0.3 * i, 2.85),
+                "velocity": (52.0 - 3 * i, vy - 0.5, -4.6 + 0.2 * i),
+                "spin": (0.0, 60.0, wz),
+            }
+        )
+    shots.append(
+        {
+            "name": "kick-serve",
+            "position": (-11.9, 0.5, 2.75),
+            "velocity": (36.0, -1.8, 0.8),
+            "spin": (-150.0, 280.0, 120.0),
+        }
+    )
+    shots.append(
+        {
+            "name": "slice-serve",
+            "position": (-11.9, 0.3, 2.8),
+            "velocity": (42.0, -2.3, -2.2),
+            "spin": (0.0, 100.0, -250.0),
+        }
+    )
+    shots.append(
+        {
+            "name": "topspin-forehand",
+            "position": (-11.0, -2.0, 1.0),
+            "velocity": (30.0, 2.0, 6.0),
+            "spin": (0.0, 2500 * RPM, 0.0),
+        }
+    )
+    shots.append(
+        {
+            "name": "flat-drive",
+            "position": (-10.5, 1.0, 0.9),
+            "velocity": (34.0, -1.0, 4.0),
+            "spin": (0.0, 800 * RPM, 0.0),
+        }
+    )
+    shots.append(
+        {
+            "name": "backhand-slice",
+            "position": (-11.5, 2.0, 0.8),
+            "velocity": (24.0, -1.0, 5.5),
+            "spin": (0.0, -1800 * RPM, 0.0),
+        }
+    )
+    shots.append(
+        {"name": "lob", "position": (-10.0, 0.0, 0.7), "velocity": (14.5, 0.5, 11.0), "spin": (0.0, 1500 * RPM, 0.0)}
+    )
+    shots.append(
+        {
+            "name": "defensive-lob",
+            "position": (-12.5, 3.0, 0.5),
+            "velocity": (13.5, -1.0, 13.0),
+            "spin": (0.0, -600 * RPM, 0.0),
+        }
+    )
+    shots.append(
+        {
+            "name": "sidespin-approach",
+            "position": (-6.0, 0.0, 0.9),
+            "velocity": (22.0, 3.2, 3.5),
+            "spin": (0.0, 600 * RPM, 900 * RPM),
+        }
+    )
     return shots

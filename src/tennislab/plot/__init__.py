@@ -1,4 +1,5 @@
 """Matplotlib figures (Agg backend; nothing here computes physics)."""
+
 import matplotlib
 
 matplotlib.use("Agg")

@@ -1,4 +1,5 @@
 """Drawing the court: top view (x-y) and side view (x-z) with the net."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -13,10 +14,9 @@ LINE_WHITE = "#ffffff"
 def draw_court_top(ax, court: Court = ITF_COURT, margin: float = 3.0, color: str = COURT_GREEN) -> None:
     """Draw the court seen from above on ``ax`` (x along, y across, metres)."""
     L, d = court.half_length, court.doubles_width / 2
-    ax.add_patch(Rectangle((-L - margin, -d - margin), 2 * (L + margin), 2 * (d + margin),
-                           color="#2d5e35", zorder=0))
+    ax.add_patch(Rectangle((-L - margin, -d - margin), 2 * (L + margin), 2 * (d + margin), color="#2d5e35", zorder=0))
     ax.add_patch(Rectangle((-L, -d), 2 * L, 2 * d, color=color, zorder=0.5))
-    for (x0, x1, y0, y1) in court.lines().values():
+    for x0, x1, y0, y1 in court.lines().values():
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color=LINE_WHITE, lw=0, zorder=1))
     ax.plot([0, 0], [-court.y_post, court.y_post], color="#222222", lw=2, zorder=2)
     ax.set_xlim(-L - margin, L + margin)

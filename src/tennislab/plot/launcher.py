@@ -1,4 +1,5 @@
 """Launcher figures: an aimed shot, and a drill's shots and zones on the court (no physics here)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -15,9 +16,11 @@ def _draw_machine(ax_side, ax_top, position, height):
 def plot_aim(solution, trajectory, title: str | None = None):
     """Side and top views of one aimed shot: trajectory, target, landing and machine."""
     st = solution.settings
-    title = title or (f"{solution.solution} solution: elev {st.elevation_deg:g} deg, head {st.heading_deg:g} deg, "
-                      f"{st.speed_kmh:g} km/h, {st.spin_rpm:g} rpm @ {st.spin_axis_deg:g} deg; "
-                      f"miss {solution.miss_mm:.0f} mm")
+    title = title or (
+        f"{solution.solution} solution: elev {st.elevation_deg:g} deg, head {st.heading_deg:g} deg, "
+        f"{st.speed_kmh:g} km/h, {st.spin_rpm:g} rpm @ {st.spin_axis_deg:g} deg; "
+        f"miss {solution.miss_mm:.0f} mm"
+    )
     fig, ax_side, ax_top = court_figure(title=title)
     _, ys = trajectory.sample(400)
     ax_side.plot(ys[:, 0], ys[:, 2], lw=1.8, color="#f2e600")
@@ -33,6 +36,7 @@ def plot_aim(solution, trajectory, title: str | None = None):
 def plot_drill(compiled, params=None, title: str | None = None):
     """Every distinct shot of a compiled drill: trajectories, zones (green = passed, red = failed)."""
     from tennislab.launcher.aim import fly_settings
+
     d = compiled.drill
     fig, ax_side, ax_top = court_figure(title=title or f"drill: {d.name} ({len(compiled.shots)} shots)")
     zmax = 3.5
@@ -40,8 +44,11 @@ def plot_drill(compiled, params=None, title: str | None = None):
     for i, u in enumerate(compiled.unique):
         c = colors[i % len(colors)]
         x0, x1, y0, y1 = u.shot.zone_bounds()
-        ax_top.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, lw=1.5, ls="--",
-                                   ec="#2ecc71" if u.ok else "#e74c3c", zorder=3))
+        ax_top.add_patch(
+            Rectangle(
+                (x0, y0), x1 - x0, y1 - y0, fill=False, lw=1.5, ls="--", ec="#2ecc71" if u.ok else "#e74c3c", zorder=3
+            )
+        )
         if u.solution is None:
             continue
         tr = fly_settings(u.solution.settings, d.spec, params)

@@ -1,14 +1,15 @@
 """Line-call figure: the mark on the lines (zoomed top view) and the track with its fit."""
+
 from __future__ import annotations
 
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.patches import Circle, Ellipse, Rectangle  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import Circle, Ellipse, Rectangle
 
-from tennislab.core.court import ITF_COURT  # noqa: E402
+from tennislab.core.court import ITF_COURT
 
 
 def plot_call(mark, decision: dict, court=ITF_COURT, fit=None, track=None, bounce_cov=None, zoom: float = 0.35):
@@ -18,7 +19,7 @@ def plot_call(mark, decision: dict, court=ITF_COURT, fit=None, track=None, bounc
     ax = axes[0, 0]
     cx, cy = mark.center
     ax.add_patch(Rectangle((cx - 5, cy - 5), 10, 10, color="#3a7d44", zorder=0))
-    for name, (x0, x1, y0, y1) in court.lines().items():
+    for x0, x1, y0, y1 in court.lines().values():
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color="white", lw=0, zorder=1))
     for x, y, a in mark.discs:
         if a > 0:
@@ -28,16 +29,27 @@ def plot_call(mark, decision: dict, court=ITF_COURT, fit=None, track=None, bounc
         ev, evec = np.linalg.eigh(np.asarray(bounce_cov))
         ang = np.degrees(np.arctan2(evec[1, 1], evec[0, 1]))
         for k in (1, 2):
-            ax.add_patch(Ellipse(mark.start, 2 * k * np.sqrt(max(ev[1], 0)), 2 * k * np.sqrt(max(ev[0], 0)),
-                                 angle=ang, fill=False, ec="k", ls="--" if k == 2 else "-", zorder=5))
+            ax.add_patch(
+                Ellipse(
+                    mark.start,
+                    2 * k * np.sqrt(max(ev[1], 0)),
+                    2 * k * np.sqrt(max(ev[0], 0)),
+                    angle=ang,
+                    fill=False,
+                    ec="k",
+                    ls="--" if k == 2 else "-",
+                    zorder=5,
+                )
+            )
     ax.set_xlim(cx - zoom, cx + zoom)
     ax.set_ylim(cy - zoom, cy + zoom)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     what = decision.get("line") or decision.get("target")
-    ax.set_title(f"{decision['call'].upper()} ({what}): {decision['distance_mm']:+.1f} mm, "
-                 f"p_in = {decision['p_in']:.3f}")
+    ax.set_title(
+        f"{decision['call'].upper()} ({what}): {decision['distance_mm']:+.1f} mm, p_in = {decision['p_in']:.3f}"
+    )
     ax.legend(loc="upper right", fontsize=8)
     if track is not None:
         t, xyz = track

@@ -1,8 +1,9 @@
 """Figures of the serve analysis: impact histories (worksheet figs 2.2-2.6), seed figs 5-9, Monte Carlo."""
+
 from __future__ import annotations
 
-import numpy as np
 import matplotlib.pyplot as plt
+import numpy as np
 from matplotlib.patches import Ellipse
 
 from tennislab.plot.court import draw_court_side, draw_court_top
@@ -47,6 +48,7 @@ def plot_window(windows, published=True, optimum_trajectories=None):
     with ``optimum_trajectories`` (a list, per window, of (flat, topspin) :class:`Trajectory` or None)
     also figs 7-9 (side view of the optimum serves) in a third panel."""
     from tennislab.serve.published import PEAK_SPIN_ALPHA
+
     if optimum_trajectories:
         fig, (a5, a6, a7) = plt.subplots(1, 3, figsize=(21, 5.5))
         draw_court_side(a7)
@@ -75,8 +77,14 @@ def plot_window(windows, published=True, optimum_trajectories=None):
         for cat, mk in (("flat", "|"), ("topspin", "_")):
             m = w.mask(cat)
             ib, ia = np.nonzero(m)
-            a6.plot(w.alpha_deg[ia], w.beta_deg[ib] + off, mk if cat == "flat" else ".", ms=4, color=c,
-                    label=f"{w.player.name} {cat}")
+            a6.plot(
+                w.alpha_deg[ia],
+                w.beta_deg[ib] + off,
+                mk if cat == "flat" else ".",
+                ms=4,
+                color=c,
+                label=f"{w.player.name} {cat}",
+            )
         for cat, mk in (("flat", "*"), ("topspin", "*")):
             o = w.optimum(cat)
             if o:
@@ -119,8 +127,18 @@ def plot_mc(samples, res, max_points: int = 20000):
     e = res["landing"].get("ellipse_95")
     if e:
         mx, my = res["landing"]["mean"]
-        ax.add_patch(Ellipse((mx, my), 2 * e["semi_axes"][0], 2 * e["semi_axes"][1], angle=e["angle_deg"],
-                             fill=False, color="k", lw=1.5, zorder=5))
+        ax.add_patch(
+            Ellipse(
+                (mx, my),
+                2 * e["semi_axes"][0],
+                2 * e["semi_axes"][1],
+                angle=e["angle_deg"],
+                fill=False,
+                color="k",
+                lw=1.5,
+                zorder=5,
+            )
+        )
     ax.set_xlim(-1, 13)
     ax.set_title(f"{res['player']}: P(success) = {res['p_success']:.3f} ({res['n']} serves, {res['criteria']})")
     ax.legend(loc="upper left", fontsize=8)

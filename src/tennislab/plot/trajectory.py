@@ -1,4 +1,5 @@
 """Trajectory figures: side and top views of one or more flights on the court."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -18,7 +19,7 @@ def plot_trajectories(trajectories, labels=None, title: str | None = None, court
         else:
             ys = np.asarray(tr[1])
         lab = labels[i] if labels else None
-        line, = ax_side.plot(ys[:, 0], ys[:, 2], lw=1.8, label=lab)
+        (line,) = ax_side.plot(ys[:, 0], ys[:, 2], lw=1.8, label=lab)
         ax_top.plot(ys[:, 0], ys[:, 1], lw=1.8, color=line.get_color())
         ax_top.plot(ys[-1, 0], ys[-1, 1], "o", ms=5, color=line.get_color(), mec="k")
         zmax = max(zmax, float(np.nanmax(ys[:, 2])) + 0.5)

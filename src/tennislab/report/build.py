@@ -17,6 +17,7 @@ fails is reported as failed (with the error) and the rest of the report is still
 written (``strict=True`` raises instead).  Progress goes to stderr per section.
 Figures are written atomically; ``index.html`` last.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -30,11 +31,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from tennislab import __version__  # noqa: E402
-from tennislab.app.services import Unavailable  # noqa: E402
-from tennislab.io.files import atomic_write  # noqa: E402
-from tennislab.plot.save import save_figure  # noqa: E402
-from tennislab.report import html as H  # noqa: E402
+from tennislab import __version__
+from tennislab.app.services import Unavailable
+from tennislab.io.files import atomic_write
+from tennislab.plot.save import save_figure
+from tennislab.report import html as H
 
 #: (key, title, "module:function") in report order
 SECTIONS = [
@@ -53,7 +54,9 @@ INTRO = H.para(
     "put our numbers beside the paper's; the line-calling section shows how a Hawk-Eye-style system decides a "
     "close ball and how sure it can be; the launcher section is a ready training drill with the machine "
     "settings to dial. Every number was computed by tennislab when this page was made; angles in degrees, "
-    "speeds in m/s or km/h, spin in rpm.", "note")
+    "speeds in m/s or km/h, spin in rpm.",
+    "note",
+)
 
 
 @dataclass
@@ -69,6 +72,7 @@ class Context:
     def save(self, fig, name: str) -> str:
         """Save a Matplotlib figure as ``DIR/name`` (PNG); returns the relative path for the HTML."""
         import matplotlib.pyplot as plt
+
         save_figure(fig, os.path.join(self.out, name))
         plt.close(fig)
         self.figures.append(name)
@@ -111,12 +115,13 @@ def build_report(out: str, *, progress=_stderr, strict: bool = False, only: list
         except (Unavailable, ImportError) as exc:
             sec.status = "unavailable"
             sec.parts = [f'<p class="unavailable">Not available in this installation: {H.esc(exc)}</p>']
-        except Exception as exc:  # noqa: BLE001 - one failing section must not lose the whole report
+        except Exception as exc:
             if strict:
                 raise
             sec.status = "failed"
-            sec.parts = [f'<p class="failed">This section could not be computed: '
-                         f'{H.esc(type(exc).__name__)}: {H.esc(exc)}</p>']
+            sec.parts = [
+                f'<p class="failed">This section could not be computed: {H.esc(type(exc).__name__)}: {H.esc(exc)}</p>'
+            ]
             if progress:
                 progress(traceback.format_exc().rstrip())
         sec.seconds = time.perf_counter() - t0
@@ -124,13 +129,23 @@ def build_report(out: str, *, progress=_stderr, strict: bool = False, only: list
             progress(f"[{i}/{len(chosen)}] {title}: {sec.status} ({sec.seconds:.1f} s)")
         sections.append(sec)
     total = time.perf_counter() - t_all
-    footer = (f"tennislab {__version__} - generated in {total:.1f} s - "
-              f"sections: " + ", ".join(f"{s.key} {s.status}" for s in sections))
-    doc = H.page("tennislab report", "Serve windows, spin, line calling and launcher drills - "
-                 "computed by tennislab from the seed papers' models", sections, footer, INTRO)
+    footer = f"tennislab {__version__} - generated in {total:.1f} s - sections: " + ", ".join(
+        f"{s.key} {s.status}" for s in sections
+    )
+    doc = H.page(
+        "tennislab report",
+        "Serve windows, spin, line calling and launcher drills - computed by tennislab from the seed papers' models",
+        sections,
+        footer,
+        INTRO,
+    )
     index = os.path.join(out, "index.html")
     atomic_write(index, lambda fh: fh.write(doc))
     if progress:
         progress(f"report: {index} ({len(ctx.figures)} figures, {total:.1f} s)")
-    return {"index": index, "sections": {s.key: s.status for s in sections}, "figures": list(ctx.figures),
-            "seconds": total}
+    return {
+        "index": index,
+        "sections": {s.key: s.status for s in sections},
+        "figures": list(ctx.figures),
+        "seconds": total,
+    }

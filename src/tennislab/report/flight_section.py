@@ -1,4 +1,5 @@
 """Report section: the flight engine's registered aero models on the same shots."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -19,6 +20,7 @@ MODELS = ["stepanek1988", "cross2014", "launcher2015", "constant"]
 def flight(ctx) -> None:
     """Trajectories of the same launches under each aero model; landing, apex and net table."""
     from tennislab.plot.trajectory import plot_trajectories
+
     sec = ctx.section
     rows, trs, labels = [], [], []
     for label, p, v, w in SHOTS:
@@ -26,16 +28,44 @@ def flight(ctx) -> None:
             params = FlightParams(aero=get_aero_model(m))
             tr = fly(p, v, w, params)
             land = tr.landing
-            rows.append([label, m, H.num(np.linalg.norm(v) / KMH, 0), H.num(land.x, 2), H.num(land.y, 2),
-                         H.num(tr.apex.z, 2), tr.net.result, H.num(tr.net.clearance, 3), H.num(land.t, 3)])
+            rows.append(
+                [
+                    label,
+                    m,
+                    H.num(np.linalg.norm(v) / KMH, 0),
+                    H.num(land.x, 2),
+                    H.num(land.y, 2),
+                    H.num(tr.apex.z, 2),
+                    tr.net.result,
+                    H.num(tr.net.clearance, 3),
+                    H.num(land.t, 3),
+                ]
+            )
             if label.startswith("topspin"):
                 trs.append(tr)
                 labels.append(m)
     fig = plot_trajectories(trs, labels=labels, title="topspin groundstroke, 100 km/h, 2500 rpm: aero models")
-    sec.add(H.para("The same launch flown with each registered aerodynamic model. Štěpánek (1988) is the "
-                   "seed-000 model; Cross & Lindsey (2014) and the launcher model (seed 002) use a lower "
-                   "drag coefficient measured in flight. Where the models disagree, the landing point moves by "
-                   "metres: the choice of model matters more than the integrator."),
-            H.figure(ctx.save(fig, "flight_models.png"), "A topspin groundstroke under four aero models"),
-            H.table(["shot", "aero model", "speed [km/h]", "landing x [m]", "landing y [m]", "apex [m]",
-                     "net", "net clearance [m]", "flight time [s]"], rows, left_cols=2))
+    sec.add(
+        H.para(
+            "The same launch flown with each registered aerodynamic model. Štěpánek (1988) is the "
+            "seed-000 model; Cross & Lindsey (2014) and the launcher model (seed 002) use a lower "
+            "drag coefficient measured in flight. Where the models disagree, the landing point moves by "
+            "metres: the choice of model matters more than the integrator."
+        ),
+        H.figure(ctx.save(fig, "flight_models.png"), "A topspin groundstroke under four aero models"),
+        H.table(
+            [
+                "shot",
+                "aero model",
+                "speed [km/h]",
+                "landing x [m]",
+                "landing y [m]",
+                "apex [m]",
+                "net",
+                "net clearance [m]",
+                "flight time [s]",
+            ],
+            rows,
+            left_cols=2,
+        ),
+    )

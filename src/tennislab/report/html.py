@@ -3,6 +3,7 @@
 Figures are PNG files beside ``index.html`` referenced by relative paths, so the
 directory can be zipped, mailed or opened from a USB stick.
 """
+
 from __future__ import annotations
 
 import html
@@ -32,7 +33,8 @@ tr.paper td { color: #555; background: #fafafa; }
 .note { font-size: 0.9em; color: #444; }
 .unavailable { background: #fff8e1; border: 1px solid #e0c060; padding: 0.7em 1em; }
 .failed { background: #fdecea; border: 1px solid #e08080; padding: 0.7em 1em; }
-.kpi { display: inline-block; background: #eef3ee; border-radius: 6px; padding: 0.4em 0.9em; margin: 0.2em 0.4em 0.2em 0; }
+.kpi { display: inline-block; background: #eef3ee; border-radius: 6px; padding: 0.4em 0.9em;
+       margin: 0.2em 0.4em 0.2em 0; }
 .kpi b { font-size: 1.25em; }
 footer { font-size: 0.8em; color: #666; text-align: center; margin: 2em 0; }
 """
@@ -63,12 +65,13 @@ def rng(pair, digits: int = 1) -> str:
     return f"{num(a, digits)} – {num(b, digits)}"
 
 
-def table(header: list[str], rows: list[list], row_classes: list[str] | None = None,
-          left_cols: int = 1) -> str:
+def table(header: list[str], rows: list[list], row_classes: list[str] | None = None, left_cols: int = 1) -> str:
     """An HTML table; cells are escaped unless given as :class:`Raw`."""
+
     def cell(tag, v, i):
         cls = ' class="l"' if i < left_cols else ""
         return f"<{tag}{cls}>{v.html if isinstance(v, Raw) else esc(v)}</{tag}>"
+
     out = ['<div class="tablewrap"><table>', "<tr>" + "".join(cell("th", h, i) for i, h in enumerate(header)) + "</tr>"]
     for k, r in enumerate(rows):
         cls = f' class="{row_classes[k]}"' if row_classes and row_classes[k] else ""
@@ -107,13 +110,16 @@ class Section:
     status: str = "ok"  # ok | unavailable | failed
     seconds: float = 0.0
 
-    def add(self, *parts: str) -> "Section":
+    def add(self, *parts: str) -> Section:
         self.parts.extend(parts)
         return self
 
     def render(self) -> str:
-        return (f'<section id="{esc(self.key)}" data-status="{esc(self.status)}">\n<h2>{esc(self.title)}</h2>\n'
-                + "\n".join(self.parts) + "\n</section>")
+        return (
+            f'<section id="{esc(self.key)}" data-status="{esc(self.status)}">\n<h2>{esc(self.title)}</h2>\n'
+            + "\n".join(self.parts)
+            + "\n</section>"
+        )
 
 
 def page(title: str, subtitle: str, sections: list[Section], footer: str, intro: str = "") -> str:

@@ -4,28 +4,33 @@ The drill comes from the launcher's drill library (``tennislab.launcher.drills``
 when it is installed; otherwise the section aims the shots of a baseline rally
 itself with :func:`tennislab.launcher.aim.aim` (same quantised settings).
 """
+
 from __future__ import annotations
 
 from tennislab.app.services import require
 from tennislab.report import html as H
 
 #: Fallback drill: a baseline rally (target x, y [m], speed [km/h], spin [rpm], spin axis [deg])
-FALLBACK_DRILL = ("baseline rally (fallback)", [
-    (9.5, 2.5, 90.0, 1500.0, 0.0),
-    (9.5, -2.5, 90.0, 1500.0, 0.0),
-    (10.0, 0.0, 100.0, 1200.0, 0.0),
-    (8.5, 3.2, 80.0, 1000.0, 180.0),
-    (8.5, -3.2, 80.0, 1000.0, 180.0),
-])
+FALLBACK_DRILL = (
+    "baseline rally (fallback)",
+    [
+        (9.5, 2.5, 90.0, 1500.0, 0.0),
+        (9.5, -2.5, 90.0, 1500.0, 0.0),
+        (10.0, 0.0, 100.0, 1200.0, 0.0),
+        (8.5, 3.2, 80.0, 1000.0, 180.0),
+        (8.5, -3.2, 80.0, 1000.0, 180.0),
+    ],
+)
 
 
 def _shots_fallback():
     from tennislab.launcher.aim import aim, aim_result_dict, fly_settings, launcher_params
     from tennislab.launcher.machine import DEFAULT_SPEC
+
     params = launcher_params()
     name, targets = FALLBACK_DRILL
     shots = []
-    for (x, y, v, w, g) in targets:
+    for x, y, v, w, g in targets:
         sol = aim((x, y), v, w, g, 1.0, spec=DEFAULT_SPEC, params=params)
         d = aim_result_dict(sol, DEFAULT_SPEC, params)
         d["trajectory"] = fly_settings(sol.settings, DEFAULT_SPEC, params)
@@ -39,6 +44,7 @@ def _shots_library(name: str = "baseline_rally"):
     from tennislab.io.drill import load_drill
     from tennislab.launcher.aim import aim_result_dict, fly_settings, launcher_params
     from tennislab.launcher.drills import compile_drill
+
     params = launcher_params()
     drill = load_drill(name)
     comp = compile_drill(drill, params)
@@ -50,16 +56,18 @@ def _shots_library(name: str = "baseline_rally"):
         d["label"] = f"{u.label} ({u.shot.type})"
         d["ok"] = u.ok
         shots.append(d)
-    summary = (f"{len(comp.shots)} shots fired in {comp.duration_s:.0f} s from {len(comp.unique)} distinct "
-               f"shots; every shot clears the net and lands in its zone: {'yes' if comp.ok else 'NO'}. "
-               f"Run it on the machine with: tennislab launcher drill {name}")
+    summary = (
+        f"{len(comp.shots)} shots fired in {comp.duration_s:.0f} s from {len(comp.unique)} distinct "
+        f"shots; every shot clears the net and lands in its zone: {'yes' if comp.ok else 'NO'}. "
+        f"Run it on the machine with: tennislab launcher drill {name}"
+    )
     return drill.name, shots, summary
 
 
 def _shots():
     """(drill name, shot dicts with settings, rollers, landing, miss_mm, net_clearance_m, trajectory, summary)."""
     try:
-        import tennislab.io.drill  # noqa: F401
+        import tennislab.io.drill
         import tennislab.launcher.drills  # noqa: F401
     except ImportError:
         name, shots = _shots_fallback()
@@ -72,6 +80,7 @@ def drill(ctx) -> None:
     import matplotlib.pyplot as plt
 
     from tennislab.plot.court import draw_court_side, draw_court_top
+
     sec = ctx.section
     name, shots, summary = _shots()
     fig, (ax_side, ax_top) = plt.subplots(2, 1, figsize=(10, 8.5), height_ratios=[1, 1.25])
@@ -81,31 +90,67 @@ def drill(ctx) -> None:
     rows = []
     for i, s in enumerate(shots, 1):
         _, ys = s["trajectory"].sample(300)
-        line, = ax_side.plot(ys[:, 0], ys[:, 2], lw=1.6, label=f"{i}: {s.get('label', 'shot')}")
+        (line,) = ax_side.plot(ys[:, 0], ys[:, 2], lw=1.6, label=f"{i}: {s.get('label', 'shot')}")
         ax_top.plot(ys[:, 0], ys[:, 1], lw=1.6, color=line.get_color())
         lx, ly = s["landing"]["x"], s["landing"]["y"]
         ax_top.plot(lx, ly, "o", ms=6, color=line.get_color(), mec="k")
-        ax_top.annotate(str(i), (lx, ly), xytext=(5, 5), textcoords="offset points", color="white",
-                        fontweight="bold")
+        ax_top.annotate(str(i), (lx, ly), xytext=(5, 5), textcoords="offset points", color="white", fontweight="bold")
         zmax = max(zmax, float(ys[:, 2].max()) + 0.5)
         st = s["settings"]
-        rows.append([i, s.get("label", ""), s.get("zone", ""),
-                     f'{H.num(s["target"]["x"], 2)}, {H.num(s["target"]["y"], 2)}', H.num(st["height_m"], 1),
-                     H.num(st["speed_kmh"], 0), H.num(st["elevation_deg"], 0),
-                     H.num(st["heading_deg"], 0), H.num(st["spin_rpm"], 0), H.num(st["spin_axis_deg"], 0),
-                     H.num(s["rollers"]["rpm1"], 0), H.num(s["rollers"]["rpm2"], 0),
-                     f'{H.num(s["landing"]["x"], 2)}, {H.num(s["landing"]["y"], 2)}', H.num(s["miss_mm"], 0),
-                     H.num(s["net_clearance_m"], 2)])
+        rows.append(
+            [
+                i,
+                s.get("label", ""),
+                s.get("zone", ""),
+                f"{H.num(s['target']['x'], 2)}, {H.num(s['target']['y'], 2)}",
+                H.num(st["height_m"], 1),
+                H.num(st["speed_kmh"], 0),
+                H.num(st["elevation_deg"], 0),
+                H.num(st["heading_deg"], 0),
+                H.num(st["spin_rpm"], 0),
+                H.num(st["spin_axis_deg"], 0),
+                H.num(s["rollers"]["rpm1"], 0),
+                H.num(s["rollers"]["rpm2"], 0),
+                f"{H.num(s['landing']['x'], 2)}, {H.num(s['landing']['y'], 2)}",
+                H.num(s["miss_mm"], 0),
+                H.num(s["net_clearance_m"], 2),
+            ]
+        )
     ax_side.set_ylim(0, zmax)
     ax_side.legend(loc="upper right", fontsize=8)
     fig.suptitle(f"launcher drill: {name}")
-    sec.add(H.para(f"Drill \u201c{name}\u201d: {len(shots)} distinct shots compiled to the machine's quantised "
-                   "settings (1 km/h, 1 deg, 1 rpm steps; seed 002 section 2). Each shot is flown with the "
-                   "launcher's aero model; the table gives what to dial on the machine and where the ball lands."),
-            H.figure(ctx.save(fig, "launcher_drill.png"), f"Drill \u201c{name}\u201d on the court"),
-            H.para(summary),
-            H.table(["#", "shot", "zone", "target x, y [m]", "height [m]", "speed [km/h]", "elevation [deg]",
-                     "heading [deg]", "spin [rpm]", "spin axis [deg]", "roller 1 [rpm]", "roller 2 [rpm]",
-                     "landing x, y [m]", "miss [mm]", "net clearance [m]"], rows, left_cols=3),
-            H.para("Spin axis: 0 = topspin, 180 = backspin (slice), +90 = sidespin curving left. Roller speeds "
-                   "from seed 002 eqs 14-17 (deformed ball radius in the nip).", "note"))
+    sec.add(
+        H.para(
+            f"Drill \u201c{name}\u201d: {len(shots)} distinct shots compiled to the machine's quantised "
+            "settings (1 km/h, 1 deg, 1 rpm steps; seed 002 section 2). Each shot is flown with the "
+            "launcher's aero model; the table gives what to dial on the machine and where the ball lands."
+        ),
+        H.figure(ctx.save(fig, "launcher_drill.png"), f"Drill \u201c{name}\u201d on the court"),
+        H.para(summary),
+        H.table(
+            [
+                "#",
+                "shot",
+                "zone",
+                "target x, y [m]",
+                "height [m]",
+                "speed [km/h]",
+                "elevation [deg]",
+                "heading [deg]",
+                "spin [rpm]",
+                "spin axis [deg]",
+                "roller 1 [rpm]",
+                "roller 2 [rpm]",
+                "landing x, y [m]",
+                "miss [mm]",
+                "net clearance [m]",
+            ],
+            rows,
+            left_cols=3,
+        ),
+        H.para(
+            "Spin axis: 0 = topspin, 180 = backspin (slice), +90 = sidespin curving left. Roller speeds "
+            "from seed 002 eqs 14-17 (deformed ball radius in the nip).",
+            "note",
+        ),
+    )

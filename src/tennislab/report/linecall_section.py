@@ -5,6 +5,7 @@ The track is the example serve of the app (:data:`tennislab.app.features.SAMPLE_
 can be shown beside it.  The pipeline is the one of ``tennislab call --track``
 (:mod:`tennislab.app.linecall_adapter`).
 """
+
 from __future__ import annotations
 
 import math
@@ -26,6 +27,7 @@ def linecall(ctx) -> None:
     from tennislab.app.linecall_adapter import pipeline, summary
     from tennislab.core.court import ITF_COURT
     from tennislab.plot.court import draw_court_side
+
     sec = ctx.section
     data, truth = features.synthetic_track(seed=7)
     text = "t,x,y,z,sigma\n" + "\n".join(f"{r[0]:.6f},{r[1]:.5f},{r[2]:.5f},{r[3]:.5f},0.003" for r in data)
@@ -39,16 +41,27 @@ def linecall(ctx) -> None:
     for name, (x0, x1, y0, y1) in ITF_COURT.lines().items():
         hit = name in (res.get("lines") or {}) and abs(res["lines"][name]["distance_mm"]) < 100
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color="#ffe066" if hit else "white", zorder=1))
-    for (x, y, r) in mark.discs:
+    for x, y, r in mark.discs:
         if r > 0:
-            ax.add_patch(Circle((x, y), r, color="#c81e1e" if out["call"] == "out" else "#8a4b1c",
-                                alpha=0.25, lw=0, zorder=2))
+            ax.add_patch(
+                Circle((x, y), r, color="#c81e1e" if out["call"] == "out" else "#8a4b1c", alpha=0.25, lw=0, zorder=2)
+            )
     ev, evec = np.linalg.eigh(fit.bounce_cov)
     ang = math.degrees(math.atan2(evec[1, 1], evec[0, 1]))
     for k, ls in ((1, "-"), (2, "--")):
-        ax.add_patch(Ellipse((out["bounce"]["x"], out["bounce"]["y"]), 2 * k * math.sqrt(max(ev[1], 0)),
-                             2 * k * math.sqrt(max(ev[0], 0)), angle=ang, fill=False, ec="black", ls=ls, lw=1,
-                             zorder=3))
+        ax.add_patch(
+            Ellipse(
+                (out["bounce"]["x"], out["bounce"]["y"]),
+                2 * k * math.sqrt(max(ev[1], 0)),
+                2 * k * math.sqrt(max(ev[0], 0)),
+                angle=ang,
+                fill=False,
+                ec="black",
+                ls=ls,
+                lw=1,
+                zorder=3,
+            )
+        )
     ax.plot(out["bounce"]["x"], out["bounce"]["y"], "k.", zorder=4, label="fitted first contact (1σ, 2σ)")
     ax.plot(truth[0], truth[1], "bx", ms=8, zorder=4, label="true first contact")
     ax.set_xlim(cx - half, cx + half)
@@ -68,27 +81,45 @@ def linecall(ctx) -> None:
     ax2.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
 
-    rows = [["call", out["call"]], [f"against", f"{TARGET} (lines included)"],
-            ["distance of the mark to the line [mm]", H.num(out["distance_mm"], 1)],
-            ["probability the ball is in", H.num(out["p_in"], 3)],
-            ["first contact x, y [m]", f"{H.num(out['bounce']['x'], 4)}, {H.num(out['bounce']['y'], 4)}"],
-            ["true first contact x, y [m]", f"{H.num(truth[0], 4)}, {H.num(truth[1], 4)}"],
-            ["error of the fitted contact point [mm]", H.num(err_mm, 1)],
-            ["bounce uncertainty (1σ, worst direction) [mm]", H.num(out["bounce"]["sigma_mm"], 2)],
-            ["mark length × width [mm]", f"{H.num(1e3 * out['mark']['length'], 0)} × "
-                                         f"{H.num(1e3 * out['mark']['width'], 0)}"],
-            ["fit rms [mm] / outliers", f"{H.num(out['fit']['rms_mm'], 2)} / {out['fit']['outliers']}"]]
+    rows = [
+        ["call", out["call"]],
+        ["against", f"{TARGET} (lines included)"],
+        ["distance of the mark to the line [mm]", H.num(out["distance_mm"], 1)],
+        ["probability the ball is in", H.num(out["p_in"], 3)],
+        ["first contact x, y [m]", f"{H.num(out['bounce']['x'], 4)}, {H.num(out['bounce']['y'], 4)}"],
+        ["true first contact x, y [m]", f"{H.num(truth[0], 4)}, {H.num(truth[1], 4)}"],
+        ["error of the fitted contact point [mm]", H.num(err_mm, 1)],
+        ["bounce uncertainty (1σ, worst direction) [mm]", H.num(out["bounce"]["sigma_mm"], 2)],
+        [
+            "mark length × width [mm]",
+            f"{H.num(1e3 * out['mark']['length'], 0)} × {H.num(1e3 * out['mark']['width'], 0)}",
+        ],
+        ["fit rms [mm] / outliers", f"{H.num(out['fit']['rms_mm'], 2)} / {out['fit']['outliers']}"],
+    ]
     for name, d in (res.get("lines") or {}).items():
-        rows.append([f"line {name}: call, distance [mm], P(in)",
-                     f"{d['call']}, {H.num(d['distance_mm'], 1)}, {H.num(d['p_in'], 3)}"])
-    sec.add(H.para("A first serve down the T, tracked at 340 frames per second with 3 mm of noise per axis (a "
-                   "synthetic track with known truth). The flight model is fitted through the bounce, the ball "
-                   "mark is rebuilt from the contact (compression and skid), and the mark is called against the "
-                   "service box: a ball is in when any part of its mark touches the line."),
-            H.figure(ctx.save(fig, "line_call.png"),
-                     "Left: the mark (red/brown) against the service line, with the fit's 1σ and 2σ uncertainty. "
-                     "Right: the track and the fitted flight."),
-            H.table(["quantity", "value"], rows, left_cols=2),
-            H.para("The probability accounts for the fit's uncertainty of the contact point (Monte Carlo over "
-                   "its covariance); a call closer than a few millimetres is genuinely uncertain, as the ITF's "
-                   "5 mm limit for line-calling systems acknowledges.", "note"))
+        rows.append(
+            [
+                f"line {name}: call, distance [mm], P(in)",
+                f"{d['call']}, {H.num(d['distance_mm'], 1)}, {H.num(d['p_in'], 3)}",
+            ]
+        )
+    sec.add(
+        H.para(
+            "A first serve down the T, tracked at 340 frames per second with 3 mm of noise per axis (a "
+            "synthetic track with known truth). The flight model is fitted through the bounce, the ball "
+            "mark is rebuilt from the contact (compression and skid), and the mark is called against the "
+            "service box: a ball is in when any part of its mark touches the line."
+        ),
+        H.figure(
+            ctx.save(fig, "line_call.png"),
+            "Left: the mark (red/brown) against the service line, with the fit's 1σ and 2σ uncertainty. "
+            "Right: the track and the fitted flight.",
+        ),
+        H.table(["quantity", "value"], rows, left_cols=2),
+        H.para(
+            "The probability accounts for the fit's uncertainty of the contact point (Monte Carlo over "
+            "its covariance); a call closer than a few millimetres is genuinely uncertain, as the ITF's "
+            "5 mm limit for line-calling systems acknowledges.",
+            "note",
+        ),
+    )

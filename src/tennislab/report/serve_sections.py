@@ -11,6 +11,7 @@
 All numbers come from :mod:`tennislab.serve` (windows computed once, shared
 between sections through ``ctx.shared``).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -20,9 +21,15 @@ from tennislab.report import html as H
 
 PLAYERS = ("professional", "recreational", "junior")
 #: (key in Table 1, column header, digits)
-TABLE1_COLS = (("beta", "β [deg]", 0), ("alpha", "α [deg]", 0), ("spin_rpm", "spin [rpm]", 0),
-               ("speed", "v [m/s]", 1), ("landing_x", "X [m]", 2), ("net_height", "Y [m]", 2),
-               ("launch_angle", "γ [deg]", 1))
+TABLE1_COLS = (
+    ("beta", "β [deg]", 0),
+    ("alpha", "α [deg]", 0),
+    ("spin_rpm", "spin [rpm]", 0),
+    ("speed", "v [m/s]", 1),
+    ("landing_x", "X [m]", 2),
+    ("net_height", "Y [m]", 2),
+    ("launch_angle", "γ [deg]", 1),
+)
 CODE_COLORS = ("#e6e6e6", "#1f77b4", "#2ca02c", "#ff9f1c")
 CODE_LABELS = ("fails", "flat success", "topspin success", "other success")
 
@@ -31,6 +38,7 @@ def _windows(ctx) -> dict:
     """Serve windows of the three players (1 deg step), computed once per report."""
     if "windows" not in ctx.shared:
         from tennislab.serve.window import serve_window
+
         ws = {}
         for p in PLAYERS:
             ws[p] = serve_window(p, step=1.0)
@@ -42,6 +50,7 @@ def _windows(ctx) -> dict:
 def _published():
     try:
         from tennislab.serve import published
+
         return published
     except ImportError:
         return None
@@ -77,6 +86,7 @@ def windows(ctx) -> None:
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
+
     sec = ctx.section
     ws = _windows(ctx)
     pub = _published()
@@ -86,37 +96,58 @@ def windows(ctx) -> None:
         code = np.where(w.success, w.grid("category") + 1, 0)
         a, b = w.alpha_deg, w.beta_deg
         da, db = (a[1] - a[0]) / 2, (b[1] - b[0]) / 2
-        ax.imshow(code, origin="lower", cmap=ListedColormap(CODE_COLORS), vmin=-0.5, vmax=3.5,
-                  extent=(a[0] - da, a[-1] + da, b[0] - db, b[-1] + db), aspect="auto", interpolation="nearest")
+        ax.imshow(
+            code,
+            origin="lower",
+            cmap=ListedColormap(CODE_COLORS),
+            vmin=-0.5,
+            vmax=3.5,
+            extent=(a[0] - da, a[-1] + da, b[0] - db, b[-1] + db),
+            aspect="auto",
+            interpolation="nearest",
+        )
         ax.set_title(f"{p} ({w.player.impact_height:g} m, {w.player.racket_speed:g} m/s)")
         ax.set_xlabel("impact angle α [deg]")
         ax.set_ylim(b[0] - db, min(b[-1], 40) + db)
     axes[0].set_ylabel("racket-face angle β [deg]")
-    fig.legend(handles=[Patch(color=c, label=lab) for c, lab in zip(CODE_COLORS, CODE_LABELS)],
-               loc="lower center", ncol=4, frameon=False)
+    fig.legend(
+        handles=[Patch(color=c, label=lab) for c, lab in zip(CODE_COLORS, CODE_LABELS)],
+        loc="lower center",
+        ncol=4,
+        frameon=False,
+    )
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     rows, classes = table1_rows(ws, pub)
     n_flat = sum(ws[p].summary()["flat"]["n"] for p in PLAYERS)
     n_top = sum(ws[p].summary()["topspin"]["n"] for p in PLAYERS)
-    sec.add(H.para("Every combination of impact angle α and racket-face angle β from 0 to 90 degrees in 1-degree "
-                   "steps is hit with the seed's racket-ball impact model and flown with drag and Magnus lift; a "
-                   "serve succeeds when the ball clears the net and lands in the service box (the paper's 2-D "
-                   "criteria: ball centre above 0.943 m at the net, landing at most 18.318 m from the impact "
-                   "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."),
-            H.Raw(H.kpi("successful flat serves (3 players)", f"{n_flat}") +
-                  H.kpi("successful topspin serves", f"{n_top}") +
-                  (H.kpi("paper", f"{_paper_n(pub, 'flat')} flat / {_paper_n(pub, 'topspin')} topspin")
-                   if pub else "")).html,
-            H.figure(ctx.save(fig, "serve_windows.png"),
-                     "Serve windows: successful serves by category over impact angle α and face angle β"),
-            "<h3>Table 1: successful serves, tennislab beside the paper</h3>",
-            H.table(["player", "serve", "source", "n"] + [h for _, h, _ in TABLE1_COLS], rows, classes,
-                    left_cols=3),
-            H.para("Ranges are [min – max] over the successful serves. X: landing distance from the impact "
-                   "point; Y: height of the ball centre over the net; γ: launch angle (negative below the "
-                   "horizontal). Grey rows: the paper's Table 1. Differences come from the impact model's "
-                   "inputs (contact time and restitution vs impact speed) and the integrator; see docs/serve.md "
-                   "for the explanation of each.", "note"))
+    sec.add(
+        H.para(
+            "Every combination of impact angle α and racket-face angle β from 0 to 90 degrees in 1-degree "
+            "steps is hit with the seed's racket-ball impact model and flown with drag and Magnus lift; a "
+            "serve succeeds when the ball clears the net and lands in the service box (the paper's 2-D "
+            "criteria: ball centre above 0.943 m at the net, landing at most 18.318 m from the impact "
+            "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."
+        ),
+        H.Raw(
+            H.kpi("successful flat serves (3 players)", f"{n_flat}")
+            + H.kpi("successful topspin serves", f"{n_top}")
+            + (H.kpi("paper", f"{_paper_n(pub, 'flat')} flat / {_paper_n(pub, 'topspin')} topspin") if pub else "")
+        ).html,
+        H.figure(
+            ctx.save(fig, "serve_windows.png"),
+            "Serve windows: successful serves by category over impact angle α and face angle β",
+        ),
+        "<h3>Table 1: successful serves, tennislab beside the paper</h3>",
+        H.table(["player", "serve", "source", "n"] + [h for _, h, _ in TABLE1_COLS], rows, classes, left_cols=3),
+        H.para(
+            "Ranges are [min – max] over the successful serves. X: landing distance from the impact "
+            "point; Y: height of the ball centre over the net; γ: launch angle (negative below the "
+            "horizontal). Grey rows: the paper's Table 1. Differences come from the impact model's "
+            "inputs (contact time and restitution vs impact speed) and the integrator; see docs/serve.md "
+            "for the explanation of each.",
+            "note",
+        ),
+    )
 
 
 #: Monte Carlo of the margin of error: scatter (1 s.d.) of alpha, beta and face azimuth [deg], racket
@@ -142,6 +173,7 @@ def peak_spin(ctx) -> None:
     """Speed and spin vs alpha per player (paper Fig. 5), the peak-spin alpha, the margin of error."""
     require("serve")
     import matplotlib.pyplot as plt
+
     sec = ctx.section
     ws = _windows(ctx)
     pub = _published()
@@ -159,9 +191,16 @@ def peak_spin(ctx) -> None:
         paper_alpha = pub.PEAK_SPIN_ALPHA[p] if pub else None
         if paper_alpha is not None:
             ax1.axvline(paper_alpha, color=c, ls=":", lw=1.2, label=f"{p}: paper's peak-spin α")
-        rows.append([p, H.num(w.peak_spin_alpha, 0), "–" if paper_alpha is None else paper_alpha,
-                     H.num(w.spin_rpm[i], 0), H.num(pub.OPTIMUM[p]["topspin"]["spin_rpm"], 0) if pub else "–",
-                     H.num(w.speed[i], 1)])
+        rows.append(
+            [
+                p,
+                H.num(w.peak_spin_alpha, 0),
+                "–" if paper_alpha is None else paper_alpha,
+                H.num(w.spin_rpm[i], 0),
+                H.num(pub.OPTIMUM[p]["topspin"]["spin_rpm"], 0) if pub else "–",
+                H.num(w.speed[i], 1),
+            ]
+        )
     ax1.set_xlabel("impact angle α [deg]")
     ax1.set_ylabel("ball speed v [m/s] (crosses)")
     ax2.set_ylabel("spin [rpm] (circles; square = peak)")
@@ -170,12 +209,25 @@ def peak_spin(ctx) -> None:
     h2, l2 = ax2.get_legend_handles_labels()
     fig.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower center", ncol=3, frameon=False)
     fig.tight_layout(rect=(0, 0.14, 1, 1))
-    sec.add(H.para("Ball speed and spin after impact as the impact angle α grows (the paper's Figure 5): spin "
-                   "rises to a peak and then falls as the ball starts to slide across the strings, while speed "
-                   "falls ever faster. The peak-spin angle is where a coach would tell a player to brush the ball."),
-            H.figure(ctx.save(fig, "peak_spin.png"), "Ball speed and spin vs impact angle (paper's Figure 5)"),
-            H.table(["player", "peak-spin α [deg]", "paper α [deg]", "peak spin [rpm]", "paper peak spin [rpm]",
-                     "speed at peak [m/s]"], rows))
+    sec.add(
+        H.para(
+            "Ball speed and spin after impact as the impact angle α grows (the paper's Figure 5): spin "
+            "rises to a peak and then falls as the ball starts to slide across the strings, while speed "
+            "falls ever faster. The peak-spin angle is where a coach would tell a player to brush the ball."
+        ),
+        H.figure(ctx.save(fig, "peak_spin.png"), "Ball speed and spin vs impact angle (paper's Figure 5)"),
+        H.table(
+            [
+                "player",
+                "peak-spin α [deg]",
+                "paper α [deg]",
+                "peak spin [rpm]",
+                "paper peak spin [rpm]",
+                "speed at peak [m/s]",
+            ],
+            rows,
+        ),
+    )
     # margin of error
     sec.add("<h3>Margin of error</h3>")
     mrows, missing, mc_p = [], False, {}
@@ -193,43 +245,81 @@ def peak_spin(ctx) -> None:
                 missing = True
             pap_n = pub.TABLE1[p][cat]["n"] if pub else "–"
             pap_wb = pub.WIDEST_BETA[p][cat] if pub and hasattr(pub, "WIDEST_BETA") else "–"
-            mrows.append([p, cat, n, pap_n, H.num(wb, 0), pap_wb,
-                          "–" if opt is None else f"α {opt['alpha']:g}, β {opt['beta']:g}",
-                          "–" if res is None else H.num(100 * res["p_success"], 1),
-                          "–" if res is None else res.get("scatter", "")])
-    sec.add(H.para("The paper measures the margin of error by the number of successful (α, β) combinations: "
-                   "a flat serve has only a handful, a topspin serve hundreds. The Monte Carlo column hits the "
-                   "optimum serve many times with a player's typical scatter and counts the share that "
-                   "goes in."),
-            H.table(["player", "serve", "successful combinations n", "paper n", "widest β [deg]", "paper widest β",
-                     "optimum serve",
-                     "P(success) [%]", "scatter (1 s.d.)"], mrows, left_cols=2),
-            H.para("The optimum serves are chosen at the edge of the window (as deep as possible, or at peak "
-                   "spin), so a good part of their scatter goes long or into the net: aimed exactly there, even "
-                   "a practised server misses often. " + _mc_verdict(mc_p), "note"))
+            mrows.append(
+                [
+                    p,
+                    cat,
+                    n,
+                    pap_n,
+                    H.num(wb, 0),
+                    pap_wb,
+                    "–" if opt is None else f"α {opt['alpha']:g}, β {opt['beta']:g}",
+                    "–" if res is None else H.num(100 * res["p_success"], 1),
+                    "–" if res is None else res.get("scatter", ""),
+                ]
+            )
+    sec.add(
+        H.para(
+            "The paper measures the margin of error by the number of successful (α, β) combinations: "
+            "a flat serve has only a handful, a topspin serve hundreds. The Monte Carlo column hits the "
+            "optimum serve many times with a player's typical scatter and counts the share that "
+            "goes in."
+        ),
+        H.table(
+            [
+                "player",
+                "serve",
+                "successful combinations n",
+                "paper n",
+                "widest β [deg]",
+                "paper widest β",
+                "optimum serve",
+                "P(success) [%]",
+                "scatter (1 s.d.)",
+            ],
+            mrows,
+            left_cols=2,
+        ),
+        H.para(
+            "The optimum serves are chosen at the edge of the window (as deep as possible, or at peak "
+            "spin), so a good part of their scatter goes long or into the net: aimed exactly there, even "
+            "a practised server misses often. " + _mc_verdict(mc_p),
+            "note",
+        ),
+    )
     if missing:
-        sec.add(H.para("Monte Carlo margin of error: not available in this installation "
-                       "(tennislab.serve.mc is missing).", "unavailable"))
+        sec.add(
+            H.para(
+                "Monte Carlo margin of error: not available in this installation (tennislab.serve.mc is missing).",
+                "unavailable",
+            )
+        )
 
 
 def _mc_verdict(mc_p: dict) -> str:
     """One sentence comparing the Monte Carlo success of topspin and flat optimum serves."""
-    pairs = [(mc_p[(p, "topspin")], mc_p[(p, "flat")]) for p in PLAYERS
-             if (p, "topspin") in mc_p and (p, "flat") in mc_p]
+    pairs = [
+        (mc_p[(p, "topspin")], mc_p[(p, "flat")]) for p in PLAYERS if (p, "topspin") in mc_p and (p, "flat") in mc_p
+    ]
     if not pairs:
         return ""
     if all(t > f for t, f in pairs):
-        return ("For every player the topspin serve keeps the higher probability for the same scatter: the "
-                "paper's point about its larger margin of error.")
+        return (
+            "For every player the topspin serve keeps the higher probability for the same scatter: the "
+            "paper's point about its larger margin of error."
+        )
     if all(t <= f for t, f in pairs):
-        return ("Here the flat serve keeps the higher probability for the same scatter, unlike the paper's "
-                "conclusion from the number of combinations.")
+        return (
+            "Here the flat serve keeps the higher probability for the same scatter, unlike the paper's "
+            "conclusion from the number of combinations."
+        )
     return "Which serve keeps the higher probability for the same scatter depends on the player."
 
 
 def _trajectory(player, serve: dict):
     """The 2-D optimum serve flown with the seed's constants (:func:`tennislab.serve.single.simulate_serve`)."""
     from tennislab.serve.single import simulate_serve
+
     return simulate_serve(player, min(serve["alpha"], 89.999), serve["beta"], trajectory=True)["_trajectory"]
 
 
@@ -239,13 +329,21 @@ def optimum(ctx) -> None:
     import matplotlib.pyplot as plt
 
     from tennislab.plot.court import draw_court_side
+
     sec = ctx.section
     ws = _windows(ctx)
     pub = _published()
     fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
     rows, classes = [], []
-    keys = (("beta", 0), ("alpha", 0), ("launch_angle", 1), ("spin_rpm", 0), ("speed", 1),
-            ("net_height", 2), ("landing_x", 2))
+    keys = (
+        ("beta", 0),
+        ("alpha", 0),
+        ("launch_angle", 1),
+        ("spin_rpm", 0),
+        ("speed", 1),
+        ("net_height", 2),
+        ("landing_x", 2),
+    )
     for ax, p in zip(axes, PLAYERS):
         draw_court_side(ax, zmax=3.6)
         for cat, color in (("flat", "tab:blue"), ("topspin", "tab:green")):
@@ -256,9 +354,14 @@ def optimum(ctx) -> None:
                 continue
             tr = _trajectory(p, opt)
             _, ys = tr.sample(300)
-            ax.plot(ys[:, 0], ys[:, 2], lw=2, color=color,
-                    label=f"{cat}: α {opt['alpha']:g}°, β {opt['beta']:g}°, {opt['speed']:.1f} m/s, "
-                          f"{opt['spin_rpm']:.0f} rpm")
+            ax.plot(
+                ys[:, 0],
+                ys[:, 2],
+                lw=2,
+                color=color,
+                label=f"{cat}: α {opt['alpha']:g}°, β {opt['beta']:g}°, {opt['speed']:.1f} m/s, "
+                f"{opt['spin_rpm']:.0f} rpm",
+            )
             rows.append([p, cat, "tennislab"] + [H.num(opt[k], d) for k, d in keys])
             classes.append("")
             if pub:
@@ -270,8 +373,16 @@ def optimum(ctx) -> None:
         ax.legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel("x [m] (server at the near baseline, x = -11.885; far service line x = 6.40)")
     fig.tight_layout()
-    sec.add(H.para("The optimum flat serve (fast, landing as deep as possible) and the optimum topspin serve "
-                   "(peak spin) of each player, as the paper chose them, flown over the court."),
-            H.figure(ctx.save(fig, "optimum_serves.png"), "Optimum flat and topspin serves (paper's Figures 7-9)"),
-            H.table(["player", "serve", "source", "β [deg]", "α [deg]", "γ [deg]", "spin [rpm]", "v [m/s]",
-                     "Y [m]", "X [m]"], rows, classes, left_cols=3))
+    sec.add(
+        H.para(
+            "The optimum flat serve (fast, landing as deep as possible) and the optimum topspin serve "
+            "(peak spin) of each player, as the paper chose them, flown over the court."
+        ),
+        H.figure(ctx.save(fig, "optimum_serves.png"), "Optimum flat and topspin serves (paper's Figures 7-9)"),
+        H.table(
+            ["player", "serve", "source", "β [deg]", "α [deg]", "γ [deg]", "spin [rpm]", "v [m/s]", "Y [m]", "X [m]"],
+            rows,
+            classes,
+            left_cols=3,
+        ),
+    )

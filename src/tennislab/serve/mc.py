@@ -20,6 +20,7 @@ interpolation error checked in tests/test_serve_mc.py); flights use the
 compiled batch integrator.  :func:`mc_blocks` is the batch worker (module
 level, for ``tennislab.batch.map_chunks`` over a ``RowRange`` of blocks).
 """
+
 from __future__ import annotations
 
 import functools
@@ -116,14 +117,22 @@ def impact_table(v_range, a_range, params: ImpactParams, nv: int = 41, na: int =
     return _Table(V, A, {k: r[k] for k in ("v_n", "v_t", "omega")})
 
 
-def simulate_chunk(inputs: dict, *, flight: dict | None = None, target: str | None = None,
-                   net_top: float = 0.943, service_line: float = 18.318, server_x: float = -11.885,
-                   rtol: float = 1e-6) -> dict:
+def simulate_chunk(
+    inputs: dict,
+    *,
+    flight: dict | None = None,
+    target: str | None = None,
+    net_top: float = 0.943,
+    service_line: float = 18.318,
+    server_x: float = -11.885,
+    rtol: float = 1e-6,
+) -> dict:
     """Per-chunk worker: fly launched serves and judge them.
 
     inputs: ``x, y, z`` [m], ``vx, vy, vz`` [m/s], ``wx, wy, wz`` [rad/s] (equal-length arrays).
     ``rtol``: flight tolerance (rtol = atol; at 1e-6 landing points are ~1e-3 mm from the
-    reference on average and a few hundredths of a mm at worst, far below any scatter studied).  Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
+    reference on average and a few hundredths of a mm at worst, far below any scatter studied).
+    Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
     ``net_height`` [m], ``success`` (bool), ``landed`` (bool).
     """
     params = FlightParams.from_options(**(flight or {}))
@@ -134,14 +143,20 @@ def simulate_chunk(inputs: dict, *, flight: dict | None = None, target: str | No
     table = fly_batch(states, params, rtol=rtol, atol=rtol)
     crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
     j = judge(table, crit, target)
-    return {"land_x": table["land_x"], "land_y": table["land_y"], "landing_x": j["landing_x"],
-            "net_height": j["net_height"], "success": j["success"], "landed": table.ok}
+    return {
+        "land_x": table["land_x"],
+        "land_y": table["land_y"],
+        "landing_x": j["landing_x"],
+        "net_height": j["net_height"],
+        "success": j["success"],
+        "landed": table.ok,
+    }
 
 
 #: Largest |z| a normal of :mod:`tennislab.batch.rng` can take: Box-Muller with u1 >= 2^-54
 #: (53-bit uniforms offset by half a step), sqrt(-2 ln 2^-54) = 8.652.  The impact table spans
 #: nominal +- Z_MAX sd, so no draw is ever outside it (no clamping), whatever n and seed.
-Z_MAX = math.sqrt(-2.0 * math.log(2.0 ** -54))
+Z_MAX = math.sqrt(-2.0 * math.log(2.0**-54))
 #: rng streams of the five scattered quantities (tennislab.batch.rng, keyed by (seed, stream, row))
 STREAMS = {"alpha": 0, "beta": 1, "psi": 2, "speed": 3, "height": 4}
 _STATE_KEYS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
@@ -155,6 +170,7 @@ def block_size(n: int) -> int:
     combination -- never depend on the scheduler or ``--chunk-size``.
     """
     from tennislab.batch.sources import default_chunk_size
+
     return default_chunk_size(n)
 
 
@@ -177,6 +193,7 @@ def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, s
     speed [m/s], height [m] and their sd ``sd_angle``, ``sd_azimuth`` [deg], ``sd_speed``, ``sd_height``.
     """
     from tennislab.batch import rng
+
     rows = np.asarray(rows, dtype=np.int64)
     nm = nominal
     a = np.radians(nm["alpha"] + nm["sd_angle"] * rng.normal(seed, rows, STREAMS["alpha"]))
@@ -190,9 +207,21 @@ def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, s
     return {k: S[:, i] for i, k in enumerate(_STATE_KEYS)}
 
 
-def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, table: dict, server_y: float,
-              flight: dict | None, target: str | None, net_top: float, service_line: float,
-              server_x: float) -> dict:
+def mc_blocks(
+    chunk: dict,
+    *,
+    n: int,
+    block: int,
+    seed: int,
+    nominal: dict,
+    table: dict,
+    server_y: float,
+    flight: dict | None,
+    target: str | None,
+    net_top: float,
+    service_line: float,
+    server_x: float,
+) -> dict:
     """Batch worker: sufficient statistics of whole blocks of serves (one output row per block).
 
     ``chunk["block"]``: block indices; block b = serves [b*block, min(n, (b+1)*block)).  Only one
@@ -206,8 +235,18 @@ def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, tabl
     out = {k: np.zeros(blocks.size, np.int64 if k.startswith("n") else np.float64) for k in cols}
     for j, b in enumerate(blocks):
         rows = np.arange(int(b) * block, min(n, (int(b) + 1) * block), dtype=np.int64)
-        r = _simulate_rows(rows, seed=seed, nominal=nominal, table=table, server_y=server_y, flight=flight,
-                           target=target, net_top=net_top, service_line=service_line, server_x=server_x)
+        r = _simulate_rows(
+            rows,
+            seed=seed,
+            nominal=nominal,
+            table=table,
+            server_y=server_y,
+            flight=flight,
+            target=target,
+            net_top=net_top,
+            service_line=service_line,
+            server_x=server_x,
+        )
         landed = np.asarray(r["landed"], bool)
         x, y, lx = r["land_x"][landed], r["land_y"][landed], r["landing_x"][landed]
         out["n"][j], out["n_success"][j], out["n_landed"][j] = rows.size, int(r["success"].sum()), x.size
@@ -225,8 +264,9 @@ def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, tabl
 
 def _simulate_rows(rows, *, seed, nominal, table, server_y, flight, target, net_top, service_line, server_x):
     inputs = draw_rows(rows, seed=seed, nominal=nominal, table=table, server_x=server_x, server_y=server_y)
-    return simulate_chunk(inputs, flight=flight, target=target, net_top=net_top, service_line=service_line,
-                          server_x=server_x)
+    return simulate_chunk(
+        inputs, flight=flight, target=target, net_top=net_top, service_line=service_line, server_x=server_x
+    )
 
 
 def combine_blocks(stats: dict) -> dict:
@@ -250,8 +290,14 @@ def combine_blocks(stats: dict) -> dict:
         syy += float(stats["m2_yy"][i]) + dy * dy * N * f
         mx, my, ml = mx + dx * f, my + dy * f, ml + (bl - ml) * f
         N = tot
-    return {"n": n, "n_success": ns, "n_landed": N, "mean": [mx, my] if N else [None, None],
-            "m2": [[sxx, sxy], [sxy, syy]], "mean_landing_x": ml if N else None}
+    return {
+        "n": n,
+        "n_success": ns,
+        "n_landed": N,
+        "mean": [mx, my] if N else [None, None],
+        "m2": [[sxx, sxy], [sxy, syy]],
+        "mean_landing_x": ml if N else None,
+    }
 
 
 def landing_stats_from_moments(n: int, mean, m2) -> dict:
@@ -264,9 +310,14 @@ def landing_stats_from_moments(n: int, mean, m2) -> dict:
     major = v[:, 1]
     ang = math.degrees(math.atan2(major[1], major[0]))
     ang = ang - 180.0 if ang > 90.0 else (ang + 180.0 if ang <= -90.0 else ang)  # axis: (-90, 90]
-    return {"mean": [float(mean[0]), float(mean[1])], "cov": cov.tolist(),
-            "ellipse_95": {"semi_axes": [float(math.sqrt(CHI2_95_2DOF * w[1])), float(math.sqrt(CHI2_95_2DOF * w[0]))],
-                           "angle_deg": ang}}
+    return {
+        "mean": [float(mean[0]), float(mean[1])],
+        "cov": cov.tolist(),
+        "ellipse_95": {
+            "semi_axes": [float(math.sqrt(CHI2_95_2DOF * w[1])), float(math.sqrt(CHI2_95_2DOF * w[0]))],
+            "angle_deg": ang,
+        },
+    }
 
 
 def landing_stats(x, y) -> dict:
@@ -285,12 +336,28 @@ def _in_process(fn, source):
     return fn(source.chunk(0, max(source.n_rows, 1)))
 
 
-def run_mc(player, alpha_deg: float, beta_deg: float, *, n: int = 10000, seed: int = 0, sd_angle: float = 1.0,
-           sd_speed: float = 1.0, sd_height: float = 0.0, sd_azimuth: float | None = None,
-           target: str | None = None, azimuth_deg: float = 0.0, server_y: float = 0.0,
-           flight: FlightParams | None = None, impact_params: ImpactParams | None = None,
-           criteria: SeedCriteria | None = None, mapper=None, return_samples: bool | int = False, dt: float = 0.0,
-           method: str = "rk4") -> dict:
+def run_mc(
+    player,
+    alpha_deg: float,
+    beta_deg: float,
+    *,
+    n: int = 10000,
+    seed: int = 0,
+    sd_angle: float = 1.0,
+    sd_speed: float = 1.0,
+    sd_height: float = 0.0,
+    sd_azimuth: float | None = None,
+    target: str | None = None,
+    azimuth_deg: float = 0.0,
+    server_y: float = 0.0,
+    flight: FlightParams | None = None,
+    impact_params: ImpactParams | None = None,
+    criteria: SeedCriteria | None = None,
+    mapper=None,
+    return_samples: bool | int = False,
+    dt: float = 0.0,
+    method: str = "rk4",
+) -> dict:
     """Monte Carlo of a nominal serve; returns the ``tennislab serve-mc`` JSON object.
 
     Angles and their sd in degrees, speeds [m/s], heights [m].  ``sd_azimuth``
@@ -306,6 +373,7 @@ def run_mc(player, alpha_deg: float, beta_deg: float, *, n: int = 10000, seed: i
     first min(n, m) serves (the same serves as in the statistics) under ``_samples``.
     """
     from tennislab.batch.sources import RowRange
+
     player = get_player(player)
     n = int(check_range("n", n, 1, 1e8))
     for nm, v in (("sd_angle", sd_angle), ("sd_speed", sd_speed), ("sd_height", sd_height)):
@@ -314,30 +382,55 @@ def run_mc(player, alpha_deg: float, beta_deg: float, *, n: int = 10000, seed: i
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
     sd_az = sd_angle if sd_azimuth is None else sd_azimuth
-    nominal = {"alpha": float(alpha_deg), "beta": float(beta_deg), "azimuth": float(azimuth_deg),
-               "speed": float(player.racket_speed), "height": float(player.impact_height),
-               "sd_angle": float(sd_angle), "sd_azimuth": float(sd_az), "sd_speed": float(sd_speed),
-               "sd_height": float(sd_height)}
+    nominal = {
+        "alpha": float(alpha_deg),
+        "beta": float(beta_deg),
+        "azimuth": float(azimuth_deg),
+        "speed": float(player.racket_speed),
+        "height": float(player.impact_height),
+        "sd_angle": float(sd_angle),
+        "sd_azimuth": float(sd_az),
+        "sd_speed": float(sd_speed),
+        "sd_height": float(sd_height),
+    }
     table = scatter_table(player, alpha_deg, sd_angle, sd_speed, impact_params, {"dt": dt, "method": method})
-    common = dict(seed=int(seed), nominal=nominal, table=table, server_y=float(server_y),
-                  flight=flight_options(flight), target=target, net_top=crit.net_top,
-                  service_line=crit.service_line, server_x=crit.server_x)
+    common = dict(
+        seed=int(seed),
+        nominal=nominal,
+        table=table,
+        server_y=float(server_y),
+        flight=flight_options(flight),
+        target=target,
+        net_top=crit.net_top,
+        service_line=crit.service_line,
+        server_x=crit.server_x,
+    )
     block = block_size(n)
     fn = functools.partial(mc_blocks, n=n, block=block, **common)
     source = RowRange(-(-n // block), key="block")
     stats = (mapper or _in_process)(fn, source)
     tot = combine_blocks(stats)
     p = tot["n_success"] / n
-    res = {"player": player.name, "nominal": {"alpha": alpha_deg, "beta": beta_deg, "azimuth": azimuth_deg},
-           "scatter": {"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
-           "n": n, "seed": seed, "criteria": "seed-2d" if target is None else f"{target}-box",
-           "p_success": p, "p_success_se": math.sqrt(max(p * (1 - p), 0.0) / n),
-           "landing": landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
-           "landing_x": {"mean": tot["mean_landing_x"]},
-           "n_landed": tot["n_landed"]}
+    res = {
+        "player": player.name,
+        "nominal": {"alpha": alpha_deg, "beta": beta_deg, "azimuth": azimuth_deg},
+        "scatter": {"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
+        "n": n,
+        "seed": seed,
+        "criteria": "seed-2d" if target is None else f"{target}-box",
+        "p_success": p,
+        "p_success_se": math.sqrt(max(p * (1 - p), 0.0) / n),
+        "landing": landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
+        "landing_x": {"mean": tot["mean_landing_x"]},
+        "n_landed": tot["n_landed"],
+    }
     if return_samples:
         m = min(n, 20000 if return_samples is True else int(return_samples))
         r = _simulate_rows(np.arange(m, dtype=np.int64), **common)
-        res["_samples"] = {"land_x": np.asarray(r["land_x"]), "land_y": np.asarray(r["land_y"]),
-                           "success": np.asarray(r["success"], bool), "landed": np.asarray(r["landed"], bool)}
+        res["_samples"] = {
+            "land_x": np.asarray(r["land_x"]),
+            "land_y": np.asarray(r["land_y"]),
+            "success": np.asarray(r["success"], bool),
+            "landed": np.asarray(r["landed"], bool),
+        }
     return res

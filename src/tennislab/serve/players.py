@@ -5,6 +5,7 @@ Fernandez-Fernandez et al. 2013): professional 3.0 m / 40 m/s, recreational
 2.8 m / 30 m/s, junior 2.2 m / 25 m/s.  Any other profile is a
 :class:`Player` (or ``register_player``).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -44,9 +45,9 @@ def register_player(player: Player, *aliases: str) -> Player:
     return player
 
 
-register_player(Player("professional", 3.0, 40.0), "pro")   # seed 000 sec. 2.3
-register_player(Player("recreational", 2.8, 30.0), "rec")   # seed 000 sec. 2.3
-register_player(Player("junior", 2.2, 25.0))                # seed 000 sec. 2.3
+register_player(Player("professional", 3.0, 40.0), "pro")  # seed 000 sec. 2.3
+register_player(Player("recreational", 2.8, 30.0), "rec")  # seed 000 sec. 2.3
+register_player(Player("junior", 2.2, 25.0))  # seed 000 sec. 2.3
 
 SEED_PLAYERS = ("professional", "recreational", "junior")
 
@@ -63,5 +64,7 @@ def get_player(name) -> Player:
     try:
         return _PLAYERS[key]
     except KeyError:
-        raise InputError(f"player: unknown {name!r}; choose from {', '.join(_PLAYERS)} "
-                         f"(aliases {', '.join(_ALIASES)}) or give --impact-height and --racket-speed") from None
+        raise InputError(
+            f"player: unknown {name!r}; choose from {', '.join(_PLAYERS)} "
+            f"(aliases {', '.join(_ALIASES)}) or give --impact-height and --racket-speed"
+        ) from None

@@ -17,6 +17,7 @@ profile in 3-D.  "Land" = first contact of the ball with the ground (ball
 centre at height r), the physical reading; the seed does not say which height
 it stopped its flight at (see docs/serve.md for the sensitivity).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -28,34 +29,32 @@ from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams, to_court
 from tennislab.errors import check_range
 
-SEED_MASS = 0.059          #: ball mass [kg] (seed sec. 2.3)
-SEED_RADIUS = 0.033        #: ball radius [m] (seed sec. 2.3)
-SEED_AIR_DENSITY = 1.22    #: [kg/m^3] (seed sec. 2.3)
-SEED_GRAVITY = 9.82        #: [m/s^2] (seed sec. 2.3)
-SEED_RACKET_MASS = 0.2     #: [kg] (seed sec. 2.3)
+SEED_MASS = 0.059  #: ball mass [kg] (seed sec. 2.3)
+SEED_RADIUS = 0.033  #: ball radius [m] (seed sec. 2.3)
+SEED_AIR_DENSITY = 1.22  #: [kg/m^3] (seed sec. 2.3)
+SEED_GRAVITY = 9.82  #: [m/s^2] (seed sec. 2.3)
+SEED_RACKET_MASS = 0.2  #: [kg] (seed sec. 2.3)
 SEED_STRING_STIFFNESS = 50e3  #: k_k [N/m] (seed sec. 2.3)
-SEED_FRICTION = 0.35       #: mu [-] (seed sec. 2.3, eq 20)
-BASELINE_X = -11.885       #: the server's impact point in the court frame [m]
+SEED_FRICTION = 0.35  #: mu [-] (seed sec. 2.3, eq 20)
+BASELINE_X = -11.885  #: the server's impact point in the court frame [m]
 
 
-def seed_flight_params(aero="stepanek1988", cd=None, cl=None, mass=None, radius=None, air_density=None,
-                       gravity=None, wind=None, spin_decay=None) -> FlightParams:
-    """:class:`FlightParams` with the seed's constants; any argument given overrides."""
-    return FlightParams.from_options(
-        aero=aero, cd=cd, cl=cl, mass=SEED_MASS if mass is None else mass,
-        radius=SEED_RADIUS if radius is None else radius,
-        air_density=SEED_AIR_DENSITY if air_density is None else air_density,
-        gravity=SEED_GRAVITY if gravity is None else gravity, wind=wind, spin_decay=spin_decay)
+def seed_flight_params(**options) -> FlightParams:
+    """:class:`FlightParams` with the seed's constants (preset ``seed000``); any option given overrides."""
+    return FlightParams.from_options(preset="seed000", **options)
 
 
-def seed_impact_params(ball: Ball | None = None, racket_mass=None, string_stiffness=None, friction=None,
-                       ball_model=None) -> ImpactParams:
+def seed_impact_params(
+    ball: Ball | None = None, racket_mass=None, string_stiffness=None, friction=None, ball_model=None
+) -> ImpactParams:
     """:class:`ImpactParams` with the seed's constants; any argument given overrides."""
     return ImpactParams.from_options(
         racket_mass=SEED_RACKET_MASS if racket_mass is None else racket_mass,
         string_stiffness=SEED_STRING_STIFFNESS if string_stiffness is None else string_stiffness,
         friction=SEED_FRICTION if friction is None else friction,
-        ball=ball or Ball(mass=SEED_MASS, radius=SEED_RADIUS), ball_model=ball_model)
+        ball=ball or Ball(mass=SEED_MASS, radius=SEED_RADIUS),
+        ball_model=ball_model,
+    )
 
 
 @dataclass(frozen=True)
@@ -115,5 +114,12 @@ def evaluate_2d(table, criteria: SeedCriteria) -> dict[str, np.ndarray]:
     return {"landing_x": X, "net_height": Y, "success": success}
 
 
-__all__ = ["SeedCriteria", "seed_flight_params", "seed_impact_params", "launch_states_2d",
-           "evaluate_2d", "CATEGORIES", "BASELINE_X"]
+__all__ = [
+    "SeedCriteria",
+    "seed_flight_params",
+    "seed_impact_params",
+    "launch_states_2d",
+    "evaluate_2d",
+    "CATEGORIES",
+    "BASELINE_X",
+]

@@ -7,6 +7,7 @@ face turned by ``azimuth`` and brushed along ``brush`` (see
 :mod:`tennislab.core.impact_3d`); success = over the real net (ITF profile) and
 first bounce inside the far deuce/ad service box (lines are in).
 """
+
 from __future__ import annotations
 
 import math
@@ -18,7 +19,7 @@ from tennislab.core.impact import ImpactParams, impact
 from tennislab.core.impact_3d import face_basis
 from tennislab.errors import InputError, check_range
 from tennislab.serve.players import get_player
-from tennislab.serve.setup import (CATEGORIES, SeedCriteria, seed_flight_params, seed_impact_params)
+from tennislab.serve.setup import CATEGORIES, SeedCriteria, seed_flight_params, seed_impact_params
 from tennislab.units import RPM
 
 TARGETS = {"deuce": "deuce-box", "ad": "ad-box"}
@@ -48,16 +49,29 @@ def judge(table, criteria: SeedCriteria, target: str | None, court=None) -> dict
         except KeyError:
             raise InputError(f"target: unknown {target!r}; choose from {', '.join(TARGETS)}") from None
         from tennislab.core.court import ITF_COURT
+
         c = court or ITF_COURT
         success = landed & (table["net_status"] == 1) & c.contains(box, table["land_x"], table["land_y"])
     return {"landing_x": X, "net_height": Y, "success": np.asarray(success, bool)}
 
 
-def simulate_serve(player, alpha_deg: float, beta_deg: float, *, flight: FlightParams | None = None,
-                   impact_params: ImpactParams | None = None, criteria: SeedCriteria | None = None,
-                   target: str | None = None, azimuth_deg: float = 0.0, brush_deg: float = 0.0,
-                   server_y: float = 0.0, toss_vz: float = 0.0, trajectory: bool = False, dt: float = 0.0,
-                   method: str = "rk4") -> dict:
+def simulate_serve(
+    player,
+    alpha_deg: float,
+    beta_deg: float,
+    *,
+    flight: FlightParams | None = None,
+    impact_params: ImpactParams | None = None,
+    criteria: SeedCriteria | None = None,
+    target: str | None = None,
+    azimuth_deg: float = 0.0,
+    brush_deg: float = 0.0,
+    server_y: float = 0.0,
+    toss_vz: float = 0.0,
+    trajectory: bool = False,
+    dt: float = 0.0,
+    method: str = "rk4",
+) -> dict:
     """Simulate one serve; returns the ``tennislab serve`` JSON object (SI, angles in degrees).
 
     ``toss_vz``: vertical ball velocity at impact [m/s] (negative: falling), as a Galilean
@@ -79,8 +93,9 @@ def simulate_serve(player, alpha_deg: float, beta_deg: float, *, flight: FlightP
     n, tu, tl = face_basis(b, psi)
     t = math.cos(ph) * tu + math.sin(ph) * tl
     toss = np.array([0.0, 0.0, float(toss_vz)])
-    res = impact(player.racket_speed, a, impact_params, toss_n=float(toss @ n), toss_t=float(toss @ t),
-                 dt=dt, method=method)
+    res = impact(
+        player.racket_speed, a, impact_params, toss_n=float(toss @ n), toss_t=float(toss @ t), dt=dt, method=method
+    )
     off_plane = toss - (toss @ n) * n - (toss @ t) * t
     vel, spin = launch_3d(res.v_n, res.v_t, res.omega, b, psi, ph)
     vel = vel + off_plane
@@ -91,14 +106,26 @@ def simulate_serve(player, alpha_deg: float, beta_deg: float, *, flight: FlightP
     cat = CATEGORIES[int(crit.category(spin_rpm))]
     gamma = math.degrees(math.atan2(vel[2], math.hypot(vel[0], vel[1])))
     out = {
-        "player": player.name, "alpha": alpha_deg, "beta": beta_deg,
-        "speed": float(np.linalg.norm(vel)), "spin_rpm": float(spin_rpm), "launch_angle": gamma,
-        "net_height": float(j["net_height"][0]), "landing_x": float(j["landing_x"][0]),
-        "success": bool(j["success"][0]), "category": cat,
+        "player": player.name,
+        "alpha": alpha_deg,
+        "beta": beta_deg,
+        "speed": float(np.linalg.norm(vel)),
+        "spin_rpm": float(spin_rpm),
+        "launch_angle": gamma,
+        "net_height": float(j["net_height"][0]),
+        "landing_x": float(j["landing_x"][0]),
+        "success": bool(j["success"][0]),
+        "category": cat,
         "landing": {"x": float(table["land_x"][0]), "y": float(table["land_y"][0]), "t": float(table["land_t"][0])},
-        "impact": {"contact_time_ms": res.contact_time * 1e3, "regime": res.regime, "v_n": res.v_n,
-                   "v_t": res.v_t, "omega": res.omega},
-        "velocity": vel, "spin": spin,
+        "impact": {
+            "contact_time_ms": res.contact_time * 1e3,
+            "regime": res.regime,
+            "v_n": res.v_n,
+            "v_t": res.v_t,
+            "omega": res.omega,
+        },
+        "velocity": vel,
+        "spin": spin,
         "criteria": "seed-2d" if target is None else f"{target}-box",
     }
     if trajectory:

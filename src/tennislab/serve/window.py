@@ -15,6 +15,7 @@ players, the successful flat serve with the largest X (two of them are the
 by higher speed.  Topspin: largest spin, ties (spin depends on alpha only) by
 largest landing_x.
 """
+
 from __future__ import annotations
 
 import functools
@@ -26,8 +27,14 @@ from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.core.impact import ImpactParams, impact_batch, launch_angle
 from tennislab.errors import InputError, check_range
 from tennislab.serve.players import Player, get_player
-from tennislab.serve.setup import (CATEGORIES, SeedCriteria, evaluate_2d, launch_states_2d,
-                                   seed_flight_params, seed_impact_params)
+from tennislab.serve.setup import (
+    CATEGORIES,
+    SeedCriteria,
+    evaluate_2d,
+    launch_states_2d,
+    seed_flight_params,
+    seed_impact_params,
+)
 from tennislab.units import RPM
 
 SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
@@ -35,14 +42,29 @@ SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height",
 
 def flight_options(params: FlightParams) -> dict:
     """Plain (picklable) options that rebuild ``params`` with :meth:`FlightParams.from_options`."""
-    return {"aero": params.aero, "mass": params.ball.mass, "radius": params.ball.radius,
-            "air_density": params.atmosphere.density, "gravity": params.atmosphere.gravity,
-            "wind": tuple(params.atmosphere.wind), "spin_decay": params.spin_decay}
+    return {
+        "aero": params.aero,
+        "mass": params.ball.mass,
+        "radius": params.ball.radius,
+        "air_density": params.atmosphere.density,
+        "gravity": params.atmosphere.gravity,
+        "wind": tuple(params.atmosphere.wind),
+        "spin_decay": params.spin_decay,
+    }
 
 
-def window_chunk(inputs: dict, *, flight: dict | None = None, net_top: float = 0.943,
-                 service_line: float = 18.318, server_x: float = -11.885, target: str | None = None,
-                 server_y: float = 0.0, azimuth: float = 0.0, brush: float = 0.0) -> dict:
+def window_chunk(
+    inputs: dict,
+    *,
+    flight: dict | None = None,
+    net_top: float = 0.943,
+    service_line: float = 18.318,
+    server_x: float = -11.885,
+    target: str | None = None,
+    server_y: float = 0.0,
+    azimuth: float = 0.0,
+    brush: float = 0.0,
+) -> dict:
     """Per-chunk worker: serves from racket-frame impact results to their outcome.
 
     inputs: equal-length arrays ``height`` [m], ``v_n``, ``v_t`` [m/s], ``omega`` [rad/s],
@@ -55,19 +77,26 @@ def window_chunk(inputs: dict, *, flight: dict | None = None, net_top: float = 0
     params = FlightParams.from_options(**(flight or {})) if not isinstance(flight, FlightParams) else flight
     crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
     if target is None:
-        states = launch_states_2d(inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"],
-                                  inputs["beta"], server_x)
+        states = launch_states_2d(
+            inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], server_x
+        )
         table = fly_batch(states, params)
         ev = evaluate_2d(table, crit)
     else:
         from tennislab.serve.single import judge, launch_3d
+
         vel, spin = launch_3d(inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], azimuth, brush)
         n = vel.shape[0]
         states = np.column_stack([np.full(n, server_x), np.full(n, server_y), inputs["height"], vel, spin])
         table = fly_batch(states, params)
         ev = judge(table, crit, target)
-    return {"landing_x": ev["landing_x"], "landing_y": table["land_y"], "net_height": ev["net_height"],
-            "success": ev["success"], "status": table["status"]}
+    return {
+        "landing_x": ev["landing_x"],
+        "landing_y": table["land_y"],
+        "net_height": ev["net_height"],
+        "success": ev["success"],
+        "status": table["status"],
+    }
 
 
 @dataclass(frozen=True)
@@ -81,17 +110,17 @@ class ServeWindow:
     player: Player
     alpha_deg: np.ndarray
     beta_deg: np.ndarray
-    speed: np.ndarray          #: ball speed after impact [m/s] (per alpha)
-    spin_rpm: np.ndarray       #: spin [rpm] (per alpha, > 0 topspin)
-    contact_time: np.ndarray   #: [s] (per alpha)
-    regime: np.ndarray         #: 0 slide, 1 roll (per alpha)
-    launch_angle: np.ndarray   #: gamma [deg] (n_beta, n_alpha)
-    landing_x: np.ndarray      #: X from the impact point [m]
-    net_height: np.ndarray     #: Y, ball centre at the net [m]
-    success: np.ndarray        #: bool
-    category: np.ndarray       #: 0 flat, 1 topspin, 2 other
+    speed: np.ndarray  #: ball speed after impact [m/s] (per alpha)
+    spin_rpm: np.ndarray  #: spin [rpm] (per alpha, > 0 topspin)
+    contact_time: np.ndarray  #: [s] (per alpha)
+    regime: np.ndarray  #: 0 slide, 1 roll (per alpha)
+    launch_angle: np.ndarray  #: gamma [deg] (n_beta, n_alpha)
+    landing_x: np.ndarray  #: X from the impact point [m]
+    net_height: np.ndarray  #: Y, ball centre at the net [m]
+    success: np.ndarray  #: bool
+    category: np.ndarray  #: 0 flat, 1 topspin, 2 other
     criteria: SeedCriteria = field(repr=False, default_factory=SeedCriteria)
-    mode: str = "seed-2d"      #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
+    mode: str = "seed-2d"  #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
 
     def grid(self, name: str) -> np.ndarray:
         """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
@@ -158,16 +187,28 @@ class ServeWindow:
 
     def to_dict(self) -> dict:
         """The JSON object of ``tennislab serve-window``."""
-        return {"player": {"name": self.player.name, "impact_height": self.player.impact_height,
-                           "racket_speed": self.player.racket_speed},
-                "criteria": self.mode, "n_serves": int(self.success.size), "n_success": int(self.success.sum()),
-                "summary": self.summary(), "peak_spin_alpha": self.peak_spin_alpha,
-                "optimum": {"flat": self.optimum("flat"), "topspin": self.optimum("topspin")},
-                "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")},
-                "alpha_range_by_beta": {c: self.alpha_range_by_beta(c) for c in ("flat", "topspin")},
-                "by_alpha": {"alpha": self.alpha_deg, "speed": self.speed, "spin_rpm": self.spin_rpm,
-                             "contact_time_ms": self.contact_time * 1e3,
-                             "regime": [("slide", "roll")[int(r)] for r in self.regime]}}
+        return {
+            "player": {
+                "name": self.player.name,
+                "impact_height": self.player.impact_height,
+                "racket_speed": self.player.racket_speed,
+            },
+            "criteria": self.mode,
+            "n_serves": int(self.success.size),
+            "n_success": int(self.success.sum()),
+            "summary": self.summary(),
+            "peak_spin_alpha": self.peak_spin_alpha,
+            "optimum": {"flat": self.optimum("flat"), "topspin": self.optimum("topspin")},
+            "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")},
+            "alpha_range_by_beta": {c: self.alpha_range_by_beta(c) for c in ("flat", "topspin")},
+            "by_alpha": {
+                "alpha": self.alpha_deg,
+                "speed": self.speed,
+                "spin_rpm": self.spin_rpm,
+                "contact_time_ms": self.contact_time * 1e3,
+                "regime": [("slide", "roll")[int(r)] for r in self.regime],
+            },
+        }
 
     def alpha_range_by_beta(self, category: str) -> list[list[float]]:
         """Seed fig 6 as data: [beta, min alpha, max alpha, n] for every beta with successes."""
@@ -190,10 +231,24 @@ def angle_grid(step: float, lo: float = 0.0, hi: float = 90.0) -> np.ndarray:
     return lo + step * np.arange(n)
 
 
-def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, flight: FlightParams | None = None,
-                 impact: ImpactParams | None = None, criteria: SeedCriteria | None = None, steps: int = 400,
-                 dt: float = 0.0, method: str = "rk4", target: str | None = None, server_y: float = 0.0,
-                 azimuth_deg: float = 0.0, brush_deg: float = 0.0, mapper=None) -> ServeWindow:
+def serve_window(
+    player,
+    *,
+    step: float = 1.0,
+    alpha_deg=None,
+    beta_deg=None,
+    flight: FlightParams | None = None,
+    impact: ImpactParams | None = None,
+    criteria: SeedCriteria | None = None,
+    steps: int = 400,
+    dt: float = 0.0,
+    method: str = "rk4",
+    target: str | None = None,
+    server_y: float = 0.0,
+    azimuth_deg: float = 0.0,
+    brush_deg: float = 0.0,
+    mapper=None,
+) -> ServeWindow:
     """Simulate every serve of the alpha x beta grid (default 0-90 deg at ``step``) for ``player``.
 
     ``target`` None: the seed's 2-D criteria.  ``target="deuce"|"ad"``: 3-D serves from
@@ -214,24 +269,33 @@ def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, fl
         raise InputError("alpha, beta: empty grid")
     if np.any(np.abs(a) > 90):
         raise InputError("alpha: outside the allowed range [-90, 90] deg")
-    A = np.radians(np.clip(a, -89.999, 89.999))   # alpha = 90 deg: no normal approach; use 89.999
+    A = np.radians(np.clip(a, -89.999, 89.999))  # alpha = 90 deg: no normal approach; use 89.999
     imp = impact_batch(player.racket_speed, A, impact, steps=steps, dt=dt, method=method)
     B = np.radians(b)
     BB, _ = np.meshgrid(B, A, indexing="ij")
-    inputs = {"height": np.full(BB.size, player.impact_height),
-              "v_n": np.broadcast_to(imp["v_n"][None, :], BB.shape).ravel().copy(),
-              "v_t": np.broadcast_to(imp["v_t"][None, :], BB.shape).ravel().copy(),
-              "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
-              "beta": BB.ravel().copy()}
+    inputs = {
+        "height": np.full(BB.size, player.impact_height),
+        "v_n": np.broadcast_to(imp["v_n"][None, :], BB.shape).ravel().copy(),
+        "v_t": np.broadcast_to(imp["v_t"][None, :], BB.shape).ravel().copy(),
+        "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
+        "beta": BB.ravel().copy(),
+    }
     if target is None and (server_y != 0 or azimuth_deg != 0 or brush_deg != 0):
         raise InputError("azimuth/brush/server_y: 3-D options need --target deuce or ad")
     if target is not None and target not in ("deuce", "ad"):
         raise InputError(f"target: unknown {target!r}; choose from deuce, ad")
     check_range("server_y", server_y, -10.0, 10.0, "m")
-    fn = functools.partial(window_chunk, flight=flight_options(flight), net_top=crit.net_top,
-                           service_line=crit.service_line, server_x=crit.server_x, target=target,
-                           server_y=float(server_y), azimuth=float(np.radians(azimuth_deg)),
-                           brush=float(np.radians(brush_deg)))
+    fn = functools.partial(
+        window_chunk,
+        flight=flight_options(flight),
+        net_top=crit.net_top,
+        service_line=crit.service_line,
+        server_x=crit.server_x,
+        target=target,
+        server_y=float(server_y),
+        azimuth=float(np.radians(azimuth_deg)),
+        brush=float(np.radians(brush_deg)),
+    )
     out = fn(inputs) if mapper is None else mapper(fn, inputs)
     shape = BB.shape
     spin = imp["omega"] / RPM
@@ -239,12 +303,29 @@ def serve_window(player, *, step: float = 1.0, alpha_deg=None, beta_deg=None, fl
         gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
     else:
         from tennislab.serve.single import launch_3d
-        vel, _ = launch_3d(imp["v_n"][None, :], imp["v_t"][None, :], imp["omega"][None, :], B[:, None],
-                           np.radians(azimuth_deg), np.radians(brush_deg))
+
+        vel, _ = launch_3d(
+            imp["v_n"][None, :],
+            imp["v_t"][None, :],
+            imp["omega"][None, :],
+            B[:, None],
+            np.radians(azimuth_deg),
+            np.radians(brush_deg),
+        )
         gamma = np.degrees(np.arctan2(vel[..., 2], np.hypot(vel[..., 0], vel[..., 1])))
-    return ServeWindow(player, a, b, imp["speed"], spin, imp["contact_time"], imp["regime"].astype(int),
-                       gamma, np.asarray(out["landing_x"]).reshape(shape),
-                       np.asarray(out["net_height"]).reshape(shape),
-                       np.asarray(out["success"]).astype(bool).reshape(shape),
-                       np.broadcast_to(crit.category(spin)[None, :], shape).copy(), crit,
-                       "seed-2d" if target is None else f"{target}-box")
+    return ServeWindow(
+        player,
+        a,
+        b,
+        imp["speed"],
+        spin,
+        imp["contact_time"],
+        imp["regime"].astype(int),
+        gamma,
+        np.asarray(out["landing_x"]).reshape(shape),
+        np.asarray(out["net_height"]).reshape(shape),
+        np.asarray(out["success"]).astype(bool).reshape(shape),
+        np.broadcast_to(crit.category(spin)[None, :], shape).copy(),
+        crit,
+        "seed-2d" if target is None else f"{target}-box",
+    )

@@ -1,0 +1,104 @@
+"""Launch vocabulary: speed, elevation and heading <-> velocity; spin rate and axis <-> spin vector.
+
+One convention for every command that launches a ball (``fly``, the launcher, the web app), the
+launcher paper's (seed 002 section 2: elevation a, heading b, spin-axis rotation g):
+
+* direction of motion d = (cos a cos b, cos a sin b, sin a): elevation a above the horizontal,
+  heading b from +x, positive toward +y (to the left of a player facing +x);
+* spin basis h = unit(e_z x d) (horizontal, to the left of the flight) and u = d x h (up,
+  perpendicular to d); the spin vector is omega = w (cos g h + sin g u) for a spin rate w and an
+  axis angle g, so that
+  g = 0 is pure topspin (the Magnus force omega x v points down), g = 180 backspin / slice (up),
+  g = +90 sidespin curving the ball to its left (+y for a ball moving +x), g = -90 to its right.
+
+Spin along the path (rifle / gyro spin, no Magnus force) has no axis angle: give the spin vector.
+All angles in radians here; degrees and rpm are converted at the edges (:mod:`tennislab.units`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tennislab.errors import InputError
+
+#: Named spin axes -> axis angle g [deg] (module docstring).  ``slice`` is the groundstroke slice
+#: (backspin); a slice *serve* curves sideways: give its angle (e.g. -60) instead.
+SPIN_AXES_DEG: dict[str, float] = {
+    "topspin": 0.0,
+    "backspin": 180.0,
+    "slice": 180.0,
+    "sidespin": 90.0,
+    "sidespin-left": 90.0,
+    "sidespin-right": -90.0,
+}
+
+
+def spin_axis_angle(axis) -> float:
+    """Axis angle g [rad] from a name of :data:`SPIN_AXES_DEG` or a number of degrees."""
+    if isinstance(axis, str):
+        key = axis.strip().lower()
+        if key in SPIN_AXES_DEG:
+            return math.radians(SPIN_AXES_DEG[key])
+        try:
+            value = float(key)
+        except ValueError:
+            allowed = ", ".join(SPIN_AXES_DEG)
+            raise InputError(f"spin_axis: unknown axis {axis!r}; allowed: {allowed} or an angle in degrees") from None
+    else:
+        value = float(axis)
+    if not math.isfinite(value) or not -360.0 <= value <= 360.0:
+        raise InputError(f"spin_axis: {value:g} deg is outside the allowed range [-360, 360] deg")
+    return math.radians(value)
+
+
+def direction(elevation, heading) -> np.ndarray:
+    """Unit direction d (..., 3) for elevation and heading [rad] (broadcast together)."""
+    a, b = np.broadcast_arrays(np.asarray(elevation, dtype=float), np.asarray(heading, dtype=float))
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+    return np.stack((ca * cb, ca * sb, sa), axis=-1)
+
+
+def spin_basis(elevation, heading) -> tuple[np.ndarray, np.ndarray]:
+    """(h, u) (..., 3): h horizontal to the left of the flight, u = d x h (module docstring)."""
+    a, b = np.broadcast_arrays(np.asarray(elevation, dtype=float), np.asarray(heading, dtype=float))
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+    h = np.stack((-sb, cb, np.zeros_like(cb)), axis=-1)
+    u = np.stack((-sa * cb, -sa * sb, ca), axis=-1)
+    return h, u
+
+
+def launch_velocity(speed, elevation, heading) -> np.ndarray:
+    """Velocity (..., 3) [m/s] from speed [m/s], elevation and heading [rad]."""
+    return np.asarray(speed, dtype=float)[..., None] * direction(elevation, heading)
+
+
+def launch_spin(spin_rate, elevation, heading, axis_angle) -> np.ndarray:
+    """Spin vector (..., 3) [rad/s] from spin rate |omega| [rad/s] and axis angle g [rad] about the flight."""
+    h, u = spin_basis(elevation, heading)
+    g = np.asarray(axis_angle, dtype=float)[..., None]
+    w = np.asarray(spin_rate, dtype=float)[..., None]
+    return w * (np.cos(g) * h + np.sin(g) * u)
+
+
+def describe_velocity(velocity) -> tuple[float, float, float]:
+    """(speed [m/s], elevation [rad], heading [rad]) of a velocity vector."""
+    v = np.asarray(velocity, dtype=float)
+    speed = float(np.linalg.norm(v))
+    if speed == 0.0:
+        return 0.0, 0.0, 0.0
+    return speed, math.asin(max(-1.0, min(1.0, v[2] / speed))), math.atan2(v[1], v[0])
+
+
+def describe_spin(spin, velocity) -> dict[str, float]:
+    """A spin vector described relative to the flight: rate [rad/s], the components along the
+    topspin axis h, the up axis u and the path d [rad/s], and the axis angle g [rad] of its part
+    perpendicular to the path (NaN when that part is zero)."""
+    w = np.asarray(spin, dtype=float)
+    _, a, b = describe_velocity(velocity)
+    h, u = spin_basis(a, b)
+    d = direction(a, b)
+    wh, wu, wd = float(w @ h), float(w @ u), float(w @ d)
+    angle = math.atan2(wu, wh) if (wh or wu) else float("nan")
+    return {"rate": float(np.linalg.norm(w)), "topspin": wh, "sidespin": wu, "along_path": wd, "axis_angle": angle}

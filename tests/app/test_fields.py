@@ -1,0 +1,112 @@
+"""Form-field validation of the web app: only InputError ever, clear messages, defaults valid."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tennislab.app.fields import FORMS, Field, validate
+from tennislab.errors import InputError
+
+json_values = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.integers(-(10**12), 10**12)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.text(max_size=20),
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=5), inner, max_size=3),
+    max_leaves=6,
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    form=st.sampled_from(sorted(FORMS)),
+    body=st.dictionaries(st.text(max_size=12), json_values, max_size=4),
+    known=st.dictionaries(
+        st.sampled_from(
+            ["x", "z", "speed_kmh", "player", "impact_angle", "step", "target_x", "shot", "line", "surface", "aero"]
+        ),
+        json_values,
+        max_size=3,
+    ),
+)
+def test_validate_raises_only_input_error(form, body, known):
+    data = {**body, **{k: v for k, v in known.items() if k in FORMS[form].by_name()}}
+    try:
+        out = validate(form, data)
+    except InputError as exc:
+        msg = str(exc)
+        assert msg and "\n" not in msg
+        assert len(msg) < 500, msg  # bounded: user text is cut to 40 characters
+        from tennislab.app.fields import field_label
+
+        # the message opens with the offending field's label (which may itself contain ": ")
+        assert any(msg.startswith(label + ": ") for label in {field_label(k) for k in data} | {"body"}), msg
+        return
+    # accepted: every value is of its kind and within range
+    for name, f in FORMS[form].by_name().items():
+        v = out[name]
+        if f.kind == "choice":
+            assert v in f.choices
+        else:
+            assert isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            assert f.lo is None or v >= f.lo
+            assert f.hi is None or v <= f.hi
+
+
+@pytest.mark.parametrize("body", [None, [], "x", 3, [("a", 1)]])
+def test_body_must_be_an_object(body):
+    with pytest.raises(InputError, match="^body:"):
+        validate("flight", body)
+
+
+def test_defaults_validate_and_empty_body_gives_defaults():
+    for name, form in FORMS.items():
+        out = validate(name, {})
+        assert out == {f.name: f.default for f in form.fields}
+
+
+@pytest.mark.parametrize(
+    "value, msg",
+    [
+        (91, "a: 91 deg is outside the allowed range [0.0, 90.0] deg"),
+        (-1e-9, "a: -1e-09 deg is outside the allowed range [0.0, 90.0] deg"),
+        ("12x", "a: expected a number, got '12x'"),
+        (float("nan"), "a: must be a finite number, got nan"),
+        (True, "a: expected a number, got True"),
+        ([1], "a: expected a number, got [1]"),
+    ],
+)
+def test_messages(value, msg):
+    f = Field("a", "angle", "float", 0.0, 0.0, 90.0, "deg")
+    with pytest.raises(InputError) as exc:
+        f.parse(value)
+    assert str(exc.value) == msg
+
+
+def test_long_or_odd_user_text_is_cut():
+    f = Field("a", "angle", "float", 0.0, 0.0, 90.0, "deg")
+    with pytest.raises(InputError) as exc:
+        f.parse("9" * 10_000)
+    assert str(exc.value) == "a: expected a number, got a text of 10000 characters"
+    with pytest.raises(InputError) as exc:
+        f.parse(list(range(1000)))
+    assert len(str(exc.value)) < 100
+    with pytest.raises(InputError) as exc:
+        validate("flight", {"<script>\n" * 20: 1})
+    assert "\n" not in str(exc.value) and len(str(exc.value)) < 300
+
+
+def test_numeric_strings_and_ints():
+    f = Field("n", "count", "int", 1, 1, 10)
+    assert f.parse("7") == 7 and f.parse(3.0) == 3
+    with pytest.raises(InputError, match="whole number"):
+        f.parse(2.5)
+    g = Field("c", "choice", "choice", "a", choices=("a", "b"))
+    assert g.parse("b") == "b"
+    with pytest.raises(InputError, match="'z' is not one of a, b"):
+        g.parse("z")

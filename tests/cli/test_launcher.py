@@ -1,0 +1,211 @@
+"""`tennislab launcher` and `tennislab material`: JSON contracts, physics flags, exit codes (issue 5)."""
+
+import csv
+import json
+import math
+
+import pytest
+
+from tennislab.cli import main
+from tennislab.launcher.materials import SEED_TABLE1, SEED_TABLE3
+
+
+def run(capsys, *args):
+    rc = main([str(a) for a in args])
+    out = capsys.readouterr()
+    return rc, out.out, out.err
+
+
+def test_aim_json_contract(capsys, tmp_path):
+    png = tmp_path / "aim.png"
+    rc, out, _ = run(
+        capsys,
+        "launcher",
+        "aim",
+        "--target",
+        8,
+        2,
+        "--speed-kmh",
+        80,
+        "--spin-rpm",
+        1500,
+        "--spin-axis-deg",
+        0,
+        "--height",
+        1.2,
+        "--json",
+        "--plot",
+        png,
+    )
+    assert rc == 0 and png.stat().st_size > 10_000
+    d = json.loads(out)
+    s = d["settings"]
+    assert (s["height_m"], s["speed_kmh"], s["spin_rpm"], s["spin_axis_deg"]) == (1.2, 80, 1500, 0)
+    assert isinstance(s["elevation_deg"], float) and isinstance(s["heading_deg"], float)
+    assert d["rollers"]["rpm1"] < d["rollers"]["rpm2"]
+    assert math.hypot(d["landing"]["x"] - 8, d["landing"]["y"] - 2) * 1e3 == pytest.approx(d["miss_mm"], abs=1e-6)
+    assert d["net_clearance_m"] > 0 and d["solution"] == "low"
+    assert d["other_solution"]["solution"] == "high" and d["other_solution"]["elevation_deg"] > 45
+
+
+def test_aim_high_machine_position_and_physics_flags(capsys):
+    rc, out, _ = run(
+        capsys,
+        "launcher",
+        "aim",
+        "--target",
+        9,
+        0,
+        "--speed-kmh",
+        90,
+        "--solution",
+        "high",
+        "--machine-position",
+        -12,
+        1,
+        "--aero",
+        "cross2014",
+        "--mass",
+        0.057,
+        "--radius",
+        0.033,
+        "--air-density",
+        1.1,
+        "--gravity",
+        9.81,
+        "--wind",
+        1,
+        0,
+        0,
+        "--json",
+    )
+    assert rc == 0
+    d = json.loads(out)
+    assert d["solution"] == "high" and d["settings"]["elevation_deg"] > 45
+    assert d["machine"]["position"] == [-12, 1]
+    assert d["physics"] == {
+        "aero": "cross2014",
+        "mass": 0.057,
+        "radius": 0.033,
+        "air_density": 1.1,
+        "gravity": 9.81,
+        "wind": [1, 0, 0],
+    }
+
+
+def test_aim_text_output(capsys):
+    rc, out, _ = run(capsys, "launcher", "aim", "--target", 8, 0, "--speed-kmh", 80)
+    assert rc == 0 and "low solution" in out and "rollers:" in out and "miss" in out
+
+
+@pytest.mark.parametrize(
+    "args,frag",
+    [
+        (["launcher", "aim", "--target", 11.5, 0, "--speed-kmh", 30], "beyond its reach"),
+        (
+            ["launcher", "aim", "--target", 8, 0, "--speed-kmh", 201],
+            "--speed-kmh: 201 km/h is outside the allowed range [30, 200] km/h",
+        ),
+        (
+            ["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--height", 3.5],
+            "height_m: 3.5 m is outside the allowed range [0.1, 3] m",
+        ),
+        (["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--spin-axis-deg", 200], "--spin-axis-deg: 200 deg"),
+        (["launcher", "aim", "--target", 3, 0, "--speed-kmh", 200], "into the net"),
+        (
+            ["launcher", "rollers", "--speed-kmh", 250],
+            "--speed-kmh: 250 km/h is outside the allowed range [30, 200] km/h",
+        ),
+        (["launcher", "rollers", "--speed-kmh", 100, "--spin-rpm", 2500], "--spin-rpm: 2500 rpm"),
+        (["launcher", "rollers", "--speed-kmh", 100, "--roller-axis-distance", 0.3], "--roller-axis-distance"),
+        (["launcher", "power", "--speed-kmh", 100, "--roller-mass", -1], "--roller-mass"),
+        (["launcher", "power", "--speed-kmh", 100, "--motor-power", 0], "--motor-power"),
+        (["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--aero", "nope"], "aero"),
+    ],
+)
+def test_bad_input_exit_2_one_line(capsys, args, frag):
+    rc, out, err = run(capsys, *args)
+    assert rc == 2 and frag in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_rollers_json(capsys):
+    rc, out, _ = run(capsys, "launcher", "rollers", "--speed-kmh", 200, "--spin-rpm", 2000, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["rpm1"] == pytest.approx(4805, abs=1) and d["rpm2"] == pytest.approx(5805, abs=1)
+    assert d["grab_angle_deg"] == pytest.approx(20.56, abs=0.01) and d["pulls_in"] is True
+    rc, out, _ = run(capsys, "launcher", "rollers", "--speed-kmh", 100, "--friction", 0.3, "--json")
+    assert json.loads(out)["pulls_in"] is False
+
+
+def test_power_json(capsys):
+    rc, out, _ = run(capsys, "launcher", "power", "--speed-kmh", 200, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["throw_power_w"] == pytest.approx(44.5, abs=0.1)
+    assert d["startup_time_s"] == pytest.approx(35.3, abs=0.1) and d["energy_per_throw_j"] == pytest.approx(
+        89.0, abs=0.1
+    )
+    rc, out, _ = run(
+        capsys,
+        "launcher",
+        "power",
+        "--speed-kmh",
+        200,
+        "--roller-mass",
+        4,
+        "--motor-power",
+        90,
+        "--throw-time",
+        2,
+        "--slip",
+        "--json",
+    )
+    d2 = json.loads(out)
+    assert d2["energy_per_throw_j"] == pytest.approx(2 * d["energy_per_throw_j"])
+    assert d2["throw_power_w"] == pytest.approx(d["throw_power_w"])
+
+
+def test_drill_cli(capsys, tmp_path):
+    out_csv, png = tmp_path / "d.csv", tmp_path / "d.png"
+    rc, out, _ = run(capsys, "launcher", "drill", "lobs", "--json", "--csv", out_csv, "--plot", png)
+    assert rc == 0 and png.stat().st_size > 10_000
+    d = json.loads(out)
+    rows = list(csv.DictReader(out_csv.open()))
+    assert d["ok"] and len(rows) == d["n_shots"] == 10
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: x\nshots: {a: {target: [8, 0], speed_kmh: 500}}\nprogram: [{shot: a}]\n")
+    rc, out, err = run(capsys, "launcher", "drill", bad, "--csv", tmp_path / "never.csv")
+    assert rc == 2 and "shots.a.speed_kmh: 500 km/h is outside the allowed range [30, 200] km/h" in err
+    assert not (tmp_path / "never.csv").exists()
+
+
+def test_drill_failed_check_exit_1(capsys, tmp_path):
+    f = tmp_path / "tight.yaml"  # a 10 cm zone cannot be hit at the machine's 1-degree steps
+    f.write_text(
+        "name: tight\nshots: {a: {type: drive, target: [9.0, 0.3], zone: [8.95, 9.05, 0.25, 0.35]}}\n"
+        "program: [{shot: a}]\n"
+    )
+    rc, out, _ = run(capsys, "launcher", "drill", f)
+    assert rc == 1 and "FAILED" in out
+    rc, out, _ = run(capsys, "launcher", "drill", f, "--no-check", "--json")
+    assert rc == 0 and json.loads(out)["ok"] is False
+
+
+def test_material_cli(capsys, tmp_path):
+    y = tmp_path / "y.csv"
+    y.write_text("load_kg,deformation_m\n" + "".join(f"{kg},{dl}\n" for kg, dl, _ in SEED_TABLE1))
+    rc, out, _ = run(capsys, "material", "young", "--csv", y, "--json")
+    d = json.loads(out)
+    assert rc == 0 and len(d["rows"]) == 10 and d["mean_mpa"] == pytest.approx(3.59, abs=0.01)
+    assert d["rows"][0]["young_modulus_mpa"] == pytest.approx(3.39, abs=0.01)
+    f = tmp_path / "f.csv"
+    f.write_text("contact_length_m,friction_angle_deg\n" + "".join(f"{c},{a}\n" for c, a, _ in SEED_TABLE3["roller"]))
+    rc, out, _ = run(capsys, "material", "friction", "--csv", f, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["max"] == pytest.approx(2.05, abs=0.001) and d["rows"][0]["contact_length_m"] == 0.005
+    rc, out, _ = run(capsys, "material", "friction", "--csv", f)
+    assert rc == 0 and "mean mu" in out
+    f.write_text("angle\n30\n")
+    rc, out, err = run(capsys, "material", "friction", "--csv", f)
+    assert rc == 2 and "missing column friction_angle_deg" in err
+    rc, out, err = run(capsys, "material", "young", "--csv", tmp_path / "nope.csv")
+    assert rc == 2

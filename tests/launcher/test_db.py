@@ -1,0 +1,713 @@
+"""The launcher's SQLite database: schema, migrations, hash, fill, R*Tree lookup, drills."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tennislab.errors import InputError
+from tennislab.launcher import db
+from tennislab.launcher import lookup as lk
+from tennislab.launcher import table as T
+from tennislab.launcher.aim import aim_all, launcher_params
+from tennislab.launcher.machine import DEFAULT_SPEC
+
+SPEEDS = (80.0, 120.0)
+SPINS = (0.0, 1500.0)
+RANGES = {"height_m": (1.0, 1.0), "speed_kmh": SPEEDS, "spin_rpm": SPINS, "spin_axis_deg": (0.0, 0.0)}
+STRIDES = {"speed_kmh": 10, "spin_rpm": 1500}
+
+
+@pytest.fixture(scope="module")
+def params():
+    return launcher_params()
+
+
+@pytest.fixture(scope="module")
+def grid():
+    return T.make_grid(DEFAULT_SPEC, RANGES, STRIDES)
+
+
+@pytest.fixture(scope="module")
+def table_db(tmp_path_factory, params, grid):
+    """A small real table: height 1 m, 80-120 km/h by 10, spin 0 and 1500 rpm topspin, every angle."""
+    path = str(tmp_path_factory.mktemp("db") / "hits.sqlite")
+    rep = T.fill_table(path, DEFAULT_SPEC, params, grid, chunk_size=8181)
+    assert rep.hits_total > 5_000
+    return path
+
+
+# ------------------------------------------------------------------ schema
+def test_new_file_has_schema_wal_and_rtree(tmp_path):
+    path = str(tmp_path / "a.sqlite")
+    conn = db.open_db(path)
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == db.SCHEMA_VERSION
+    assert conn.execute("PRAGMA application_id").fetchone()[0] == db.APPLICATION_ID
+    assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+    assert {
+        "machine",
+        "hits",
+        "hits_rtree",
+        "hits_cell",
+        "hits_speed_cell",
+        "hits_spin_cell",
+        "fills",
+        "fill_chunks",
+        "drills",
+        "drill_shots",
+    } <= names
+    assert "hits_xy" not in names  # schema 3's 2-D R*Tree, replaced by hits_cell in schema 4
+    sql = conn.execute("SELECT sql FROM sqlite_master WHERE name = 'hits_rtree'").fetchone()[0]
+    assert "rtree" in sql.lower()
+    conn.close()
+
+
+def test_migration_from_version_1_and_newer_refused(tmp_path, params):
+    path = str(tmp_path / "old.sqlite")
+    conn = db.open_db(path, target_version=1)
+    cfg = db.config_dict(DEFAULT_SPEC, params)
+    db.bind_config(conn, cfg, path)
+    names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+    assert "drills" not in names and "hits" in names and "hits_xy" not in names
+    conn.executemany("INSERT INTO hits VALUES (?,1,100,10,0,0,0,?,?,0.5,1,20,0,2)", [(7, 8.0, 1.0), (9, 9.0, -2.0)])
+    conn.close()
+    with pytest.raises(InputError, match="older"):
+        db.open_readonly(path)  # a reader never migrates
+    conn = db.open_db(path)  # a writer does
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == db.SCHEMA_VERSION
+    assert "drills" in {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+    # v3 indexed the hits already stored, v4 replaced that index by the band indexes
+    assert "hits_xy" not in {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+    assert conn.execute("SELECT id FROM hits INDEXED BY hits_cell WHERE land_x > 8.5").fetchall() == [(9,)]
+    for kw in ({}, {"speed_kmh": 100.0}, {"spin_rpm": 0.0}):  # (rows written to hits alone: not in hits_rtree)
+        assert lk.nearest_hit(conn, 8.1, 1.0, **kw)["id"] == 7
+    assert db.check_config(conn, cfg, path) == db.config_hash(cfg)  # a migration keeps the table valid
+    conn.execute("PRAGMA user_version = 99")
+    conn.close()
+    with pytest.raises(InputError, match="newer"):
+        db.open_db(path)
+
+
+def test_foreign_and_truncated_files_refused(tmp_path, table_db):
+    other = tmp_path / "other.sqlite"
+    c = sqlite3.connect(other)
+    c.execute("CREATE TABLE t (x)")
+    c.commit()
+    c.close()
+    for opener in (db.open_db, db.open_readonly):
+        with pytest.raises(InputError, match="another application|not a tennislab"):
+            opener(str(other))
+    text = tmp_path / "notes.sqlite"
+    text.write_text("hello, not a database\n" * 100)
+    with pytest.raises(InputError, match="not a usable"):
+        db.open_readonly(str(text))
+    trunc = tmp_path / "trunc.sqlite"
+    # checkpoint the WAL of the fixture file into a copy, then cut it
+    src = sqlite3.connect(table_db)
+    dst = sqlite3.connect(trunc)
+    src.backup(dst)
+    src.close()
+    dst.close()
+    data = trunc.read_bytes()
+    trunc.write_bytes(data[: len(data) * 9 // 10])
+    for opener in (db.open_db, db.open_readonly):
+        with pytest.raises(InputError, match="truncated"):
+            opener(str(trunc))
+    trunc.write_bytes(data[: len(data) // 3])
+    with pytest.raises(InputError):
+        conn = db.open_readonly(str(trunc))
+        lk.nearest_hit(conn, 6.0, 0.0)
+        conn.execute("SELECT count(*), sum(land_x) FROM hits").fetchone()
+
+
+# -------------------------------------------------------------------- hash
+def test_hash_is_stable_and_sees_every_constant(params):
+    from tennislab.launcher.aim import launcher_params as lp
+
+    base = db.config_hash(db.config_dict(DEFAULT_SPEC, params))
+    assert base == db.config_hash(db.config_dict(DEFAULT_SPEC, lp()))
+    assert len(base) == 64
+    others = [
+        db.config_dict(DEFAULT_SPEC.with_position(-12.0, 0.0), params),
+        db.config_dict(DEFAULT_SPEC, lp(mass=0.058)),
+        db.config_dict(DEFAULT_SPEC, lp(cd=0.6)),
+        db.config_dict(DEFAULT_SPEC, lp(aero="stepanek1988")),
+        db.config_dict(DEFAULT_SPEC, lp(air_density=1.22)),
+        db.config_dict(DEFAULT_SPEC, lp(spin_decay=0.02)),
+        db.config_dict(DEFAULT_SPEC, lp(wind=(1.0, 0.0, 0.0))),
+    ]
+    hashes = {db.config_hash(c) for c in others}
+    assert base not in hashes and len(hashes) == len(others)
+
+
+def test_canonical_json_ignores_key_order():
+    a = {"b": 1.0, "a": [1, 2, {"y": 0.1, "x": np.float64(0.2)}]}
+    b = {"a": [1, 2, {"x": 0.2, "y": 0.1}], "b": 1.0}
+    assert db.canonical_json(a) == db.canonical_json(b)
+
+
+def test_fill_for_another_machine_or_physics_refused(table_db, params, grid):
+    with pytest.raises(InputError, match=r"another machine/physics.*position"):
+        T.fill_table(table_db, DEFAULT_SPEC.with_position(-12.0, 1.0), params, grid)
+    with pytest.raises(InputError, match=r"physics\.aero\.name"):
+        T.fill_table(table_db, DEFAULT_SPEC, launcher_params(aero="stepanek1988"), grid)
+    conn = db.open_readonly(table_db)
+    with pytest.raises(InputError, match=r"physics\.ball\.mass"):
+        db.check_config(conn, db.config_dict(DEFAULT_SPEC, launcher_params(mass=0.058)), table_db)
+    conn.close()
+
+
+# -------------------------------------------------------------------- grid
+@given(st.lists(st.integers(0, 10**6), min_size=6, max_size=6))
+@settings(max_examples=50, deadline=None)
+def test_pack_unpack_ids_round_trip(raw):
+    sizes = T.machine_sizes(DEFAULT_SPEC)
+    idx = {f: np.array([r % sizes[f]]) for f, r in zip(T.AXES, raw)}
+    ids = T.pack_ids(idx, sizes)
+    back = T.unpack_ids(ids, sizes)
+    assert all(back[f][0] == idx[f][0] for f in T.AXES)
+    assert 0 <= ids[0] < np.prod([sizes[f] for f in T.AXES], dtype=float)
+
+
+def test_grid_ranges_and_strides():
+    g = T.make_grid(DEFAULT_SPEC, {"speed_kmh": (100, 125), "elevation_deg": (-20, 80)}, {"speed_kmh": 10})
+    speeds = T.axis_values(DEFAULT_SPEC.speed, g.indices["speed_kmh"])
+    assert speeds.tolist() == [100.0, 110.0, 120.0, 125.0]  # the last step of the range is always in
+    assert len(g.indices["elevation_deg"]) == 101 and len(g.indices["height_m"]) == 30
+    with pytest.raises(InputError, match="speed_kmh min"):
+        T.make_grid(DEFAULT_SPEC, {"speed_kmh": (10, 50)})
+    full = T.make_grid(DEFAULT_SPEC)
+    assert full.size == 30 * 171 * 2001 * 361 * 101 * 81
+
+
+def test_spin_zero_stored_once(params, tmp_path):
+    g = T.make_grid(
+        DEFAULT_SPEC,
+        {
+            "height_m": (1, 1),
+            "speed_kmh": (100, 100),
+            "spin_rpm": (0, 0),
+            "spin_axis_deg": (-10, 10),
+            "elevation_deg": (10, 10),
+            "heading_deg": (0, 0),
+        },
+    )
+    hits = T.fill_chunk(g.chunk(0, 1000), DEFAULT_SPEC, params)
+    assert len(hits["id"]) == 1 and hits["spin_axis_deg"][0] == 0.0
+    # a grid without the 0 deg rotation still stores its zero-spin flight once
+    g = T.make_grid(
+        DEFAULT_SPEC,
+        {
+            "height_m": (1, 1),
+            "speed_kmh": (100, 100),
+            "spin_rpm": (0, 0),
+            "spin_axis_deg": (85, 95),
+            "elevation_deg": (10, 10),
+            "heading_deg": (0, 0),
+        },
+    )
+    rep = T.fill_table(str(tmp_path / "z.sqlite"), DEFAULT_SPEC, params, g)
+    assert rep.grid_rows == 11 and rep.hits_total == 1
+
+
+# ------------------------------------------------------------------ lookup
+def test_lookup_equals_full_scan(table_db):
+    conn = db.open_readonly(table_db)
+    rng = np.random.default_rng(1)
+    n_rows = db.count_hits(conn)
+    for _ in range(40):
+        x, y = rng.uniform(0.5, 11.5), rng.uniform(-5.0, 5.0)
+        sp = [None, *np.arange(80.0, 121.0, 10.0)][rng.integers(6)]
+        sw = [None, *SPINS][rng.integers(3)]
+        a = lk.nearest_hit(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+        b = lk.scan_nearest(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+        assert a["id"] == b["id"], (x, y, sp, sw)
+        assert a["miss_m"] == pytest.approx(b["miss_m"], abs=1e-12)
+        assert a["n_candidates"] < n_rows / 20  # an index query, not a scan
+    conn.close()
+
+
+def test_ties_go_to_larger_net_clearance(tmp_path, params):
+    path = str(tmp_path / "tie.sqlite")
+    conn = db.open_db(path)
+    db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params), path)
+    base = {
+        "height_m": 1.0,
+        "speed_kmh": 100.0,
+        "heading_deg": 0.0,
+        "spin_rpm": 0.0,
+        "spin_axis_deg": 0.0,
+        "flight_time_s": 1.0,
+        "bounce_speed_ms": 10.0,
+        "bounce_spin_rpm": 0.0,
+        "apex_z_m": 2.0,
+    }
+    rows = {k: np.full(3, v) for k, v in base.items()}
+    rows.update(
+        {
+            "id": np.array([1, 2, 3]),
+            "elevation_deg": np.array([5.0, 40.0, 6.0]),
+            "land_x": np.array([8.0, 8.0005, 9.0]),
+            "land_y": np.array([0.0, 0.0, 0.0]),
+            "net_clearance_m": np.array([0.3, 5.0, 0.4]),
+        }
+    )
+    conn.execute("BEGIN")
+    db.insert_hits(conn, rows)
+    conn.execute("COMMIT")
+    hit = lk.nearest_hit(conn, 8.0, 0.0)
+    assert hit["id"] == 2  # 0.5 mm farther but 5 m over the net: a tie within 1 mm
+    hit = lk.nearest_hit(conn, 8.0, 0.0, tie_m=1e-4)
+    assert hit["id"] == 1
+    conn.close()
+
+
+def test_lookup_agrees_with_aim_on_random_targets(table_db, params):
+    """The table's answer is the best grid point: never farther than ``launcher aim``'s quantised answer."""
+    conn = db.open_readonly(table_db)
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(10):
+        x, y = rng.uniform(3.0, 11.5), rng.uniform(-4.0, 4.0)
+        sp = float(rng.choice([80.0, 100.0, 120.0]))
+        sw = float(rng.choice(SPINS))
+        sols, _ = aim_all((x, y), sp, sw, 0.0, 1.0, DEFAULT_SPEC, params)
+        if not sols:
+            continue
+        hit = lk.lookup(conn, x, y, speed_kmh=sp, spin_rpm=sw, max_miss_m=5.0)
+        best = min(sols.values(), key=lambda s: s.miss_mm)
+        # aim's quantised settings are a grid point of the table: lookup can only be as near or nearer
+        assert hit["miss_m"] * 1e3 <= best.miss_mm + 0.05
+        assert hit["miss_m"] * 1e3 <= best.quantisation_bound_mm + 0.05
+        same = [
+            s
+            for s in sols.values()
+            if abs(s.settings.elevation_deg - hit["elevation_deg"]) < 1e-9
+            and abs(s.settings.heading_deg - hit["heading_deg"]) < 1e-9
+        ]
+        if abs(hit["miss_m"] * 1e3 - best.miss_mm) > 1.0:  # not a near-tie: the same settings
+            assert same, (x, y, sp, sw, hit, sols)
+        if same:
+            assert hit["land_x"] == pytest.approx(same[0].landing[0], abs=1e-5)
+            assert hit["land_y"] == pytest.approx(same[0].landing[1], abs=1e-5)
+        checked += 1
+    conn.close()
+    assert checked >= 6
+
+
+def test_lookup_errors(table_db):
+    conn = db.open_readonly(table_db)
+    with pytest.raises(InputError, match="no hit with speed 150"):
+        lk.lookup(conn, 6.0, 0.0, speed_kmh=150.0, spin_rpm=0.0)
+    with pytest.raises(InputError, match="no hit in range"):
+        lk.lookup(conn, 0.3, 0.0, speed_kmh=120.0, spin_rpm=0.0, max_miss_m=0.01)
+    a = lk.lookup(conn, 8.0, 1.0, speed_kmh=100.0, spin_rpm=0.0)
+    b = lk.lookup(conn, 8.0, 1.0, speed_kmh=100.0, spin_rpm=0.0, where={"height_m": (0.99, 1.01)})
+    assert a["id"] == b["id"]
+    with pytest.raises(InputError, match="height_m 2"):
+        lk.lookup(conn, 8.0, 1.0, speed_kmh=100.0, where={"height_m": (1.99, 2.01)})
+    conn.close()
+    with pytest.raises(InputError, match="off the court"):
+        lk.check_target(13.0, 0.0)
+    with pytest.raises(InputError, match="off the court"):
+        lk.check_target(-5.0, 0.0)
+    assert lk.check_target(-5.0, 0.0, machine_x=12.0) == (-5.0, 0.0)
+
+
+# -------------------------------------------------------------- fill/resume
+def test_resume_gives_the_same_table(tmp_path, params):
+    g = T.make_grid(
+        DEFAULT_SPEC,
+        {"height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0), "spin_axis_deg": (0, 0)},
+        {"elevation_deg": 2},
+    )
+    a, b = str(tmp_path / "a.sqlite"), str(tmp_path / "b.sqlite")
+    r1 = T.fill_table(a, DEFAULT_SPEC, params, g, chunk_size=500, max_chunks=3)
+    assert r1.chunks_run == 3 and r1.n_chunks == -(-g.size // 500)
+    r2 = T.fill_table(a, DEFAULT_SPEC, params, g, chunk_size=500)
+    assert r2.chunks_done_before == 3 and r2.chunks_run == r2.n_chunks - 3
+    T.fill_table(b, DEFAULT_SPEC, params, g, chunk_size=500)
+    ca, cb = db.open_readonly(a), db.open_readonly(b)
+    qa = ca.execute("SELECT * FROM hits ORDER BY id").fetchall()
+    qb = cb.execute("SELECT * FROM hits ORDER BY id").fetchall()
+    assert qa == qb and len(qa) > 100
+    assert ca.execute("SELECT count(*) FROM hits_rtree").fetchone()[0] == len(qa)
+    assert ca.execute("SELECT finished_utc IS NOT NULL FROM fills").fetchone()[0] == 1
+    with pytest.raises(InputError, match="chunk"):
+        T.fill_table(a, DEFAULT_SPEC, params, g, chunk_size=700)
+    # an overlapping grid adds only the new settings
+    g2 = T.make_grid(
+        DEFAULT_SPEC, {"height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0), "spin_axis_deg": (0, 0)}
+    )
+    r3 = T.fill_table(a, DEFAULT_SPEC, params, g2, chunk_size=500)
+    assert r3.hits_total == r3.hits_inserted + len(qa)
+    ca.close()
+    cb.close()
+
+
+def test_parquet_out_dir_beside_the_db(tmp_path, params):
+    from tennislab.batch import read_output
+
+    g = T.make_grid(
+        DEFAULT_SPEC,
+        {"height_m": (1, 1), "speed_kmh": (90, 90), "spin_rpm": (0, 0), "spin_axis_deg": (0, 0)},
+        {"heading_deg": 10},
+    )
+    path, out = str(tmp_path / "h.sqlite"), str(tmp_path / "parts")
+    rep = T.fill_table(path, DEFAULT_SPEC, params, g, chunk_size=300, out_dir=out)
+    rows = read_output(out)
+    assert len(rows["id"]) == g.size
+    kept = T.select_hits(rows, DEFAULT_SPEC, params.court)
+    assert len(kept["id"]) == rep.hits_total
+    assert np.all(rows["elevation_deg"] >= -20) and set(np.unique(rows["net_status"])) <= {0, 1, 2}
+    assert rep.chunks_restored == 0
+    # a new database beside the same parts: every chunk is read back, none flown, same hits
+    again = T.fill_table(str(tmp_path / "h2.sqlite"), DEFAULT_SPEC, params, g, chunk_size=300, out_dir=out)
+    assert again.chunks_restored == again.chunks_run == again.n_chunks and again.hits_total == rep.hits_total
+
+
+def test_lookup_while_table_fills(tmp_path, params, capsys):
+    """WAL: `launcher lookup` (read-only) answers while `launcher table` in another process fills the file."""
+    from tennislab.cli import main
+
+    path = str(tmp_path / "live.sqlite")
+    T.fill_table(
+        path,
+        DEFAULT_SPEC,
+        params,
+        T.make_grid(
+            DEFAULT_SPEC, {"height_m": (1, 1), "speed_kmh": (100, 100), "spin_rpm": (0, 0), "spin_axis_deg": (0, 0)}
+        ),
+        chunk_size=4000,
+    )
+    cmd = [
+        sys.executable,
+        "-m",
+        "tennislab",
+        "launcher",
+        "table",
+        "--db",
+        path,
+        "--height",
+        "1",
+        "--speed-kmh",
+        "80",
+        "120",
+        "--step",
+        "speed",
+        "4",
+        "--spin-rpm",
+        "0",
+        "0",
+        "--spin-axis-deg",
+        "0",
+        "0",
+        "--chunk-size",
+        "1500",
+        "--no-progress",
+    ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    answers, counts = 0, []
+    deadline = time.time() + 120
+    try:
+        while proc.poll() is None and time.time() < deadline:
+            conn = db.open_readonly(path)
+            conn.execute("BEGIN")  # one snapshot: hits and chunk marks agree
+            n = db.count_hits(conn)
+            marked = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
+            assert n == marked == conn.execute("SELECT count(*) FROM hits_rtree").fetchone()[0]
+            conn.execute("COMMIT")
+            conn.close()
+            rc = main(
+                [
+                    "launcher",
+                    "lookup",
+                    "--db",
+                    path,
+                    "--target",
+                    "8",
+                    "1",
+                    "--speed-kmh",
+                    "100",
+                    "--spin-rpm",
+                    "0",
+                    "--json",
+                ]
+            )
+            out, err = capsys.readouterr()
+            assert rc == 0, err
+            assert json.loads(out)["miss_mm"] < 500
+            answers += 1
+            counts.append(n)
+            time.sleep(0.02)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        err = proc.communicate()[1].decode()
+    assert proc.returncode == 0, err
+    assert answers >= 3 and counts == sorted(counts) and counts[-1] > counts[0]
+
+
+# ------------------------------------------------------------------ drills
+DRILL = """# a drill with comments, odd spacing and flow style: export must give these bytes back
+name: deep-corners
+defaults: {speed_kmh: 90, spin_rpm: 1200,   interval_s: 4}
+shots:
+  left:  {target: [10.0,  3.5]}
+  right:
+    target: [10.0, -3.5]    # other corner
+program:
+  - sequence: [{shot: left}, {shot: right}]
+    repeats: 3
+"""
+
+
+def test_drill_round_trip_and_revisions(tmp_path):
+    path = str(tmp_path / "d.sqlite")
+    f = tmp_path / "deep-corners.yaml"
+    f.write_bytes(DRILL.encode())
+    conn = db.open_db(path)
+    info = db.import_drill(conn, str(f))
+    assert info["revision"] == 1 and info["n_shots"] == 2 and info["name"] == "deep-corners"
+    assert db.drill_source(conn, "deep-corners") == DRILL.encode()
+    shots = db.drill_shots(conn, "deep-corners")
+    assert [s["name"] for s in shots] == ["left", "right"]
+    assert shots[1]["target"] == [10.0, -3.5] and shots[1]["speed_kmh"] == 90.0
+    assert db.drill_sequence(conn, "deep-corners") == ["left", "right"] * 3
+    assert db.import_drill(conn, str(f))["revision"] == 1  # identical: unchanged
+    f.write_bytes(DRILL.replace("repeats: 3", "repeats: 4").encode())
+    assert db.import_drill(conn, str(f))["revision"] == 2
+    assert db.drill_sequence(conn, "deep-corners") == ["left", "right"] * 4
+    assert [d["name"] for d in db.list_drills(conn)] == ["deep-corners"]
+    with pytest.raises(InputError, match="not in the database"):
+        db.drill_source(conn, "nope")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: x\nprogram: []\n")
+    with pytest.raises(InputError, match="program"):
+        db.import_drill(conn, str(bad))
+    assert [d["name"] for d in db.list_drills(conn)] == ["deep-corners"]  # nothing half-imported
+    conn.close()
+
+
+def test_shipped_drills_round_trip_exactly(tmp_path):
+    from importlib import resources
+
+    from tennislab.io.drill import parse_drill_text, shipped_drills
+
+    path = str(tmp_path / "s.sqlite")
+    conn = db.open_db(path)
+    d = resources.files("tennislab") / "data" / "drills"
+    files = sorted(p for p in d.iterdir() if p.name.endswith((".yaml", ".yml", ".json")))
+    assert len(files) == len(shipped_drills()) >= 1
+    for p in files:
+        info = db.import_drill(conn, str(p))
+        raw = p.read_bytes()
+        assert db.drill_source(conn, info["name"]) == raw
+        parsed = parse_drill_text(raw.decode(), str(p))
+        assert db.drill_shots(conn, info["name"]) == json.loads(db.canonical_json(parsed["shots"]))
+        assert db.drill_sequence(conn, info["name"]) == parsed["sequence"]
+    assert len(db.list_drills(conn)) == len(files)
+    conn.close()
+
+
+def test_fill_on_a_dask_cluster_equals_local(tmp_path, params):
+    """Chunks come back in any order from a Dask runner; the table is the same row for row."""
+    distributed = pytest.importorskip("distributed")
+    from tennislab.batch.schedulers import DaskRunner
+
+    g = T.make_grid(
+        DEFAULT_SPEC,
+        {"height_m": (1, 1), "speed_kmh": (95, 105), "spin_rpm": (500, 500), "spin_axis_deg": (0, 0)},
+        {"speed_kmh": 5, "heading_deg": 3},
+    )
+    a, b = str(tmp_path / "local.sqlite"), str(tmp_path / "dask.sqlite")
+    T.fill_table(a, DEFAULT_SPEC, params, g, chunk_size=700)
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None, silence_logs=40
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        rep = T.fill_table(b, DEFAULT_SPEC, params, g, chunk_size=700, runner=DaskRunner(client))
+    assert rep.chunks_run == rep.n_chunks > 3
+    ca, cb = db.open_readonly(a), db.open_readonly(b)
+    assert (
+        ca.execute("SELECT * FROM hits ORDER BY id").fetchall()
+        == cb.execute("SELECT * FROM hits ORDER BY id").fetchall()
+    )
+    ca.close()
+    cb.close()
+
+
+@pytest.fixture(scope="module")
+def lattice_db(tmp_path_factory, params):
+    """Synthetic hits on a coarse lattice (many exact distance ties), unique clearances."""
+    path = str(tmp_path_factory.mktemp("lat") / "lattice.sqlite")
+    conn = db.open_db(path)
+    db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params), path)
+    rng = np.random.default_rng(3)
+    n = 600
+    rows = {
+        "id": np.arange(n),
+        "height_m": np.full(n, 1.0),
+        "speed_kmh": rng.choice([60.0, 61.0, 62.0], n),
+        "elevation_deg": np.zeros(n),
+        "heading_deg": np.zeros(n),
+        "spin_rpm": rng.choice([0.0, 100.0], n),
+        "spin_axis_deg": np.zeros(n),
+        "land_x": rng.integers(0, 24, n) * 0.5,
+        "land_y": rng.integers(-10, 11, n) * 0.5,
+        "net_clearance_m": rng.permutation(n) * 1e-3,
+        "flight_time_s": np.ones(n),
+        "bounce_speed_ms": np.ones(n),
+        "bounce_spin_rpm": np.zeros(n),
+        "apex_z_m": np.ones(n),
+    }
+    conn.execute("BEGIN")
+    db.insert_hits(conn, rows)
+    conn.execute("COMMIT")
+    conn.close()
+    return path
+
+
+@given(
+    x=st.floats(0.0, 11.885),
+    y=st.floats(-5.485, 5.485),
+    sp=st.sampled_from([None, 60.0, 61.0, 62.0]),
+    sw=st.sampled_from([None, 0.0, 100.0]),
+    on_lattice=st.booleans(),
+)
+@settings(max_examples=150, deadline=None)
+def test_rtree_nearest_equals_scan_with_ties(lattice_db, x, y, sp, sw, on_lattice):
+    if on_lattice:  # equidistant lattice points: ties resolved by clearance in both methods
+        x, y = round(x * 2) / 2 + 0.25, round(y * 2) / 2 + 0.25
+    conn = db.open_readonly(lattice_db)
+    a = lk.nearest_hit(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+    b = lk.scan_nearest(conn, x, y, speed_kmh=sp, spin_rpm=sw)
+    conn.close()
+    assert (a is None) == (b is None)
+    if a is not None:
+        assert a["id"] == b["id"] and a["miss_m"] == pytest.approx(b["miss_m"], abs=1e-12)
+
+
+def _ray_rows(n_speed=4, n_spin=3):
+    """Synthetic hits on rays from the machine (one per heading; heading 0 is the line y = 0), dense along each
+    ray, as in benchmarks/bench_db.py: lookups with an open speed or spin meet them by the hundred."""
+    rng = np.random.default_rng(7)
+    sp, sw, hd, r = np.meshgrid(
+        60.0 + np.arange(n_speed),
+        100.0 * np.arange(n_spin),
+        np.arange(-6.0, 7.0),
+        np.linspace(14.0, 24.0, 180),
+        indexing="ij",
+    )
+    r = (r + rng.uniform(-0.05, 0.05, r.shape)).ravel()
+    n = r.size
+    heading = hd.ravel()
+    x, y = -12.0 + r * np.cos(np.radians(heading)), r * np.sin(np.radians(heading))
+    y[heading == 0] = 0.0
+    return {
+        "id": np.arange(n),
+        "height_m": rng.choice([1.0, 2.0], n),
+        "speed_kmh": sp.ravel(),
+        "elevation_deg": np.zeros(n),
+        "heading_deg": heading,
+        "spin_rpm": sw.ravel(),
+        "spin_axis_deg": rng.choice([0.0, 180.0], n),
+        "land_x": x,
+        "land_y": y,
+        "net_clearance_m": rng.permutation(n) * 1e-4,
+        "flight_time_s": np.ones(n),
+        "bounce_speed_ms": np.ones(n),
+        "bounce_spin_rpm": np.zeros(n),
+        "apex_z_m": np.ones(n),
+    }
+
+
+@pytest.fixture(scope="module")
+def ray_dbs(tmp_path_factory, params):
+    """The same synthetic hits in a file of the current schema and one of schema 3 (R*Tree ``hits_xy``)."""
+    rows = _ray_rows()
+    paths = []
+    for version in (db.SCHEMA_VERSION, 3):
+        path = str(tmp_path_factory.mktemp("rays") / f"rays_v{version}.sqlite")
+        conn = db.open_db(path, target_version=version)
+        db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params), path)
+        conn.execute("BEGIN")
+        db.insert_hits(conn, rows)
+        conn.execute("COMMIT")
+        conn.close()
+        paths.append(path)
+    return rows, paths
+
+
+def _brute(rows, x, y, max_m=1.0, tie_m=lk.TIE_M, **eq):
+    """Reference answer by numpy over every row: nearest, ties to the larger clearance, then the smaller id."""
+    m = np.ones(len(rows["id"]), bool)
+    for c, v in eq.items():
+        m &= (rows[c] >= v[0]) & (rows[c] <= v[1]) if isinstance(v, tuple) else np.abs(rows[c] - v) <= 1e-3
+    idx = np.flatnonzero(m)
+    if idx.size == 0:
+        return None
+    miss = np.hypot(rows["land_x"][idx] - x, rows["land_y"][idx] - y)
+    if miss.min() > max_m:
+        return None
+    cand = idx[miss <= miss.min() + tie_m]
+    best = cand[rows["net_clearance_m"][cand] == rows["net_clearance_m"][cand].max()].min()
+    return int(rows["id"][best])
+
+
+FORMS = {
+    "speed+spin": lambda s, w: {"speed_kmh": s, "spin_rpm": w},
+    "speed only": lambda s, w: {"speed_kmh": s},
+    "spin only": lambda s, w: {"spin_rpm": w},
+    "any": lambda s, w: {},
+    "any, height": lambda s, w: {"where": {"height_m": (1.9, 2.1)}},
+    "speed, axis": lambda s, w: {"speed_kmh": s, "where": {"spin_axis_deg": (179.0, 181.0)}},
+}
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_every_lookup_form_equals_brute_force(ray_dbs, form):
+    """Band indexes (schema 4), R*Tree boxes (schema 3) and a brute force agree on random targets, targets on
+    the ray y = 0 and on band edges (y a multiple of 1 cm), for every form of lookup."""
+    rows, paths = ray_dbs
+    conns = [db.open_readonly(p) for p in paths]
+    rng = np.random.default_rng(11)
+    targets = [(rng.uniform(1.0, 12.0), rng.uniform(-2.5, 2.5)) for _ in range(40)]
+    targets += [(rng.uniform(2.0, 11.0), v) for v in (0.0, 1e-4, -0.01, 0.02, 0.3, -1.23)]
+    for x, y in targets:
+        s, w = float(rng.choice([60.0, 61.0, 63.0, 64.0])), float(rng.choice([0.0, 100.0, 200.0, 250.0]))
+        kw = FORMS[form](s, w)
+        eq = {k: v for k, v in kw.items() if k != "where"} | kw.get("where", {})
+        want = _brute(rows, x, y, **eq)
+        for conn in conns:
+            hit = lk.nearest_hit(conn, x, y, max_m=1.0, **kw)
+            assert (hit is None) == (want is None), (form, x, y, s, w)
+            if hit is not None:
+                assert hit["id"] == want, (form, x, y, s, w)
+                assert hit["miss_m"] == np.hypot(hit["land_x"] - x, hit["land_y"] - y)
+                assert hit["n_candidates"] < len(rows["id"]) / 10  # an index query, not a scan
+        if want is not None and not kw.get("where"):  # the full scan of the benchmark agrees too
+            assert lk.scan_nearest(conns[0], x, y, **kw)["id"] == want
+    for conn in conns:
+        conn.close()
+
+
+def test_schema_3_file_stays_readable(ray_dbs):
+    """A reader accepts a file of schema 3 (no band indexes) and answers from its R*Trees."""
+    _, paths = ray_dbs
+    conn = db.open_readonly(paths[1])
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == 3
+    hit = lk.lookup(conn, 8.0, 0.05, steps={"speed_kmh": 1.0, "spin_rpm": 50.0})
+    assert hit["miss_m"] < 0.1 and hit["n_read"] >= 1
+    conn.close()
