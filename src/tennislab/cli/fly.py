@@ -6,6 +6,7 @@ import numpy as np
 
 from tennislab.cli.common import add_physics_flags, emit_json, physics_from_args, save_figure
 from tennislab.errors import InputError, check_vector
+from tennislab.trajectory import fly
 from tennislab.units import RPM
 
 
@@ -59,84 +60,12 @@ def spin_from_args(args) -> tuple:
     return tuple(args.spin) if args.spin is not None else (0.0, 0.0, 0.0)
 
 
-def flight_summary(tr) -> dict:
-    """The JSON object of ``fly`` for a :class:`~tennislab.core.flight.Trajectory`."""
-    land = tr.landing
-    out = {
-        "bounce": None
-        if land is None
-        else {
-            "x": land.x,
-            "y": land.y,
-            "t": land.t,
-            "velocity": land.velocity,
-            "speed": float(np.linalg.norm(land.velocity)),
-            "spin": land.spin,
-        },
-        "net": {
-            "z": tr.net.z,
-            "y": tr.net.y,
-            "t": tr.net.t,
-            "height": tr.net.net_height,
-            "clearance": tr.net.clearance,
-            "result": tr.net.result,
-        },
-        "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "y": float(tr.apex.position[1]), "t": tr.apex.t},
-        "physics": {
-            "aero": tr.params.aero.name,
-            "mass": tr.params.ball.mass,
-            "radius": tr.params.ball.radius,
-            "air_density": tr.params.atmosphere.density,
-            "gravity": tr.params.atmosphere.gravity,
-            "wind": tr.params.atmosphere.wind,
-        },
-    }
-    return out
-
-
-def bounces_summary(rally) -> list:
-    """The JSON ``bounces`` list of ``fly --bounces N``: one object per bounce."""
-    out = []
-    for b in rally.bounces:
-        d = b.as_dict()
-        d["mark"] = {
-            "length": b.mark.length,
-            "width": b.mark.width,
-            "x": float(b.mark.center[0]),
-            "y": float(b.mark.center[1]),
-            "skid": b.mark.skid,
-            "contact_time": b.mark.contact_time,
-            "compression": b.mark.compression,
-        }
-        out.append(d)
-    return out
-
-
 def run(args) -> int:
-    from tennislab.core.flight import fly
-    from tennislab.core.surfaces import get_surface
-
     params = physics_from_args(args)
     spin = spin_from_args(args)
-    if args.bounces < 0 or args.bounces > 100:
-        raise InputError(f"--bounces: {args.bounces} is outside the allowed range [0, 100]")
-    surface = get_surface(args.surface)
-    if args.bounces > 0:
-        from tennislab.core.rally import fly_bounces
-
-        rally = fly_bounces(args.position, args.velocity, spin, params, surface=surface, bounces=args.bounces)
-        tr = rally.first
-        trs = rally.segments
-    else:
-        rally = None
-        tr = fly(args.position, args.velocity, spin, params)
-        trs = [tr]
-    if tr.landing is None:
-        raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s")
-    out = flight_summary(tr)
-    if rally is not None:
-        out["surface"] = surface.name
-        out["bounces"] = bounces_summary(rally)
+    res = fly(args.position, args.velocity, spin, params=params, surface=args.surface, bounces=args.bounces)
+    out = res.to_dict()
+    trs = res.segments
     if args.plot:
         from tennislab.plot.trajectory import plot_trajectories
 
