@@ -17,14 +17,19 @@ from tennislab.serve.mc import (
     combine_blocks,
     impact_table,
     landing_stats,
-    run_mc,
+    monte_carlo,
     scatter_table,
     simulate_chunk,
 )
 from tennislab.serve.players import get_player
 from tennislab.serve.setup import seed_flight_params
-from tennislab.serve.single import simulate_serve
+from tennislab.serve.single import simulate
 from tennislab.serve.window import flight_options
+
+
+def run_mc(*args, **kw) -> dict:
+    """The ``serve-mc --json`` object of a Monte Carlo run."""
+    return monte_carlo(*args, **kw).to_dict()
 
 
 def test_reproducible_and_seeded():
@@ -38,15 +43,16 @@ def test_reproducible_and_seeded():
 
 def test_zero_scatter_is_the_nominal_serve():
     for alpha, beta in ((3, 8), (3, 12)):
-        nominal = simulate_serve("pro", alpha, beta)
+        nominal = simulate("pro", alpha, beta, advice=False)
         r = run_mc("pro", alpha, beta, n=50, sd_angle=0.0, sd_speed=0.0, sd_height=0.0)
-        assert r["p_success"] == (1.0 if nominal["success"] else 0.0)
-        # table impacts at 200 steps and flights at rtol 1e-6: within 0.01 mm of the reference serve
-        assert r["landing"]["mean"][0] == pytest.approx(nominal["landing"]["x"], abs=1e-5)
+        assert r["p_success"] == (1.0 if nominal.success else 0.0)
+        # table impacts at 200 steps and flights at rtol 1e-6: within 0.1 mm of the reference serve (at small
+        # alpha the grip kink leaves 1e-4 of the spin at 200 steps per half period: 0.04 mm at alpha 3)
+        assert r["landing"]["mean"][0] == pytest.approx(nominal.landing["x"], abs=1e-4)
 
 
 def test_flat_serve_has_smaller_margin_than_topspin():
-    """The seed's discussion: flat serves have a smaller margin of error than topspin serves."""
+    """The paper's discussion: flat serves have a smaller margin of error than topspin serves."""
     flat = run_mc("pro", 4, 9, n=3000, seed=1)
     top = run_mc("pro", 40, 19, n=3000, seed=1)
     assert flat["p_success"] < top["p_success"]
@@ -129,16 +135,21 @@ def test_processes_scheduler_is_bit_identical():
 
 def test_statistics_equal_numpy_on_the_samples():
     """Per-block statistics merged in block order = numpy on all the serves (small n, samples collected)."""
-    r = run_mc("pro", 40, 19, n=3000, seed=11, return_samples=3000)
-    s = r.pop("_samples")
+    res = monte_carlo("pro", 40, 19, n=3000, seed=11, samples=3000)
+    s, r = res.samples, res.to_dict()
     assert s["land_x"].size == 3000 and r["n_landed"] == int(s["landed"].sum())
     assert r["p_success"] == s["success"].mean()
     lx, ly = s["land_x"][s["landed"]], s["land_y"][s["landed"]]
     assert r["landing"]["mean"] == pytest.approx([lx.mean(), ly.mean()], rel=1e-12, abs=1e-12)
     np.testing.assert_allclose(r["landing"]["cov"], np.cov(np.stack([lx, ly])), rtol=1e-10, atol=1e-14)
     # the samples are the first serves of the same run: a longer run starts with the same serves
-    s2 = run_mc("pro", 40, 19, n=5000, seed=11, return_samples=3000)["_samples"]
+    s2 = monte_carlo("pro", 40, 19, n=5000, seed=11, samples=3000).samples
     np.testing.assert_array_equal(s2["land_x"], s["land_x"])
+    # to_frame(): one row per kept serve
+    rows = res.rows()
+    assert len(rows) == 3000 and rows[0]["land_x"] == s["land_x"][0]
+    with pytest.raises(InputError, match="samples"):
+        monte_carlo("pro", 40, 19, n=100).rows()
 
 
 def test_combine_blocks_is_exact_merge():
@@ -226,3 +237,7 @@ def test_bad_input():
         run_mc("pro", 10, 10, n=0)
     with pytest.raises(InputError, match="sd_angle"):
         run_mc("pro", 10, 10, n=10, sd_angle=-1)
+    with pytest.raises(InputError, match="impact_angle"):
+        run_mc("pro", 95, 10, n=10)
+    with pytest.raises(InputError, match="target"):
+        run_mc("pro", 10, 10, n=10, target="middle")

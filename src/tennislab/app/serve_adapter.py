@@ -1,13 +1,13 @@
-"""Serve explorer: the app's bridge to :mod:`tennislab.serve` and :mod:`tennislab.core.impact`.
+"""Serve explorer: the app's bridge to the workflows of :mod:`tennislab.serve`.
 
-One serve is :func:`tennislab.serve.single.simulate_serve` (the code behind
-``tennislab serve``): the seed-000 impact model, the face angle beta (seed eq
-21), and in 3-D the face azimuth, the brush direction (tilting the spin axis
-for slice and kick), the server's position and the toss; flight with the
-seed's constants.  Success: ``seed-2d`` = the paper's criteria (ball centre
-above 0.943 m at the net, landing at most 18.318 m from the impact point, the
-same test as the window heat map); ``deuce`` / ``ad`` = over the real net and
-into that service box.  The window is :func:`tennislab.serve.window.serve_window`.
+One serve is :func:`tennislab.serve.simulate` (the workflow behind ``tennislab serve``): the
+paper's impact model, the face angle beta, and in 3-D the face azimuth, the brush direction, the
+server's position and the toss; flight with the paper's constants.  Success: ``seed-2d`` = the
+paper's criteria (ball centre above 0.943 m at the net, landing at most 18.318 m from the impact
+point, the same test as the window heat map); ``deuce`` / ``ad`` = over the real net and into that
+service box.  Every answer carries the result's ``verdict`` (why it failed, what would fix it) and
+``caveats`` unchanged.  The window is :func:`tennislab.serve.window`; the explorer's opening serve
+is :func:`tennislab.serve.default_serve`.
 """
 
 from __future__ import annotations
@@ -15,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from tennislab.app import services as S
+from tennislab.serve import PlayerProfile, default_serve, get_player, player_names, simulate
+from tennislab.serve import window as serve_window
 
 #: heat-map codes: failure and success by category
 WINDOW_CODES = (
@@ -26,9 +28,7 @@ WINDOW_CODES = (
 
 
 def players() -> dict:
-    """The registered profiles as ``{name: {height, racket_speed}}`` (seed players first)."""
-    from tennislab.serve.players import get_player, player_names
-
+    """The registered profiles as ``{name: {height, racket_speed}}`` (the paper's players first)."""
     out = {}
     for n in player_names():
         p = get_player(n)
@@ -36,23 +36,25 @@ def players() -> dict:
     return out
 
 
-def player_of(v: dict):
-    """The :class:`tennislab.serve.Player` of a form (``custom`` uses height and racket_speed)."""
-    from tennislab.serve.players import Player, get_player
-
+def player_of(v: dict) -> PlayerProfile:
+    """The :class:`tennislab.serve.PlayerProfile` of a form (``custom`` uses height and racket_speed)."""
     if v["player"] == "custom":
-        return Player("custom", v["height"], v["racket_speed"])
+        return PlayerProfile("custom", v["height"], v["racket_speed"])
     return get_player(v["player"])
 
 
-def serve(v: dict) -> dict:
-    """One serve (form ``serve``): :func:`tennislab.serve.single.simulate_serve` (the JSON of
-    ``tennislab serve``) plus the player used and the trajectory's plot points."""
-    from tennislab.serve.single import simulate_serve
+def opening_serve(player: str = "professional") -> dict:
+    """The serve the explorer opens with for ``player``: :func:`tennislab.serve.default_serve` (it goes in,
+    with the most room for error); ``impact_angle``, ``face_angle`` [deg] and its margin."""
+    return default_serve(player)
 
+
+def serve(v: dict) -> dict:
+    """One serve (form ``serve``): ``simulate(...).to_dict()`` (the JSON of ``tennislab serve``, with
+    ``verdict`` and ``caveats``) plus the player used and the trajectory's plot points."""
     player = player_of(v)
     target = None if v["target"] == "seed-2d" else v["target"]
-    out = simulate_serve(
+    res = simulate(
         player,
         min(v["impact_angle"], 89.999),
         v["face_angle"],
@@ -63,22 +65,19 @@ def serve(v: dict) -> dict:
         toss_vz=v["toss_vz"],
         trajectory=True,
     )
-    tr = out.pop("_trajectory")
+    out = res.to_dict()
+    tr = res.trajectory
     out["player"] = {"name": player.name, "height": player.impact_height, "racket_speed": player.racket_speed}
     out["regime"] = out["impact"]["regime"]
     out["contact_time_ms"] = out["impact"]["contact_time_ms"]
     out["landing_y"] = out["landing"]["y"]
-    out["net_clearance"] = tr.net.clearance
-    out["flight"] = S.flight_result(tr) if tr.landing is not None else None
+    out["flight"] = S.flight_result(tr) if tr is not None and tr.landing is not None else None
     return out
 
 
 def window(v: dict) -> dict:
     """The alpha x beta window (form ``window``): category codes per cell for the heat map."""
-    from tennislab.serve.window import serve_window
-
-    player = player_of(v)
-    w = serve_window(player, step=v["step"])
+    w = serve_window(player_of(v), step=v["step"])
     cat = w.grid("category")
     code = np.where(w.success, cat + 1, 0).astype(int)
     d = w.to_dict()
@@ -99,4 +98,5 @@ def window(v: dict) -> dict:
         "optimum": d["optimum"],
         "speed": w.speed.tolist(),
         "spin_rpm": w.spin_rpm.tolist(),
+        "caveats": d["caveats"],
     }

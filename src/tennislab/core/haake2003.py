@@ -150,6 +150,8 @@ class BallImpactModel:
     v_ref : reference speed [m/s]
     v_min : speeds below this are evaluated at v_min [m/s] (avoids T_c -> inf)
     source : citation
+    data_status : provenance of the numbers: ``"placeholder"`` (not measured values: the model
+        carries a caveat, :meth:`caveat`), ``"digitised"``/``"measured"``, or ``""`` (user-given)
     """
 
     name: str
@@ -160,6 +162,7 @@ class BallImpactModel:
     v_ref: float = V_REF
     v_min: float = 1.0
     source: str = ""
+    data_status: str = ""
 
     def __post_init__(self):
         check_range("tc_ref", self.tc_ref, 0.0, 0.1, "s", lo_open=True)
@@ -176,6 +179,15 @@ class BallImpactModel:
         """COR(v) [-] for normal impact speed v [m/s] (capped at 1)."""
         v = np.maximum(np.abs(np.asarray(v, float)), self.v_min)
         return np.minimum(self.cor_ref * (v / self.v_ref) ** (-self.cor_exp), 1.0)
+
+    def caveat(self) -> str | None:
+        """A one-sentence caveat for results built on this model, or None."""
+        if self.data_status == "placeholder":
+            return (
+                f"impact: ball contact time and COR ({self.name}) are placeholder values that follow the trends of "
+                "Haake et al. 2003, not measured data; expect ~2 % in speed and spin (docs/impact.md)"
+            )
+        return None
 
     def spring_damper(self, v, mass: float):
         """(k_b [N/m], c_b [N s/m]) of a ball of ``mass`` [kg] at impact speed v (seed eqs 5-6)."""
@@ -203,7 +215,7 @@ def ball_model_names() -> list[str]:
     return sorted(_REGISTRY)
 
 
-def model_from_points(name: str, points, source: str, v_ref: float = V_REF) -> BallImpactModel:
+def model_from_points(name: str, points, source: str, v_ref: float = V_REF, data_status: str = "") -> BallImpactModel:
     """Power-law :class:`BallImpactModel` fitted to ``points`` = ((v [m/s], T_c [s], COR [-]), ...).
 
     The way to register a transcribed data set (module docstring): at least two distinct
@@ -220,7 +232,7 @@ def model_from_points(name: str, points, source: str, v_ref: float = V_REF) -> B
         raise InputError("points: COR must be in (0, 1]")
     tc_ref, tc_exp = fit_power_law(v, tc, v_ref)
     e_ref, e_exp = fit_power_law(v, e, v_ref)
-    return BallImpactModel(name, tc_ref, tc_exp, e_ref, e_exp, v_ref=v_ref, source=source)
+    return BallImpactModel(name, tc_ref, tc_exp, e_ref, e_exp, v_ref=v_ref, source=source, data_status=data_status)
 
 
 @register_ball_model("haake2003")
@@ -233,6 +245,7 @@ def haake2003() -> BallImpactModel:
         RIGID_SURFACE_POINTS,
         source="Haake, Carre & Goodwill 2003 J. Sports Sci. 21:839 (trend; "
         f"{DATA_STATUS} points, see tennislab.core.haake2003)",
+        data_status=DATA_STATUS,
     )
 
 

@@ -21,11 +21,25 @@ k_b, c_b come from the contact time and COR at the normal impact speed
 (seed eqs 5-6, :mod:`tennislab.core.haake2003`).
 
 Tangential (seed eqs 13-19): spring k = ``tangential_stiffness_ratio`` * k_b
-(0.5, seed sec. 2.2) and damper c (from the COR raised by
-``oblique_cor_factor`` = 1.04, seed sec. 2.2 after Goodwill et al. 2005) between
-the racket and the ball's contact point, which sits at -r n, so its tangential
-velocity is v_t + r omega (seed eq 13; eq 19's printed matrix has typos --
-we use eqs 13-15, which agree with worksheet eqs 2.10-2.12)::
+(0.5, seed sec. 2.2) and damper c between the racket and the ball's contact
+point, which sits at -r n, so its tangential velocity is v_t + r omega (seed
+eq 13; eq 19's printed matrix has typos -- we use eqs 13-15, which agree with
+worksheet eqs 2.10-2.12).  c is chosen so that the tangential oscillator
+restitutes ``oblique_cor_factor`` = 1.04 times the COR ("COR is 4 % higher for
+oblique impacts", seed sec. 2.2 after Goodwill et al. 2005); the rule is
+``tangential_damping`` (:data:`TANGENTIAL_DAMPING`):
+
+* ``oscillator`` (default): seed eq 6 applied to the tangential oscillator of
+  the ball on a rigid surface -- mass m_t = m_b I / (I + m_b r^2) (the contact
+  point's effective mass, 0.4 m_b for a thin shell) on the spring k, half period
+  T_t = pi sqrt(m_t / k):  c = -(2 m_t / T_t) ln(1.04 COR) = -(2/pi) sqrt(k m_t) ln(1.04 COR).
+  This is the damper whose oscillator restitutes 1.04 COR, as the seed states.
+* ``ball``: eq 6 with the ball's mass and normal contact time, c = -(2 m_b / T_c)
+  ln(1.04 COR) (the reading before 2026-12; the seed's own, judging by its fig 5,
+  docs/serve.md).  It gives the tangential oscillator a restitution of only
+  (1.04 COR)^2.24 ~ 0.39 at 20 m/s, *lower* than the normal COR.
+
+::
 
     m_k y1'' = -F_t,   m_b y2'' = F_t,   I omega' = r F_t,   I = i_f m_b r^2 (eq 15; 2/3)
 
@@ -34,14 +48,20 @@ not say what happens to the spring's stretch while sliding; we use the
 elasto-plastic ("bristle") rule: the stretch e obeys e' = slip velocity while
 |k e + c e'| < mu F_N and is limited so that k e + c e' = +-mu F_N while
 sliding.  The force is then continuous and every sliding or damped motion
-dissipates energy (no energy is created, tests/test_impact.py).  The
+dissipates energy (no energy is created, tests/core/test_impact.py).  The
 *regime* is ``slide`` when the slip velocity s = y1' - y2' - r omega never
 reached zero during contact (the ball slid throughout) and ``roll`` when the
 contact point caught up with the strings (it gripped and rolled off) -- the
 classical criterion (Brody 1984; seed worksheet sec. 3.2).
 
 Contact starts at x1 = x2 with the springs unloaded and ends when the string
-force F_N returns to zero (the damper would otherwise pull).  Integration:
+force F_N returns to zero (the damper would otherwise pull).  ``approach_gap``
+g > 0 reproduces the seed's start instead (worksheet sec. 2.2: the racket
+starts 0.02 m behind the ball; eq 13's spring acts on the positions y1 - y2 -
+r y3 measured from that start): the racket's tangential travel during the
+approach, g V_t / V_n, is already in the tangential spring at first touch.  A
+spring loaded before the bodies touch is not physical (it adds energy); it is
+the main reason for the seed's peak-spin angle (docs/serve.md).  Integration:
 classical RK4 with a fixed step h = T/``steps`` (T = the undamped half period
 of the series system) and the end of contact located to ~1e-12 s by regula
 falsi on the RK4 step length; ``method="euler"`` reproduces the seed's explicit
@@ -63,20 +83,38 @@ from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
+from scipy.integrate import solve_ivp
 
 from tennislab.core.ball import Ball
 from tennislab.core.haake2003 import BallImpactModel, get_ball_model
 from tennislab.errors import InputError, check_range
 
 # parameter vector layout of the compiled kernel
-P_MK, P_MB, P_I, P_R, P_KK, P_KB, P_CB, P_KT, P_CT, P_MU, P_FM = range(11)
-NP = 11
+P_MK, P_MB, P_I, P_R, P_KK, P_KB, P_CB, P_KT, P_CT, P_MU, P_FM, P_GAP = range(12)
+NP = 12
 NS = 9  # state: x1, x2, x3, v1, v2, e, w1, w2, w3
 
 METHODS = {"rk4": 0, "euler": 1}
 #: friction models: 0 = elasto-plastic (default), 1 = the seed's clamp (stretch not reset)
 FRICTION_MODELS = {"elastoplastic": 0, "seed-clamp": 1}
 REGIMES = ("slide", "roll")
+
+
+def _damping_oscillator(kt, tc, e_t, mass, inertia, radius):
+    """c = -(2/pi) sqrt(k m_t) ln(e_t), m_t = m I / (I + m r^2): seed eq 6 applied to the tangential
+    oscillator of the ball on a rigid surface (half period pi sqrt(m_t/k)), so that it restitutes e_t."""
+    m_t = mass * inertia / (inertia + mass * radius**2)
+    return -2.0 / math.pi * np.sqrt(kt * m_t) * np.log(e_t)
+
+
+def _damping_ball(kt, tc, e_t, mass, inertia, radius):
+    """c = -(2 m_b / T_c) ln(e_t): seed eq 6 with the ball's mass and normal contact time T_c."""
+    return -2.0 * mass / tc * np.log(e_t)
+
+
+#: Rules for the tangential damper c [N s/m] (module docstring): name -> f(k [N/m], T_c [s], e_t [-],
+#: m_b [kg], I [kg m^2], r [m]).
+TANGENTIAL_DAMPING = {"oscillator": _damping_oscillator, "ball": _damping_ball}
 
 #: Output columns of :func:`impact_batch`.
 OUT_COLUMNS = (
@@ -110,6 +148,11 @@ class ImpactParams:
     tangential_stiffness_ratio : k / k_b [-] (seed sec. 2.2: 0.5)
     oblique_cor_factor : tangential COR = factor * normal COR for the damper c [-]
         (seed sec. 2.2: "COR is 4 % higher for oblique impacts", Goodwill et al. 2005)
+    tangential_damping : rule for the damper c: ``oscillator`` (default) or ``ball``
+        (:data:`TANGENTIAL_DAMPING`, module docstring)
+    approach_gap : distance [m] the racket starts behind the ball with the tangential spring
+        measured from there (seed worksheet sec. 2.2: 0.02 m); 0 (default) = springs unloaded at
+        first touch, the physical start (module docstring)
     ball_model : :class:`BallImpactModel` giving T_c(v), COR(v) (default ``haake2003``)
     max_cor : cap of the tangential COR so that c > 0 [-]
     friction_model : ``elastoplastic`` (default: the spring stretch slides with the ball,
@@ -126,12 +169,19 @@ class ImpactParams:
     ball_model: BallImpactModel = field(default_factory=lambda: get_ball_model("haake2003"))
     max_cor: float = 0.99
     friction_model: str = "elastoplastic"
+    tangential_damping: str = "oscillator"
+    approach_gap: float = 0.0
 
     def __post_init__(self):
         if self.friction_model not in FRICTION_MODELS:
             raise InputError(
                 f"friction_model: unknown {self.friction_model!r}; choose from {', '.join(FRICTION_MODELS)}"
             )
+        if self.tangential_damping not in TANGENTIAL_DAMPING:
+            raise InputError(
+                f"tangential_damping: unknown {self.tangential_damping!r}; choose from {', '.join(TANGENTIAL_DAMPING)}"
+            )
+        check_range("approach_gap", self.approach_gap, 0.0, 0.1, "m")
         check_range("racket_mass", self.racket_mass, 0.0, 10.0, "kg", lo_open=True)
         check_range("string_stiffness", self.string_stiffness, 1e2, 1e7, "N/m")
         check_range("friction", self.friction, 0.0, 5.0)
@@ -173,11 +223,31 @@ class ImpactParams:
         p[:, P_KK] = self.string_stiffness
         p[:, P_KB] = kb
         p[:, P_CB] = cb
-        p[:, P_KT] = self.tangential_stiffness_ratio * kb
-        p[:, P_CT] = -2.0 * b.mass / tc * np.log(e_t)
+        kt = self.tangential_stiffness_ratio * kb
+        p[:, P_KT] = kt
+        p[:, P_CT] = TANGENTIAL_DAMPING[self.tangential_damping](kt, tc, e_t, b.mass, b.inertia, b.radius)
         p[:, P_MU] = self.friction
         p[:, P_FM] = FRICTION_MODELS[self.friction_model]
+        p[:, P_GAP] = self.approach_gap
         return p
+
+    def caveats(self) -> list[str]:
+        """One sentence per model caveat of these parameters (shown next to results)."""
+        out = []
+        note = self.ball_model.caveat()
+        if note:
+            out.append(note)
+        if self.friction_model == "seed-clamp":
+            out.append(
+                "impact: friction rule 'seed-clamp' (the paper's eq 20 read literally) can create energy; "
+                "the default 'elastoplastic' never does (docs/impact.md)"
+            )
+        if self.approach_gap > 0:
+            out.append(
+                f"impact: approach gap {self.approach_gap:g} m loads the tangential spring before the ball is "
+                "touched (the paper's start); this adds energy (docs/impact.md)"
+            )
+        return out
 
 
 # ----------------------------------------------------------------------------------------------
@@ -305,6 +375,7 @@ def impact_one(vn, vt, p, steps, dt, method, out, hist, nhist):
     s = np.zeros(NS)
     s[3] = vn
     s[6] = vt
+    s[5] = p[P_GAP] * vt / vn  # tangential travel of the racket during the approach (0 = unloaded)
     new = np.empty(NS)
     k1 = np.empty(NS)
     k2 = np.empty(NS)
@@ -435,11 +506,11 @@ def impact_batch(
     shape = V.shape
     V, A, un, ut = (np.ascontiguousarray(x.ravel()) for x in (V, A, un, ut))
     if not (np.all(np.isfinite(V)) and np.all(np.isfinite(A))):
-        raise InputError("speed, alpha: must be finite")
+        raise InputError("speed: speed and alpha must be finite")
     if np.any(V < 0) or np.any(V > 150):
-        raise InputError("racket speed: outside the allowed range [0, 150] m/s")
+        raise InputError("speed: outside the allowed range [0, 150] m/s")
     if np.any(np.abs(A) > math.pi / 2):
-        raise InputError("impact angle: outside the allowed range [-90, 90] deg")
+        raise InputError("alpha: outside the allowed range [-pi/2, pi/2] rad")
     steps = int(check_range("steps", steps, 4, 1e6))
     m = _check_method(method)
     vn = V * np.cos(A) - un
@@ -508,8 +579,8 @@ def impact(
     (``method="euler", dt=1e-4`` is the seed's scheme).  ``history=True`` keeps every step.
     """
     params = params or ImpactParams()
-    V = check_range("racket speed", speed, 0.0, 150.0, "m/s", lo_open=True)
-    A = check_range("impact angle", alpha, -math.pi / 2, math.pi / 2, "rad")
+    V = check_range("speed", speed, 0.0, 150.0, "m/s", lo_open=True)
+    A = check_range("alpha", alpha, -math.pi / 2, math.pi / 2, "rad")
     steps = int(check_range("steps", steps, 4, 1e6))
     vn, vt = V * math.cos(A) - toss_n, V * math.sin(A) - toss_t
     if vn <= 0:
@@ -549,13 +620,12 @@ def impact_reference(
     speed: float, alpha: float, params: ImpactParams | None = None, *, rtol: float = 1e-11, atol: float = 1e-13
 ) -> ImpactResult:
     """The same ODE integrated by SciPy ``solve_ivp`` (DOP853) with an F_N = 0 event (reference)."""
-    from scipy.integrate import solve_ivp
-
     params = params or ImpactParams()
     vn, vt = speed * math.cos(alpha), speed * math.sin(alpha)
     p = params.vectors(vn)[0]
     s0 = np.zeros(NS)
     s0[3], s0[6] = vn, vt
+    s0[5] = p[P_GAP] * vt / vn
     buf = np.empty(NS)
 
     def f(t, y):
@@ -565,8 +635,8 @@ def impact_reference(
     def ev(t, y):
         return normal_force(np.ascontiguousarray(y), p)
 
-    ev.terminal = True
-    ev.direction = -1
+    ev.terminal = True  # type: ignore[attr-defined]  # solve_ivp's event attributes
+    ev.direction = -1  # type: ignore[attr-defined]
     sol = solve_ivp(
         f,
         (0.0, 0.1),

@@ -1,4 +1,5 @@
-"""Figures of the serve analysis: impact histories (worksheet figs 2.2-2.6), seed figs 5-9, Monte Carlo."""
+"""Figures of the serve analysis: impact histories (the paper's worksheet figs 2.2-2.6), the paper's
+figs 5-9 (Grosen, Kousted & Treichel 2021), Monte Carlo landing points."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import numpy as np
 from matplotlib.patches import Ellipse
 
 from tennislab.plot.court import draw_court_side, draw_court_top
+from tennislab.serve.published import PEAK_SPIN_ALPHA
 from tennislab.units import RPM
 
 PLAYER_COLORS = {"professional": "tab:blue", "recreational": "tab:orange", "junior": "tab:green"}
@@ -44,11 +46,9 @@ def plot_impact_history(res, title: str | None = None):
 
 
 def plot_window(windows, published=True, optimum_trajectories=None):
-    """Seed figs 5 (speed and spin vs alpha) and 6 (successful alpha per beta) for one or more players;
-    with ``optimum_trajectories`` (a list, per window, of (flat, topspin) :class:`Trajectory` or None)
-    also figs 7-9 (side view of the optimum serves) in a third panel."""
-    from tennislab.serve.published import PEAK_SPIN_ALPHA
-
+    """The paper's figs 5 (speed and spin vs alpha) and 6 (successful alpha per beta) for one or more
+    :class:`~tennislab.serve.ServeWindow`; with ``optimum_trajectories`` (a list, per window, of (flat,
+    topspin) :class:`Trajectory` or None) also figs 7-9 (side view of the optimum serves)."""
     if optimum_trajectories:
         fig, (a5, a6, a7) = plt.subplots(1, 3, figsize=(21, 5.5))
         draw_court_side(a7)
@@ -91,7 +91,7 @@ def plot_window(windows, published=True, optimum_trajectories=None):
                 a6.plot(o["alpha"], o["beta"] + off, mk, ms=14, color=c, mec="k")
     a5.set_xlabel("impact angle alpha [deg]")
     a5.set_ylabel("ball speed [m/s] (x)")
-    a5b.set_ylabel("spin [rpm] (o); square = peak, dotted = seed's peak")
+    a5b.set_ylabel("spin [rpm] (o); square = peak, dotted = the paper's peak")
     a5.set_title("Fig 5: speed and spin vs alpha")
     a5.legend(loc="lower left", fontsize=8)
     a6.set_xlabel("impact angle alpha [deg]")
@@ -103,7 +103,7 @@ def plot_window(windows, published=True, optimum_trajectories=None):
 
 
 def plot_optimum(player_name: str, trajectories, labels):
-    """Seed figs 7-9: side view of the optimum flat and topspin serves."""
+    """The paper's figs 7-9: side view of the optimum flat and topspin serves."""
     fig, ax = plt.subplots(figsize=(11, 4))
     draw_court_side(ax)
     for tr, lab, c in zip(trajectories, labels, ("tab:blue", "tab:green")):
@@ -116,17 +116,19 @@ def plot_optimum(player_name: str, trajectories, labels):
     return fig
 
 
-def plot_mc(samples, res, max_points: int = 20000):
-    """Landing points (green in, red fault) and the 95 % ellipse on the court (top view)."""
+def plot_mc(res, max_points: int = 20000):
+    """Landing points (yellow in, red fault) of a :class:`~tennislab.serve.MonteCarloResult` that kept
+    its samples, and the 95 % ellipse on the court (top view)."""
     fig, ax = plt.subplots(figsize=(10, 6))
     draw_court_top(ax)
+    samples = res.samples
     x, y, s = samples["land_x"], samples["land_y"], samples["success"]
     k = slice(None) if x.size <= max_points else slice(0, max_points)
     ax.plot(x[k][~s[k]], y[k][~s[k]], ".", ms=1.5, color="tab:red", label="fault")
     ax.plot(x[k][s[k]], y[k][s[k]], ".", ms=1.5, color="yellow", label="in")
-    e = res["landing"].get("ellipse_95")
+    e = res.landing.get("ellipse_95")
     if e:
-        mx, my = res["landing"]["mean"]
+        mx, my = res.landing["mean"]
         ax.add_patch(
             Ellipse(
                 (mx, my),
@@ -140,6 +142,6 @@ def plot_mc(samples, res, max_points: int = 20000):
             )
         )
     ax.set_xlim(-1, 13)
-    ax.set_title(f"{res['player']}: P(success) = {res['p_success']:.3f} ({res['n']} serves, {res['criteria']})")
+    ax.set_title(f"{res.player.name}: P(success) = {res.p_success:.3f} ({res.n} serves, {res.criteria})")
     ax.legend(loc="upper left", fontsize=8)
     return fig

@@ -8,16 +8,24 @@
 * :func:`optimum` - the optimum flat and topspin serves of each player drawn on
   the court (the paper's Figures 7-9) with the paper's values beside ours
 
-All numbers come from :mod:`tennislab.serve` (windows computed once, shared
-between sections through ``ctx.shared``).
+All numbers come from the workflows of :mod:`tennislab.serve` (windows computed once, shared
+between sections through ``ctx.shared``); each section shows the models' caveats next to its
+numbers.  ``ctx.shared["serve_players"]`` (names or :class:`~tennislab.serve.PlayerProfile`) may
+replace the paper's three players.
 """
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
 
-from tennislab.app.services import require
+from tennislab.app.services import require  # the app's availability switch (TENNISLAB_APP_DISABLE)
+from tennislab.plot.court import draw_court_side
 from tennislab.report import html as H
+from tennislab.serve import monte_carlo, simulate, window
+from tennislab.serve import published as pub
 
 PLAYERS = ("professional", "recreational", "junior")
 #: (key in Table 1, column header, digits)
@@ -35,25 +43,21 @@ CODE_LABELS = ("fails", "flat success", "topspin success", "other success")
 
 
 def _windows(ctx) -> dict:
-    """Serve windows of the three players (1 deg step), computed once per report."""
+    """Serve windows of the players (1 deg step), computed once per report."""
     if "windows" not in ctx.shared:
-        from tennislab.serve.window import serve_window
-
         ws = {}
-        for p in PLAYERS:
-            ws[p] = serve_window(p, step=1.0)
-            ctx.log(f"serve window {p}: {ws[p].success.size} serves, {int(ws[p].success.sum())} successful")
+        for p in ctx.shared.get("serve_players", PLAYERS):
+            w = window(p, step=1.0)
+            ws[w.player.name] = w
+            ctx.log(f"serve window {w.player.name}: {w.success.size} serves, {int(w.success.sum())} successful")
         ctx.shared["windows"] = ws
     return ctx.shared["windows"]
 
 
-def _published():
-    try:
-        from tennislab.serve import published
-
-        return published
-    except ImportError:
-        return None
+def _caveats(ws: dict):
+    """The models' caveats, once each, as a note under the numbers."""
+    seen = list(dict.fromkeys(c for w in ws.values() for c in w.caveats))
+    return H.para("Caveats: " + " ".join(f"({i}) {c}." for i, c in enumerate(seen, 1)), "note") if seen else ""
 
 
 def _range_cell(r, digits):
@@ -61,38 +65,34 @@ def _range_cell(r, digits):
 
 
 def table1_rows(windows, published) -> tuple[list, list]:
-    """Rows of Table 1 (ours, then the paper's) for each player and category."""
+    """Rows of Table 1 (ours, then the paper's where it has the player) for each player and category;
+    ``published`` is :mod:`tennislab.serve.published` or None (ours only)."""
     rows, classes = [], []
-    for p in PLAYERS:
-        summ = windows[p].summary()
+    for p, w in windows.items():
+        summ = w.summary()
         for cat in ("flat", "topspin"):
             ours = summ[cat]
             rows.append([p, cat, "tennislab", ours["n"]] + [_range_cell(ours[k], d) for k, _, d in TABLE1_COLS])
             classes.append("")
-            if published is not None:
+            if published is not None and p in published.TABLE1:
                 pap = published.TABLE1[p][cat]
                 rows.append(["", "", "paper", pap["n"]] + [_range_cell(pap[k], d) for k, _, d in TABLE1_COLS])
                 classes.append("paper")
     return rows, classes
 
 
-def _paper_n(pub, cat: str) -> int:
-    return sum(pub.TABLE1[p][cat]["n"] for p in PLAYERS)
+def _paper_n(cat: str) -> int:
+    return sum(int(pub.TABLE1[p][cat]["n"]) for p in PLAYERS)  # type: ignore[call-overload]
 
 
 def windows(ctx) -> None:
     """Heat maps of the three windows and Table 1 beside the paper."""
     require("serve")
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Patch
-
     sec = ctx.section
     ws = _windows(ctx)
-    pub = _published()
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.6), sharey=True)
-    for ax, p in zip(axes, PLAYERS):
-        w = ws[p]
+    fig, axes = plt.subplots(1, len(ws), figsize=(13 * len(ws) / 3, 4.6), sharey=True, squeeze=False)
+    axes = axes[0]
+    for ax, (p, w) in zip(axes, ws.items()):
         code = np.where(w.success, w.grid("category") + 1, 0)
         a, b = w.alpha_deg, w.beta_deg
         da, db = (a[1] - a[0]) / 2, (b[1] - b[0]) / 2
@@ -118,8 +118,9 @@ def windows(ctx) -> None:
     )
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     rows, classes = table1_rows(ws, pub)
-    n_flat = sum(ws[p].summary()["flat"]["n"] for p in PLAYERS)
-    n_top = sum(ws[p].summary()["topspin"]["n"] for p in PLAYERS)
+    n_flat = sum(w.summary()["flat"]["n"] for w in ws.values())
+    n_top = sum(w.summary()["topspin"]["n"] for w in ws.values())
+    paper_kpi = set(ws) == set(PLAYERS)
     sec.add(
         H.para(
             "Every combination of impact angle α and racket-face angle β from 0 to 90 degrees in 1-degree "
@@ -129,9 +130,9 @@ def windows(ctx) -> None:
             "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."
         ),
         H.Raw(
-            H.kpi("successful flat serves (3 players)", f"{n_flat}")
+            H.kpi(f"successful flat serves ({len(ws)} players)", f"{n_flat}")
             + H.kpi("successful topspin serves", f"{n_top}")
-            + (H.kpi("paper", f"{_paper_n(pub, 'flat')} flat / {_paper_n(pub, 'topspin')} topspin") if pub else "")
+            + (H.kpi("paper", f"{_paper_n('flat')} flat / {_paper_n('topspin')} topspin") if paper_kpi else "")
         ).html,
         H.figure(
             ctx.save(fig, "serve_windows.png"),
@@ -142,11 +143,13 @@ def windows(ctx) -> None:
         H.para(
             "Ranges are [min – max] over the successful serves. X: landing distance from the impact "
             "point; Y: height of the ball centre over the net; γ: launch angle (negative below the "
-            "horizontal). Grey rows: the paper's Table 1. Differences come from the impact model's "
-            "inputs (contact time and restitution vs impact speed) and the integrator; see docs/serve.md "
-            "for the explanation of each.",
+            "horizontal). Grey rows: the paper's Table 1. Our impact model never creates energy; the paper's "
+            "numbers rest on a friction clamp and a pre-loaded string spring that do, and on a coarse time "
+            "step: its spin peaks at a smaller impact angle and its flat serves are faster. docs/serve.md "
+            "explains each difference.",
             "note",
         ),
+        _caveats(ws),
     )
 
 
@@ -158,37 +161,38 @@ MC_N = 4000
 MC_SEED = 2021
 
 
-def _mc(ctx, player: str, serve: dict):
-    """Monte Carlo probability of success around a nominal serve (seed 2-D criteria), or None."""
-    try:
-        from tennislab.serve.mc import run_mc
-    except ImportError:
-        return None
-    res = run_mc(player, serve["alpha"], serve["beta"], n=MC_N, seed=MC_SEED, **MC_SCATTER)
-    res["scatter"] = f"α, β ±{MC_SCATTER['sd_angle']:g}°, V ±{MC_SCATTER['sd_speed']:g} m/s"
-    return res
+def _mc(player, serve: dict):
+    """Monte Carlo probability of success around a nominal serve (the paper's 2-D criteria)."""
+    return monte_carlo(
+        player,
+        serve["alpha"],
+        serve["beta"],
+        n=MC_N,
+        seed=MC_SEED,
+        sd_angle=MC_SCATTER["sd_angle"],
+        sd_speed=MC_SCATTER["sd_speed"],
+    )
+
+
+MC_SCATTER_TEXT = f"α, β ±{MC_SCATTER['sd_angle']:g}°, V ±{MC_SCATTER['sd_speed']:g} m/s"
 
 
 def peak_spin(ctx) -> None:
     """Speed and spin vs alpha per player (paper Fig. 5), the peak-spin alpha, the margin of error."""
     require("serve")
-    import matplotlib.pyplot as plt
-
     sec = ctx.section
     ws = _windows(ctx)
-    pub = _published()
     fig, ax1 = plt.subplots(figsize=(10, 6))
     ax2 = ax1.twinx()
     colors = {"professional": "tab:blue", "recreational": "tab:orange", "junior": "tab:green"}
     rows = []
-    for p in PLAYERS:
-        w = ws[p]
-        c = colors[p]
+    for k, (p, w) in enumerate(ws.items()):
+        c = colors.get(p, f"C{k + 3}")
         ax1.plot(w.alpha_deg, w.speed, "x-", ms=3, lw=1, color=c, label=f"{p}: speed")
         ax2.plot(w.alpha_deg, w.spin_rpm, "o-", ms=2.5, lw=1, color=c, alpha=0.7, label=f"{p}: spin")
         i = int(np.argmax(w.spin_rpm))
         ax2.plot(w.alpha_deg[i], w.spin_rpm[i], "s", ms=9, mfc="none", mec=c, mew=2)
-        paper_alpha = pub.PEAK_SPIN_ALPHA[p] if pub else None
+        paper_alpha = pub.PEAK_SPIN_ALPHA.get(p)
         if paper_alpha is not None:
             ax1.axvline(paper_alpha, color=c, ls=":", lw=1.2, label=f"{p}: paper's peak-spin α")
         rows.append(
@@ -197,7 +201,7 @@ def peak_spin(ctx) -> None:
                 H.num(w.peak_spin_alpha, 0),
                 "–" if paper_alpha is None else paper_alpha,
                 H.num(w.spin_rpm[i], 0),
-                H.num(pub.OPTIMUM[p]["topspin"]["spin_rpm"], 0) if pub else "–",
+                H.num(pub.OPTIMUM[p]["topspin"]["spin_rpm"], 0) if p in pub.OPTIMUM else "–",
                 H.num(w.speed[i], 1),
             ]
         )
@@ -213,7 +217,9 @@ def peak_spin(ctx) -> None:
         H.para(
             "Ball speed and spin after impact as the impact angle α grows (the paper's Figure 5): spin "
             "rises to a peak and then falls as the ball starts to slide across the strings, while speed "
-            "falls ever faster. The peak-spin angle is where a coach would tell a player to brush the ball."
+            "falls ever faster. The peak-spin angle is where a coach would tell a player to brush the ball. "
+            "Our peak lies about 8 degrees above the paper's: the paper's friction clamp and pre-loaded string "
+            "spring add energy to the spin (docs/serve.md)."
         ),
         H.figure(ctx.save(fig, "peak_spin.png"), "Ball speed and spin vs impact angle (paper's Figure 5)"),
         H.table(
@@ -230,32 +236,27 @@ def peak_spin(ctx) -> None:
     )
     # margin of error
     sec.add("<h3>Margin of error</h3>")
-    mrows, missing, mc_p = [], False, {}
-    for p in PLAYERS:
-        w = ws[p]
+    mrows, mc_p = [], {}
+    for p, w in ws.items():
         for cat in ("flat", "topspin"):
             opt = w.optimum(cat)
             n = w.summary()[cat]["n"]
             wb = w.widest_beta(cat)
-            res = None if opt is None else _mc(ctx, p, opt)
+            res = None if opt is None else _mc(w.player, opt)
             if res is not None:
-                mc_p[(p, cat)] = res["p_success"]
-                ctx.log(f"Monte Carlo {p} {cat}: {MC_N} serves, P(success) = {100 * res['p_success']:.1f} %")
-            if res is None and opt is not None:
-                missing = True
-            pap_n = pub.TABLE1[p][cat]["n"] if pub else "–"
-            pap_wb = pub.WIDEST_BETA[p][cat] if pub and hasattr(pub, "WIDEST_BETA") else "–"
+                mc_p[(p, cat)] = res.p_success
+                ctx.log(f"Monte Carlo {p} {cat}: {MC_N} serves, P(success) = {100 * res.p_success:.1f} %")
             mrows.append(
                 [
                     p,
                     cat,
                     n,
-                    pap_n,
+                    pub.TABLE1[p][cat]["n"] if p in pub.TABLE1 else "–",
                     H.num(wb, 0),
-                    pap_wb,
+                    pub.WIDEST_BETA[p][cat] if p in pub.WIDEST_BETA else "–",
                     "–" if opt is None else f"α {opt['alpha']:g}, β {opt['beta']:g}",
-                    "–" if res is None else H.num(100 * res["p_success"], 1),
-                    "–" if res is None else res.get("scatter", ""),
+                    "–" if res is None else H.num(100 * res.p_success, 1),
+                    "–" if res is None else MC_SCATTER_TEXT,
                 ]
             )
     sec.add(
@@ -286,21 +287,14 @@ def peak_spin(ctx) -> None:
             "a practised server misses often. " + _mc_verdict(mc_p),
             "note",
         ),
+        _caveats(ws),
     )
-    if missing:
-        sec.add(
-            H.para(
-                "Monte Carlo margin of error: not available in this installation (tennislab.serve.mc is missing).",
-                "unavailable",
-            )
-        )
 
 
 def _mc_verdict(mc_p: dict) -> str:
     """One sentence comparing the Monte Carlo success of topspin and flat optimum serves."""
-    pairs = [
-        (mc_p[(p, "topspin")], mc_p[(p, "flat")]) for p in PLAYERS if (p, "topspin") in mc_p and (p, "flat") in mc_p
-    ]
+    names = dict.fromkeys(p for p, _ in mc_p)
+    pairs = [(mc_p[(p, "topspin")], mc_p[(p, "flat")]) for p in names if (p, "topspin") in mc_p and (p, "flat") in mc_p]
     if not pairs:
         return ""
     if all(t > f for t, f in pairs):
@@ -316,24 +310,12 @@ def _mc_verdict(mc_p: dict) -> str:
     return "Which serve keeps the higher probability for the same scatter depends on the player."
 
 
-def _trajectory(player, serve: dict):
-    """The 2-D optimum serve flown with the seed's constants (:func:`tennislab.serve.single.simulate_serve`)."""
-    from tennislab.serve.single import simulate_serve
-
-    return simulate_serve(player, min(serve["alpha"], 89.999), serve["beta"], trajectory=True)["_trajectory"]
-
-
 def optimum(ctx) -> None:
     """Optimum flat and topspin serves of each player on the court (paper Figs 7-9)."""
     require("serve")
-    import matplotlib.pyplot as plt
-
-    from tennislab.plot.court import draw_court_side
-
     sec = ctx.section
     ws = _windows(ctx)
-    pub = _published()
-    fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
+    fig, axes = plt.subplots(len(ws), 1, figsize=(10, 10 * len(ws) / 3), sharex=True, squeeze=False)
     rows, classes = [], []
     keys = (
         ("beta", 0),
@@ -344,15 +326,16 @@ def optimum(ctx) -> None:
         ("net_height", 2),
         ("landing_x", 2),
     )
-    for ax, p in zip(axes, PLAYERS):
+    for ax, (p, w) in zip(axes[:, 0], ws.items()):
         draw_court_side(ax, zmax=3.6)
         for cat, color in (("flat", "tab:blue"), ("topspin", "tab:green")):
-            opt = ws[p].optimum(cat)
+            opt = w.optimum(cat)
             if opt is None:
                 rows.append([p, cat, "tennislab"] + ["none"] * len(keys))
                 classes.append("")
                 continue
-            tr = _trajectory(p, opt)
+            tr = simulate(w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False).trajectory
+            assert tr is not None  # asked for with trajectory=True
             _, ys = tr.sample(300)
             ax.plot(
                 ys[:, 0],
@@ -364,14 +347,14 @@ def optimum(ctx) -> None:
             )
             rows.append([p, cat, "tennislab"] + [H.num(opt[k], d) for k, d in keys])
             classes.append("")
-            if pub:
+            if p in pub.OPTIMUM:
                 pp = pub.OPTIMUM[p][cat]
                 rows.append(["", "", "paper"] + [H.num(pp[k], d) for k, d in keys])
                 classes.append("paper")
         ax.set_xlim(-13, 8)
         ax.set_title(p)
         ax.legend(loc="upper right", fontsize=8)
-    axes[-1].set_xlabel("x [m] (server at the near baseline, x = -11.885; far service line x = 6.40)")
+    axes[-1, 0].set_xlabel("x [m] (server at the near baseline, x = -11.885; far service line x = 6.40)")
     fig.tight_layout()
     sec.add(
         H.para(
@@ -385,4 +368,5 @@ def optimum(ctx) -> None:
             classes,
             left_cols=3,
         ),
+        _caveats(ws),
     )

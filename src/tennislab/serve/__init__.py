@@ -1,15 +1,60 @@
-"""Serve analysis (seed 000): player profiles, the alpha x beta serve window, the
-reproduction of the seed's Table 1, Monte Carlo margins of error and 3-D serves."""
+"""Serve analysis after Grosen, Kousted & Treichel (2021): player profiles, one serve with its
+verdict, the alpha x beta serve window (the paper's Table 1), Monte Carlo margins of error,
+racket-ball impacts and 3-D serves.
 
-from tennislab.serve.players import Player, get_player, player_names, register_player
-from tennislab.serve.setup import SeedCriteria, seed_flight_params, seed_impact_params
+Workflows (plain parameters in, a frozen :class:`tennislab.results.Result` out; ``to_dict()`` is
+the command's ``--json``):
+
+* :func:`simulate` -> :class:`ServeResult` (``tennislab serve``)
+* :func:`window` / :func:`windows` -> :class:`ServeWindow` / :class:`ServeWindows` (``serve-window``)
+* :func:`monte_carlo` -> :class:`MonteCarloResult` (``serve-mc``)
+* :func:`impact` -> :class:`ImpactSummary` (``tennislab impact``)
+* :func:`default_serve` -> a serve that goes in for a player, with the most room for error
+"""
+
+from tennislab.serve.mc import MonteCarloResult, monte_carlo
+from tennislab.serve.players import (
+    SEED_PLAYERS,
+    Player,
+    PlayerProfile,
+    get_player,
+    player_names,
+    register_player,
+)
+from tennislab.serve.racket_impact import ImpactSummary, impact
+from tennislab.serve.setup import (
+    IMPACT_SCHEMES,
+    SeedCriteria,
+    scheme_integration,
+    seed_flight_params,
+    seed_impact_params,
+)
+from tennislab.serve.single import REASONS, ServeResult, Verdict, simulate
+from tennislab.serve.window import ServeWindow, ServeWindows, default_serve, window, windows
 
 __all__ = [
+    "IMPACT_SCHEMES",
+    "REASONS",
+    "SEED_PLAYERS",
+    "ImpactSummary",
+    "MonteCarloResult",
     "Player",
+    "PlayerProfile",
+    "SeedCriteria",
+    "ServeResult",
+    "ServeWindow",
+    "ServeWindows",
+    "Verdict",
+    "default_serve",
     "get_player",
+    "impact",
+    "monte_carlo",
     "player_names",
     "register_player",
-    "SeedCriteria",
+    "scheme_integration",
     "seed_flight_params",
     "seed_impact_params",
+    "simulate",
+    "window",
+    "windows",
 ]

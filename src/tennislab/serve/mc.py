@@ -1,4 +1,7 @@
-"""Monte Carlo margin of error of a serve (the seed's "future work", sec. 4).
+"""Monte Carlo margin of error of a serve (the paper's "future work", sec. 4).
+
+:func:`monte_carlo` is the workflow behind ``tennislab serve-mc`` (its :class:`MonteCarloResult`
+``to_dict()`` is the ``--json``).
 
 A nominal serve (player, alpha, beta) is repeated n times with normal scatter
 of the impact angle alpha, the face angle beta and the face azimuth psi (sd
@@ -25,17 +28,30 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass, field
+from typing import Any
 
 import numba as nb
 import numpy as np
 
+from tennislab.batch import rng
+from tennislab.batch.sources import RowRange, default_chunk_size
 from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.core.impact import ImpactParams, impact_batch
-from tennislab.errors import check_range
-from tennislab.serve.players import get_player
-from tennislab.serve.setup import SeedCriteria, seed_flight_params, seed_impact_params
-from tennislab.serve.single import judge
+from tennislab.errors import InputError, check_range
+from tennislab.results import Result, jsonable
+from tennislab.serve.launch import box_name, check_serve_options, judge
+from tennislab.serve.players import PlayerProfile, get_player
+from tennislab.serve.setup import (
+    SeedCriteria,
+    criteria_caveats,
+    integration_caveats,
+    seed_flight_params,
+    seed_impact_params,
+)
 from tennislab.serve.window import flight_options
+
+__all__ = ["MonteCarloResult", "monte_carlo", "mc_blocks", "combine_blocks", "block_size", "landing_stats"]
 
 CHI2_95_2DOF = 5.991464547107979  #: chi-square 95 % quantile, 2 degrees of freedom
 
@@ -109,8 +125,10 @@ def _launch_kernel(a, b, psi, V, h, Vg, Ag, T, server_x, server_y, out):
 
 def impact_table(v_range, a_range, params: ImpactParams, nv: int = 41, na: int = 81, **impact_kw) -> _Table:
     """Impact results (v_n, v_t, omega) on a grid of racket speed [m/s] x impact angle [rad]."""
-    V = np.linspace(*v_range, nv) if v_range[1] > v_range[0] else np.array([float(v_range[0])])
-    A = np.linspace(*a_range, na) if a_range[1] > a_range[0] else np.array([float(a_range[0])])
+    v0, v1 = float(v_range[0]), float(v_range[1])
+    a0, a1 = float(a_range[0]), float(a_range[1])
+    V = np.linspace(v0, v1, nv) if v1 > v0 else np.array([v0])
+    A = np.linspace(a0, a1, na) if a1 > a0 else np.array([a0])
     impact_kw = {"steps": 200, **impact_kw}
     VV, AA = np.meshgrid(V, A, indexing="ij")
     r = impact_batch(VV, AA, params, **impact_kw)
@@ -169,8 +187,6 @@ def block_size(n: int) -> int:
     Depends on n only, so the per-block statistics -- and their fixed-order
     combination -- never depend on the scheduler or ``--chunk-size``.
     """
-    from tennislab.batch.sources import default_chunk_size
-
     return default_chunk_size(n)
 
 
@@ -192,8 +208,6 @@ def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, s
     the same whichever block, chunk or worker computes it.  ``nominal``: alpha, beta, azimuth [deg],
     speed [m/s], height [m] and their sd ``sd_angle``, ``sd_azimuth`` [deg], ``sd_speed``, ``sd_height``.
     """
-    from tennislab.batch import rng
-
     rows = np.asarray(rows, dtype=np.int64)
     nm = nominal
     a = np.radians(nm["alpha"] + nm["sd_angle"] * rng.normal(seed, rows, STREAMS["alpha"]))
@@ -336,10 +350,58 @@ def _in_process(fn, source):
     return fn(source.chunk(0, max(source.n_rows, 1)))
 
 
-def run_mc(
+@dataclass(frozen=True)
+class MonteCarloResult(Result):
+    """Monte Carlo of a nominal serve (angles [deg], SI otherwise).  ``to_dict()`` is
+    ``tennislab serve-mc --json``; ``rows()``/``to_frame()`` give the landing samples (only when the
+    run kept them, ``samples=...``)."""
+
+    player: PlayerProfile
+    nominal: dict  #: alpha, beta, azimuth [deg]
+    scatter: dict  #: sd_angle, sd_speed, sd_height, sd_azimuth
+    n: int
+    seed: int
+    criteria: str
+    p_success: float
+    p_success_se: float
+    landing: dict  #: mean [x, y], cov (2 x 2) [m, m^2], ellipse_95 (court frame)
+    landing_x: dict  #: mean distance from the impact point [m]
+    n_landed: int
+    caveats: tuple[str, ...] = ()
+    samples: dict | None = field(default=None, repr=False)  #: land_x, land_y, success, landed arrays
+
+    def to_dict(self) -> dict:
+        return jsonable(
+            {
+                "player": self.player.name,
+                "nominal": self.nominal,
+                "scatter": self.scatter,
+                "n": self.n,
+                "seed": self.seed,
+                "criteria": self.criteria,
+                "p_success": self.p_success,
+                "p_success_se": self.p_success_se,
+                "landing": self.landing,
+                "landing_x": self.landing_x,
+                "n_landed": self.n_landed,
+                "caveats": list(self.caveats),
+            }
+        )
+
+    def rows(self) -> list[dict]:
+        if self.samples is None:
+            raise InputError("samples: this run kept no landing samples (pass samples=True)")
+        s = self.samples
+        return [
+            {"land_x": float(x), "land_y": float(y), "success": bool(ok), "landed": bool(ld)}
+            for x, y, ok, ld in zip(s["land_x"], s["land_y"], s["success"], s["landed"])
+        ]
+
+
+def monte_carlo(
     player,
-    alpha_deg: float,
-    beta_deg: float,
+    impact_angle: float,
+    face_angle: float,
     *,
     n: int = 10000,
     seed: int = 0,
@@ -354,11 +416,11 @@ def run_mc(
     impact_params: ImpactParams | None = None,
     criteria: SeedCriteria | None = None,
     mapper=None,
-    return_samples: bool | int = False,
+    samples: bool | int = False,
     dt: float = 0.0,
     method: str = "rk4",
-) -> dict:
-    """Monte Carlo of a nominal serve; returns the ``tennislab serve-mc`` JSON object.
+) -> MonteCarloResult:
+    """Monte Carlo of the nominal serve (``impact_angle``, ``face_angle`` [deg]) of ``player``.
 
     Angles and their sd in degrees, speeds [m/s], heights [m].  ``sd_azimuth``
     defaults to ``sd_angle``.  Memory is bounded whatever n: the serves are
@@ -369,22 +431,25 @@ def run_mc(
     and returns its outputs (default: in process; e.g.
     ``functools.partial(map_chunks, scheduler="processes", chunk_size=1)`` --
     chunk sizes there count blocks).  The result is identical for any mapper and chunking.
-    ``return_samples``: True (20000) or a count m: also return the landing points of the
-    first min(n, m) serves (the same serves as in the statistics) under ``_samples``.
+    ``samples``: True (20000) or a count m: also keep the landing points of the first
+    min(n, m) serves (the same serves as in the statistics) in ``samples``.
     """
-    from tennislab.batch.sources import RowRange
-
     player = get_player(player)
     n = int(check_range("n", n, 1, 1e8))
     for nm, v in (("sd_angle", sd_angle), ("sd_speed", sd_speed), ("sd_height", sd_height)):
         check_range(nm, v, 0.0, 45.0)
+    if sd_azimuth is not None:
+        check_range("sd_azimuth", sd_azimuth, 0.0, 45.0)
+    check_range("impact_angle", impact_angle, -89.0, 89.0, "deg")
+    check_range("face_angle", face_angle, -90.0, 90.0, "deg")
+    check_serve_options(target, azimuth_deg, 0.0, server_y)
     flight = flight or seed_flight_params()
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
     sd_az = sd_angle if sd_azimuth is None else sd_azimuth
     nominal = {
-        "alpha": float(alpha_deg),
-        "beta": float(beta_deg),
+        "alpha": float(impact_angle),
+        "beta": float(face_angle),
         "azimuth": float(azimuth_deg),
         "speed": float(player.racket_speed),
         "height": float(player.impact_height),
@@ -393,8 +458,8 @@ def run_mc(
         "sd_speed": float(sd_speed),
         "sd_height": float(sd_height),
     }
-    table = scatter_table(player, alpha_deg, sd_angle, sd_speed, impact_params, {"dt": dt, "method": method})
-    common = dict(
+    table = scatter_table(player, impact_angle, sd_angle, sd_speed, impact_params, {"dt": dt, "method": method})
+    common: dict[str, Any] = dict(
         seed=int(seed),
         nominal=nominal,
         table=table,
@@ -411,26 +476,28 @@ def run_mc(
     stats = (mapper or _in_process)(fn, source)
     tot = combine_blocks(stats)
     p = tot["n_success"] / n
-    res = {
-        "player": player.name,
-        "nominal": {"alpha": alpha_deg, "beta": beta_deg, "azimuth": azimuth_deg},
-        "scatter": {"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
-        "n": n,
-        "seed": seed,
-        "criteria": "seed-2d" if target is None else f"{target}-box",
-        "p_success": p,
-        "p_success_se": math.sqrt(max(p * (1 - p), 0.0) / n),
-        "landing": landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
-        "landing_x": {"mean": tot["mean_landing_x"]},
-        "n_landed": tot["n_landed"],
-    }
-    if return_samples:
-        m = min(n, 20000 if return_samples is True else int(return_samples))
+    kept = None
+    if samples:
+        m = min(n, 20000 if samples is True else int(samples))
         r = _simulate_rows(np.arange(m, dtype=np.int64), **common)
-        res["_samples"] = {
+        kept = {
             "land_x": np.asarray(r["land_x"]),
             "land_y": np.asarray(r["land_y"]),
             "success": np.asarray(r["success"], bool),
             "landed": np.asarray(r["landed"], bool),
         }
-    return res
+    return MonteCarloResult(
+        player=player,
+        nominal={"alpha": float(impact_angle), "beta": float(face_angle), "azimuth": float(azimuth_deg)},
+        scatter={"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
+        n=n,
+        seed=int(seed),
+        criteria="seed-2d" if target is None else box_name(target),
+        p_success=p,
+        p_success_se=math.sqrt(max(p * (1 - p), 0.0) / n),
+        landing=landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
+        landing_x={"mean": tot["mean_landing_x"]},
+        n_landed=tot["n_landed"],
+        caveats=(*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target)),
+        samples=kept,
+    )

@@ -1,6 +1,7 @@
-"""Seed 000's constants, its 2-D success criteria, and the launch of a serve.
+"""The paper's constants, its 2-D success criteria, the impact schemes, and the launch of a serve.
 
-Constants (seed 000 sec. 2.3): air density 1.22 kg/m^3, g = 9.82 m/s^2, ball
+The paper: Grosen, Kousted & Treichel 2021, "2-dimensional tennis serves ..." (the project's
+seed 000).  Constants (its sec. 2.3): air density 1.22 kg/m^3, g = 9.82 m/s^2, ball
 radius 0.033 m and mass 0.059 kg, racket mass 0.2 kg, string-bed stiffness
 50 kN/m, friction 0.35; flight aero = Stepanek (1988) as the seed writes it
 (eqs 3-4, registered as ``stepanek1988``).
@@ -16,6 +17,13 @@ give 0.947 m).  We keep 0.943 m for the reproduction and use the real net
 profile in 3-D.  "Land" = first contact of the ball with the ground (ball
 centre at height r), the physical reading; the seed does not say which height
 it stopped its flight at (see docs/serve.md for the sensitivity).
+
+Impact schemes (:data:`IMPACT_SCHEMES`, docs/serve.md "Table 1"): ``converged`` (default) is the
+physical model -- elasto-plastic friction that never creates energy, the tangential damper that
+restitutes 1.04 COR, springs unloaded at first touch, converged RK4; ``seed-literal`` reads the
+paper literally -- its friction clamp (eq 20), eq 6 with the ball's mass for the tangential
+damper, the racket starting 0.02 m behind the ball with the tangential spring measured from there
+(worksheet sec. 2.2, eq 13) and its explicit Euler step of 1e-4 s (sec. 2).
 """
 
 from __future__ import annotations
@@ -27,7 +35,7 @@ import numpy as np
 from tennislab.core.ball import Ball
 from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams, to_court
-from tennislab.errors import check_range
+from tennislab.errors import InputError, check_range
 
 SEED_MASS = 0.059  #: ball mass [kg] (seed sec. 2.3)
 SEED_RADIUS = 0.033  #: ball radius [m] (seed sec. 2.3)
@@ -44,17 +52,86 @@ def seed_flight_params(**options) -> FlightParams:
     return FlightParams.from_options(preset="seed000", **options)
 
 
+#: Impact schemes: the model readings and the integration of the impact (module docstring).
+IMPACT_SCHEMES: dict[str, dict] = {
+    "converged": {
+        "friction_model": "elastoplastic",
+        "tangential_damping": "oscillator",
+        "approach_gap": 0.0,
+        "method": "rk4",
+        "dt": 0.0,
+    },
+    "seed-literal": {
+        "friction_model": "seed-clamp",  # eq 20 read literally
+        "tangential_damping": "ball",  # eq 6 with m_b and T_c, COR x 1.04
+        "approach_gap": 0.02,  # worksheet sec. 2.2: racket 0.02 m behind the ball
+        "method": "euler",  # sec. 2: "a simple time-integration"
+        "dt": 1e-4,  # sec. 2: dt = 1e-4 s
+    },
+}
+
+
+def _scheme(scheme: str) -> dict:
+    try:
+        return IMPACT_SCHEMES[scheme]
+    except KeyError:
+        raise InputError(f"impact_scheme: unknown {scheme!r}; choose from {', '.join(IMPACT_SCHEMES)}") from None
+
+
 def seed_impact_params(
-    ball: Ball | None = None, racket_mass=None, string_stiffness=None, friction=None, ball_model=None
+    ball: Ball | None = None,
+    racket_mass=None,
+    string_stiffness=None,
+    friction=None,
+    ball_model=None,
+    *,
+    impact_scheme: str = "converged",
+    friction_model: str | None = None,
+    tangential_damping: str | None = None,
+    approach_gap: float | None = None,
 ) -> ImpactParams:
-    """:class:`ImpactParams` with the seed's constants; any argument given overrides."""
+    """:class:`ImpactParams` with the paper's constants and the model readings of ``impact_scheme``
+    (:data:`IMPACT_SCHEMES`); any argument given overrides."""
+    sch = _scheme(impact_scheme)
     return ImpactParams.from_options(
         racket_mass=SEED_RACKET_MASS if racket_mass is None else racket_mass,
         string_stiffness=SEED_STRING_STIFFNESS if string_stiffness is None else string_stiffness,
         friction=SEED_FRICTION if friction is None else friction,
         ball=ball or Ball(mass=SEED_MASS, radius=SEED_RADIUS),
         ball_model=ball_model,
+        friction_model=sch["friction_model"] if friction_model is None else friction_model,
+        tangential_damping=sch["tangential_damping"] if tangential_damping is None else tangential_damping,
+        approach_gap=sch["approach_gap"] if approach_gap is None else approach_gap,
     )
+
+
+def scheme_integration(impact_scheme: str = "converged", method: str | None = None, dt: float | None = None):
+    """(method, dt [s]) of the impact integration of ``impact_scheme``; a given method/dt overrides."""
+    sch = _scheme(impact_scheme)
+    m = sch["method"] if method is None else method
+    step = sch["dt"] if dt is None else dt
+    check_range("dt", step, 0.0, 1e-3, "s")
+    return m, float(step)
+
+
+def integration_caveats(method: str, dt: float) -> list[str]:
+    """Caveats of an impact integration (explicit Euler at a coarse step is not converged)."""
+    if method == "euler" and (dt <= 0 or dt > 1e-6):
+        return [
+            f"impact: explicit Euler at dt = {dt:g} s (the paper's scheme) is not converged; ball speed is "
+            "about 5 % high at 1e-4 s (docs/impact.md)"
+        ]
+    return []
+
+
+def criteria_caveats(target: str | None) -> list[str]:
+    """Caveats of the success test: the paper's 2-D criteria are not the real court."""
+    if target is None:
+        return [
+            "criteria: the paper's 2-D test (net 0.91 m + r, service line + r, no sideways direction); "
+            "use a deuce/ad target for the real net and service box"
+        ]
+    return []
 
 
 @dataclass(frozen=True)
@@ -116,8 +193,12 @@ def evaluate_2d(table, criteria: SeedCriteria) -> dict[str, np.ndarray]:
 
 __all__ = [
     "SeedCriteria",
+    "IMPACT_SCHEMES",
     "seed_flight_params",
     "seed_impact_params",
+    "scheme_integration",
+    "integration_caveats",
+    "criteria_caveats",
     "launch_states_2d",
     "evaluate_2d",
     "CATEGORIES",

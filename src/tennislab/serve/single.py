@@ -1,64 +1,136 @@
-"""One serve: impact, launch and flight, judged by the seed's 2-D criteria or a real service box.
+"""One serve: impact, launch and flight, judged by the paper's 2-D criteria or a real service box.
 
-2-D (default, the seed's): ball centre at (baseline, y = 0, impact height), face
-normal in the x-z plane, success = net_top / service_line of :class:`SeedCriteria`.
-3-D (``target="deuce"`` or ``"ad"``): the server at (baseline, ``server_y``), the
-face turned by ``azimuth`` and brushed along ``brush`` (see
-:mod:`tennislab.core.impact_3d`); success = over the real net (ITF profile) and
-first bounce inside the far deuce/ad service box (lines are in).
+:func:`simulate` is the workflow behind ``tennislab serve``, the app's serve explorer and the
+report; its :class:`ServeResult` says whether the serve goes in, and if not why (``net``,
+``long``, ``wide``, ...) and what would fix it (:mod:`tennislab.serve.verdict`).
+
+2-D (default, the paper's): ball centre at (baseline, y = 0, impact height), face normal in the
+x-z plane, success = net_top / service_line of :class:`SeedCriteria`.  3-D (``target="deuce"`` or
+``"ad"``): the server at (baseline, ``server_y``), the face turned by ``azimuth_deg`` and brushed
+along ``brush_deg`` (see :mod:`tennislab.core.impact_3d`); success = over the real net (ITF
+profile) and first bounce inside the far deuce/ad service box (lines are in).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from tennislab.core.flight import FlightParams, fly, fly_batch
-from tennislab.core.impact import ImpactParams, impact
-from tennislab.core.impact_3d import face_basis
-from tennislab.errors import InputError, check_range
-from tennislab.serve.players import get_player
-from tennislab.serve.setup import CATEGORIES, SeedCriteria, seed_flight_params, seed_impact_params
-from tennislab.units import RPM
+from tennislab.core.flight import FlightParams, Trajectory, fly
+from tennislab.core.impact import REGIMES, ImpactParams
+from tennislab.errors import check_range
+from tennislab.results import Result, jsonable
+from tennislab.serve.launch import REASONS, Setup, box_name, check_serve_options, judge, launch_3d, outcomes
+from tennislab.serve.players import PlayerProfile, get_player
+from tennislab.serve.setup import (
+    CATEGORIES,
+    SeedCriteria,
+    criteria_caveats,
+    integration_caveats,
+    seed_flight_params,
+    seed_impact_params,
+)
+from tennislab.serve.verdict import advise, describe
+from tennislab.units import KMH, RPM
 
-TARGETS = {"deuce": "deuce-box", "ad": "ad-box"}
-
-
-def launch_3d(v_n, v_t, omega, beta, azimuth=0.0, brush=0.0):
-    """Court-frame (velocity (..., 3), spin (..., 3)) of a ball leaving a face (beta, azimuth [rad])
-    with racket-frame (v_n, v_t, omega) in the plane of the brush direction."""
-    n, tu, tl = face_basis(beta, azimuth)
-    ph = np.asarray(brush, float)[..., None]
-    t = np.cos(ph) * tu + np.sin(ph) * tl
-    vel = np.asarray(v_n, float)[..., None] * n + np.asarray(v_t, float)[..., None] * t
-    spin = np.asarray(omega, float)[..., None] * np.cross(t, n)
-    return vel, spin
+__all__ = ["ServeResult", "Verdict", "simulate", "simulate_serve", "judge", "launch_3d", "REASONS"]
 
 
-def judge(table, criteria: SeedCriteria, target: str | None, court=None) -> dict[str, np.ndarray]:
-    """Per-row ``landing_x`` (from the impact point), ``net_height`` and ``success``."""
-    X = table["land_x"] - criteria.server_x
-    Y = table["net_z"]
-    landed = table.ok & (table["net_status"] > 0) & (table["land_x"] > 0)
-    if target is None:
-        success = landed & (Y > criteria.net_top) & (X <= criteria.service_line)
-    else:
-        try:
-            box = TARGETS[target]
-        except KeyError:
-            raise InputError(f"target: unknown {target!r}; choose from {', '.join(TARGETS)}") from None
-        from tennislab.core.court import ITF_COURT
+@dataclass(frozen=True)
+class Verdict:
+    """Why a serve goes in or fails and what would fix it.
 
-        c = court or ITF_COURT
-        success = landed & (table["net_status"] == 1) & c.contains(box, table["land_x"], table["land_y"])
-    return {"landing_x": X, "net_height": Y, "success": np.asarray(success, bool)}
+    success : the serve goes in
+    reason : ``None`` or a code of :data:`REASONS` (``net``, ``short``, ``long``, ``wide``, ``no-landing``)
+    detail : one sentence with the numbers (net clearance, distance beyond the line, ...)
+    advice : what would make it go in (or how much margin it has), computed from scans of the face
+        angle, the impact angle (and in 3-D the azimuth) with the same physics; None if nothing found
+    """
+
+    success: bool
+    reason: str | None
+    detail: str
+    advice: str | None
+
+    def to_dict(self) -> dict:
+        return {"success": self.success, "reason": self.reason, "detail": self.detail, "advice": self.advice}
+
+    def line(self) -> str:
+        """One line for a terminal: ``IN: ...`` or ``FAULT (net): ...``."""
+        head = "IN" if self.success else f"FAULT ({self.reason})"
+        return f"{head}: {self.detail}"
 
 
-def simulate_serve(
+@dataclass(frozen=True)
+class ServeResult(Result):
+    """One serve (angles in degrees, SI otherwise).  ``to_dict()`` is ``tennislab serve --json``."""
+
+    player: PlayerProfile
+    impact_angle: float  #: alpha [deg]
+    face_angle: float  #: beta [deg]
+    speed: float  #: ball speed after impact [m/s]
+    spin_rpm: float  #: [rpm] (> 0 topspin about the brush axis)
+    launch_angle: float  #: gamma above the horizontal [deg]
+    net_height: float  #: ball centre at the net plane [m]
+    net_clearance: float  #: margin over the criterion's net top [m] (negative: into the net)
+    landing_x: float  #: landing distance from the impact point [m]
+    landing: dict  #: court x, y [m] and time t [s] of the first bounce
+    success: bool
+    category: str  #: flat, topspin or other (by spin)
+    impact: dict  #: contact_time [s], regime, v_n, v_t [m/s], omega [rad/s] (racket frame)
+    velocity: tuple  #: launch velocity [m/s] (court frame)
+    spin: tuple  #: launch spin vector [rad/s]
+    criteria: str  #: ``seed-2d`` or ``deuce-box`` / ``ad-box``
+    verdict: Verdict
+    caveats: tuple[str, ...]
+    inputs: dict  #: the 3-D options and the model names
+    trajectory: Trajectory | None = field(default=None, repr=False)
+
+    def to_dict(self) -> dict:
+        imp = self.impact
+        return jsonable(
+            {
+                "player": self.player.name,
+                "alpha": self.impact_angle,
+                "beta": self.face_angle,
+                "speed": self.speed,
+                "spin_rpm": self.spin_rpm,
+                "launch_angle": self.launch_angle,
+                "net_height": self.net_height,
+                "landing_x": self.landing_x,
+                "success": self.success,
+                "category": self.category,
+                "landing": self.landing,
+                "impact": {
+                    "contact_time_ms": imp["contact_time"] * 1e3,
+                    "regime": imp["regime"],
+                    "v_n": imp["v_n"],
+                    "v_t": imp["v_t"],
+                    "omega": imp["omega"],
+                },
+                "velocity": self.velocity,
+                "spin": self.spin,
+                "criteria": self.criteria,
+                # added keys (unit-suffixed twins, the verdict, the caveats, the profile)
+                "alpha_deg": self.impact_angle,
+                "beta_deg": self.face_angle,
+                "launch_angle_deg": self.launch_angle,
+                "speed_kmh": self.speed / KMH,
+                "net_clearance": self.net_clearance,
+                "verdict": self.verdict.to_dict(),
+                "caveats": list(self.caveats),
+                "player_profile": self.player.to_dict(),
+                "inputs": self.inputs,
+            }
+        )
+
+
+def simulate(
     player,
-    alpha_deg: float,
-    beta_deg: float,
+    impact_angle: float,
+    face_angle: float,
     *,
     flight: FlightParams | None = None,
     impact_params: ImpactParams | None = None,
@@ -71,63 +143,103 @@ def simulate_serve(
     trajectory: bool = False,
     dt: float = 0.0,
     method: str = "rk4",
-) -> dict:
-    """Simulate one serve; returns the ``tennislab serve`` JSON object (SI, angles in degrees).
+    advice: bool = True,
+) -> ServeResult:
+    """Simulate one serve of ``player`` (a registered name or :class:`PlayerProfile`) hit at impact
+    angle alpha = ``impact_angle`` and face angle beta = ``face_angle`` [deg].
 
-    ``toss_vz``: vertical ball velocity at impact [m/s] (negative: falling), as a Galilean
-    shift of the impact.  ``trajectory=True`` adds the SciPy :class:`Trajectory` under
-    ``"_trajectory"`` (for plots).
+    ``flight``/``impact_params`` default to the paper's constants (:func:`seed_flight_params`,
+    :func:`seed_impact_params`); ``dt``/``method`` set the impact integration.  ``target``
+    ``deuce``/``ad``: 3-D, with ``azimuth_deg``, ``brush_deg`` [deg] and ``server_y`` [m].
+    ``toss_vz``: vertical ball velocity at impact [m/s] (negative: falling), a Galilean shift of the
+    impact.  ``trajectory=True`` keeps the SciPy :class:`Trajectory` (for plots).  ``advice=False``
+    skips the scans behind ``verdict.advice``.
     """
     player = get_player(player)
     flight = flight or seed_flight_params()
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
-    a = math.radians(check_range("impact angle", alpha_deg, -89.999, 89.999, "deg"))
-    b = math.radians(check_range("face angle", beta_deg, -90.0, 90.0, "deg"))
-    psi = math.radians(check_range("azimuth", azimuth_deg, -90.0, 90.0, "deg"))
-    ph = math.radians(check_range("brush", brush_deg, -180.0, 180.0, "deg"))
-    check_range("server_y", server_y, -10.0, 10.0, "m")
-    if target is None and (psi != 0 or ph != 0 or server_y != 0):
-        raise InputError("azimuth/brush/server_y: 3-D options need --target deuce or ad")
-    # toss velocity (0, 0, toss_vz) in the impact plane of (n, t)
-    n, tu, tl = face_basis(b, psi)
-    t = math.cos(ph) * tu + math.sin(ph) * tl
-    toss = np.array([0.0, 0.0, float(toss_vz)])
-    res = impact(
-        player.racket_speed, a, impact_params, toss_n=float(toss @ n), toss_t=float(toss @ t), dt=dt, method=method
-    )
-    off_plane = toss - (toss @ n) * n - (toss @ t) * t
-    vel, spin = launch_3d(res.v_n, res.v_t, res.omega, b, psi, ph)
-    vel = vel + off_plane
-    state = np.concatenate([[crit.server_x, server_y, player.impact_height], vel, spin])
-    table = fly_batch(state[None], flight)
-    j = judge(table, crit, target)
-    spin_rpm = res.omega / RPM
-    cat = CATEGORIES[int(crit.category(spin_rpm))]
-    gamma = math.degrees(math.atan2(vel[2], math.hypot(vel[0], vel[1])))
-    out = {
-        "player": player.name,
-        "alpha": alpha_deg,
-        "beta": beta_deg,
-        "speed": float(np.linalg.norm(vel)),
-        "spin_rpm": float(spin_rpm),
-        "launch_angle": gamma,
-        "net_height": float(j["net_height"][0]),
-        "landing_x": float(j["landing_x"][0]),
-        "success": bool(j["success"][0]),
-        "category": cat,
-        "landing": {"x": float(table["land_x"][0]), "y": float(table["land_y"][0]), "t": float(table["land_t"][0])},
-        "impact": {
-            "contact_time_ms": res.contact_time * 1e3,
-            "regime": res.regime,
-            "v_n": res.v_n,
-            "v_t": res.v_t,
-            "omega": res.omega,
+    check_range("impact_angle", impact_angle, -89.999, 89.999, "deg")
+    check_range("face_angle", face_angle, -90.0, 90.0, "deg")
+    check_range("toss_vz", toss_vz, -30.0, 30.0, "m/s")
+    _, ph = check_serve_options(target, azimuth_deg, brush_deg, server_y)
+    setup = Setup(player, flight, impact_params, crit, target, ph, float(server_y), float(toss_vz), float(dt), method)
+    o = outcomes(setup, impact_angle, face_angle, azimuth_deg)
+    table, imp = o["table"], o["impact"]
+    vel, spin = o["velocity"][0], o["spin"][0]
+    spin_rpm = float(imp["omega"][0]) / RPM
+    success = bool(o["success"][0])
+    clearance = _clearance(table, crit, target)
+    verdict = _verdict(setup, table, o, clearance, float(impact_angle), float(face_angle), float(azimuth_deg), advice)
+    caveats = (*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target))
+    return ServeResult(
+        player=player,
+        impact_angle=float(impact_angle),
+        face_angle=float(face_angle),
+        speed=float(np.linalg.norm(vel)),
+        spin_rpm=spin_rpm,
+        launch_angle=math.degrees(math.atan2(vel[2], math.hypot(vel[0], vel[1]))),
+        net_height=float(o["net_height"][0]),
+        net_clearance=clearance,
+        landing_x=float(o["landing_x"][0]),
+        landing={"x": float(table["land_x"][0]), "y": float(table["land_y"][0]), "t": float(table["land_t"][0])},
+        success=success,
+        category=CATEGORIES[int(crit.category(spin_rpm))],
+        impact={
+            "contact_time": float(imp["contact_time"][0]),
+            "regime": REGIMES[int(imp["regime"][0])],
+            "v_n": float(imp["v_n"][0]),
+            "v_t": float(imp["v_t"][0]),
+            "omega": float(imp["omega"][0]),
         },
-        "velocity": vel,
-        "spin": spin,
-        "criteria": "seed-2d" if target is None else f"{target}-box",
-    }
-    if trajectory:
-        out["_trajectory"] = fly(state[:3], vel, spin, flight)
+        velocity=tuple(float(v) for v in vel),
+        spin=tuple(float(w) for w in spin),
+        criteria="seed-2d" if target is None else box_name(target),
+        verdict=verdict,
+        caveats=caveats,
+        inputs={
+            "target": target,
+            "azimuth_deg": float(azimuth_deg),
+            "brush_deg": float(brush_deg),
+            "server_y": float(server_y),
+            "toss_vz": float(toss_vz),
+            "aero": flight.aero.name,
+            "ball_model": impact_params.ball_model.name,
+            "friction_model": impact_params.friction_model,
+            "tangential_damping": impact_params.tangential_damping,
+            "approach_gap_m": impact_params.approach_gap,
+            "integrator": method,
+            "dt_s": float(dt),
+        },
+        trajectory=fly(np.array([crit.server_x, server_y, player.impact_height]), vel, spin, flight)
+        if trajectory
+        else None,
+    )
+
+
+def simulate_serve(player, alpha_deg: float, beta_deg: float, **kw) -> dict:
+    """``simulate(...).to_dict()`` with the SciPy trajectory under ``"_trajectory"`` when asked
+    (``trajectory=True``): the dict form used by callers that index the result."""
+    res = simulate(player, alpha_deg, beta_deg, **kw)
+    out = res.to_dict()
+    if res.trajectory is not None:
+        out["_trajectory"] = res.trajectory
     return out
+
+
+# ---------------------------------------------------------------------------------------- verdict
+
+
+def _clearance(table, crit: SeedCriteria, target: str | None) -> float:
+    """Margin [m] of the ball centre over what the test needs at the net (NaN if it never gets there)."""
+    if table["net_status"][0] == 0:
+        return math.nan
+    if target is None:
+        return float(table["net_z"][0] - crit.net_top)
+    return float(table.clearance[0])
+
+
+def _verdict(setup: Setup, table, o, clearance, alpha, beta, azimuth, advice: bool) -> Verdict:
+    reason, detail = describe(setup, table, o, clearance)
+    adv = advise(setup, reason, alpha, beta, azimuth) if advice else None
+    return Verdict(reason is None, reason, detail, adv)

@@ -1,4 +1,8 @@
-"""The serve window: every (alpha, beta) on a grid, its outcome, and Table 1 (seed 000 sec. 2.3).
+"""The serve window: every (alpha, beta) on a grid, its outcome, and Table 1 of the paper (sec. 2.3).
+
+:func:`window` is the workflow behind ``tennislab serve-window`` (and the app's heat map, the
+report's Table 1); :func:`windows` runs several players; :func:`default_serve` picks the serve
+deepest inside a player's window.
 
 The impact depends on the racket speed V and the impact angle alpha only (beta
 just rotates it, seed eq 21), so the impacts are computed once per alpha
@@ -22,20 +26,28 @@ import functools
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.ndimage import distance_transform_cdt
 
 from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.core.impact import ImpactParams, impact_batch, launch_angle
 from tennislab.errors import InputError, check_range
-from tennislab.serve.players import Player, get_player
+from tennislab.results import Result, jsonable
+from tennislab.serve.launch import box_name, check_serve_options, judge, launch_3d
+from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player
+from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
 from tennislab.serve.setup import (
     CATEGORIES,
     SeedCriteria,
+    criteria_caveats,
     evaluate_2d,
+    integration_caveats,
     launch_states_2d,
     seed_flight_params,
     seed_impact_params,
 )
 from tennislab.units import RPM
+
+__all__ = ["ServeWindow", "ServeWindows", "window", "windows", "serve_window", "default_serve", "window_chunk"]
 
 SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
 
@@ -83,8 +95,6 @@ def window_chunk(
         table = fly_batch(states, params)
         ev = evaluate_2d(table, crit)
     else:
-        from tennislab.serve.single import judge, launch_3d
-
         vel, spin = launch_3d(inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], azimuth, brush)
         n = vel.shape[0]
         states = np.column_stack([np.full(n, server_x), np.full(n, server_y), inputs["height"], vel, spin])
@@ -100,14 +110,15 @@ def window_chunk(
 
 
 @dataclass(frozen=True)
-class ServeWindow:
+class ServeWindow(Result):
     """Outcome of every serve on the alpha x beta grid for one player.
 
     Arrays are (n_beta, n_alpha); angles in degrees at this edge of the API
-    (``alpha_deg``, ``beta_deg``); SI otherwise.
+    (``alpha_deg``, ``beta_deg``); SI otherwise.  ``to_dict()`` is ``tennislab serve-window
+    --json`` for one player; ``rows()`` / ``to_frame()`` give every serve.
     """
 
-    player: Player
+    player: PlayerProfile
     alpha_deg: np.ndarray
     beta_deg: np.ndarray
     speed: np.ndarray  #: ball speed after impact [m/s] (per alpha)
@@ -121,6 +132,7 @@ class ServeWindow:
     category: np.ndarray  #: 0 flat, 1 topspin, 2 other
     criteria: SeedCriteria = field(repr=False, default_factory=SeedCriteria)
     mode: str = "seed-2d"  #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
+    caveats: tuple[str, ...] = ()  #: model caveats shown next to the numbers
 
     def grid(self, name: str) -> np.ndarray:
         """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
@@ -137,10 +149,10 @@ class ServeWindow:
 
     def summary(self) -> dict:
         """``flat`` and ``topspin``: ``n`` and [min, max] of :data:`SUMMARY_KEYS` over the successes."""
-        out = {}
+        out: dict[str, dict] = {}
         for cat in ("flat", "topspin"):
             m = self.mask(cat)
-            d = {"n": int(m.sum())}
+            d: dict = {"n": int(m.sum())}
             for k in SUMMARY_KEYS:
                 v = self.grid(k)[m]
                 d[k] = [float(v.min()), float(v.max())] if v.size else None
@@ -149,7 +161,7 @@ class ServeWindow:
 
     def serve(self, i_beta: int, i_alpha: int) -> dict:
         """One serve of the grid as a dict of its quantities."""
-        d = {k: float(self.grid(k)[i_beta, i_alpha]) for k in SUMMARY_KEYS}
+        d: dict = {k: float(self.grid(k)[i_beta, i_alpha]) for k in SUMMARY_KEYS}
         d["success"] = bool(self.success[i_beta, i_alpha])
         d["category"] = CATEGORIES[int(self.grid("category")[i_beta, i_alpha])]
         return d
@@ -186,8 +198,9 @@ class ServeWindow:
         return None if n.max() == 0 else float(self.beta_deg[int(np.argmax(n))])
 
     def to_dict(self) -> dict:
-        """The JSON object of ``tennislab serve-window``."""
-        return {
+        """The JSON object of ``tennislab serve-window`` (one player): the window, the paper's numbers
+        for its players (``published``) and the model caveats."""
+        out = {
             "player": {
                 "name": self.player.name,
                 "impact_height": self.player.impact_height,
@@ -208,20 +221,45 @@ class ServeWindow:
                 "contact_time_ms": self.contact_time * 1e3,
                 "regime": [("slide", "roll")[int(r)] for r in self.regime],
             },
+            "caveats": list(self.caveats),
         }
+        if self.player.name in TABLE1:
+            out["published"] = {
+                "summary": TABLE1[self.player.name],
+                "peak_spin_alpha": PEAK_SPIN_ALPHA[self.player.name],
+                "optimum": OPTIMUM[self.player.name],
+            }
+        return jsonable(out)
 
     def alpha_range_by_beta(self, category: str) -> list[list[float]]:
         """Seed fig 6 as data: [beta, min alpha, max alpha, n] for every beta with successes."""
         return [[b, min(a), max(a), len(a)] for b, a in self.alpha_ranges(category) if a]
 
-    def rows(self):
-        """Flat table rows (dicts) of every serve, for CSV output."""
+    def rows(self) -> list[dict]:
+        """One dict per serve of the grid (player, beta, alpha, spin_rpm, speed, landing_x, net_height,
+        launch_angle [deg, rpm, m/s, m], success, category): ``to_frame()`` and the CSV."""
         cats = self.grid("category")
+        out = []
         for ib in range(self.beta_deg.size):
             for ia in range(self.alpha_deg.size):
-                d = self.serve(ib, ia)
+                d = {"player": self.player.name, **self.serve(ib, ia)}
                 d["category"] = CATEGORIES[int(cats[ib, ia])]
-                yield d
+                out.append(d)
+        return out
+
+
+@dataclass(frozen=True)
+class ServeWindows(Result):
+    """Windows of several players; ``to_dict()`` is ``{"players": {name: window}}`` (``serve-window
+    --player all --json``), ``rows()`` every serve of every window."""
+
+    windows: tuple[ServeWindow, ...]
+
+    def to_dict(self) -> dict:
+        return {"players": {w.player.name: w.to_dict() for w in self.windows}}
+
+    def rows(self) -> list[dict]:
+        return [r for w in self.windows for r in w.rows()]
 
 
 def angle_grid(step: float, lo: float = 0.0, hi: float = 90.0) -> np.ndarray:
@@ -231,14 +269,14 @@ def angle_grid(step: float, lo: float = 0.0, hi: float = 90.0) -> np.ndarray:
     return lo + step * np.arange(n)
 
 
-def serve_window(
+def window(
     player,
     *,
     step: float = 1.0,
     alpha_deg=None,
     beta_deg=None,
     flight: FlightParams | None = None,
-    impact: ImpactParams | None = None,
+    impact_params: ImpactParams | None = None,
     criteria: SeedCriteria | None = None,
     steps: int = 400,
     dt: float = 0.0,
@@ -255,14 +293,16 @@ def serve_window(
     (baseline, ``server_y``) with the face azimuth and brush angle [deg], judged by the real
     net and service box (:mod:`tennislab.serve.single`).
 
-    ``steps``/``dt``/``method`` set the impact integration (:func:`impact_batch`).
+    ``flight``/``impact_params`` default to the paper's constants and the converged impact
+    scheme; ``steps``/``dt``/``method`` set the impact integration (:func:`impact_batch`).
     ``mapper(fn, inputs) -> outputs`` runs :func:`window_chunk` (default: in process);
     pass e.g. ``functools.partial(tennislab.batch.map_chunks, scheduler="processes")``.
     """
     player = get_player(player)
     flight = flight or seed_flight_params()
-    impact = impact or seed_impact_params(ball=flight.ball)
+    impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
+    check_serve_options(target, azimuth_deg, brush_deg, server_y)
     a = np.asarray(angle_grid(step) if alpha_deg is None else alpha_deg, float)
     b = np.asarray(angle_grid(step) if beta_deg is None else beta_deg, float)
     if a.size == 0 or b.size == 0:
@@ -270,7 +310,7 @@ def serve_window(
     if np.any(np.abs(a) > 90):
         raise InputError("alpha: outside the allowed range [-90, 90] deg")
     A = np.radians(np.clip(a, -89.999, 89.999))  # alpha = 90 deg: no normal approach; use 89.999
-    imp = impact_batch(player.racket_speed, A, impact, steps=steps, dt=dt, method=method)
+    imp = impact_batch(player.racket_speed, A, impact_params, steps=steps, dt=dt, method=method)
     B = np.radians(b)
     BB, _ = np.meshgrid(B, A, indexing="ij")
     inputs = {
@@ -280,11 +320,6 @@ def serve_window(
         "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
         "beta": BB.ravel().copy(),
     }
-    if target is None and (server_y != 0 or azimuth_deg != 0 or brush_deg != 0):
-        raise InputError("azimuth/brush/server_y: 3-D options need --target deuce or ad")
-    if target is not None and target not in ("deuce", "ad"):
-        raise InputError(f"target: unknown {target!r}; choose from deuce, ad")
-    check_range("server_y", server_y, -10.0, 10.0, "m")
     fn = functools.partial(
         window_chunk,
         flight=flight_options(flight),
@@ -302,8 +337,6 @@ def serve_window(
     if target is None:
         gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
     else:
-        from tennislab.serve.single import launch_3d
-
         vel, _ = launch_3d(
             imp["v_n"][None, :],
             imp["v_t"][None, :],
@@ -327,5 +360,59 @@ def serve_window(
         np.asarray(out["success"]).astype(bool).reshape(shape),
         np.broadcast_to(crit.category(spin)[None, :], shape).copy(),
         crit,
-        "seed-2d" if target is None else f"{target}-box",
+        "seed-2d" if target is None else box_name(target),
+        (*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target)),
     )
+
+
+#: The name of :func:`window` used by the app and older scripts.
+serve_window = window
+
+
+def windows(players, **kw) -> ServeWindows:
+    """:func:`window` of each of ``players`` (names or profiles; ``"all"`` = the paper's three), same options."""
+    names = list(SEED_PLAYERS) if players == "all" else list(players)
+    if not names:
+        raise InputError("players: give at least one player")
+    return ServeWindows(tuple(window(p, **kw) for p in names))
+
+
+def deepest_serve(win: ServeWindow, category: str = "topspin") -> dict | None:
+    """The successful serve of ``category`` deepest inside the window: the most grid steps (in alpha
+    or beta, chessboard distance) from any serve that fails; ties by spin, then speed.  None if none."""
+    m = win.mask(category)
+    if not m.any():
+        return None
+    depth = distance_transform_cdt(np.pad(win.success, 1), metric="chessboard")[1:-1, 1:-1]
+    idx = np.flatnonzero(m.ravel())
+    keys = (win.grid("speed").ravel()[idx], win.grid("spin_rpm").ravel()[idx], depth.ravel()[idx])
+    best = idx[np.lexsort(keys)[-1]]
+    ib, ia = np.unravel_index(best, m.shape)
+    d = win.serve(int(ib), int(ia))
+    step = float(np.min(np.diff(win.alpha_deg))) if win.alpha_deg.size > 1 else 0.0
+    d["margin_deg"] = float(depth[ib, ia] - 1) * step
+    return d
+
+
+@functools.lru_cache(maxsize=32)
+def _default_serve(player: PlayerProfile) -> dict:
+    w = window(player, step=1.0)
+    best = deepest_serve(w, "topspin") or deepest_serve(w, "flat") or deepest_serve(w, "other")
+    if best is None:
+        raise InputError(f"player: no serve of {player.name} goes in (impact height or racket speed too small)")
+    return {
+        "impact_angle": best["alpha"],
+        "face_angle": best["beta"],
+        "category": best["category"],
+        "margin_deg": best["margin_deg"],
+        "speed": best["speed"],
+        "spin_rpm": best["spin_rpm"],
+    }
+
+
+def default_serve(player) -> dict:
+    """A serve that goes in for ``player`` with the most room for error: the topspin serve deepest
+    inside the player's window (paper's constants and criteria, 1 deg grid; :func:`deepest_serve`).
+    Returns ``impact_angle``, ``face_angle`` [deg], ``category``, ``margin_deg`` (every serve within
+    that many degrees of alpha and beta also goes in), ``speed`` [m/s], ``spin_rpm``."""
+    return dict(_default_serve(get_player(player)))

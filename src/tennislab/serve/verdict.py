@@ -1,0 +1,158 @@
+"""Why a serve failed and what would fix it (the ``verdict`` of :class:`tennislab.serve.ServeResult`).
+
+:func:`describe` names the reason (:data:`tennislab.serve.launch.REASONS`: ``net``, ``short``,
+``long``, ``wide``, ``no-landing``) with one sentence of numbers.  :func:`advise` computes the fix
+with the same physics: it simulates the serve again with the face angle beta changed by up to
++-30 deg (0.5 deg steps), with the impact angle alpha over 0-89.5 deg at the same beta, and in 3-D
+with the face azimuth changed by up to +-30 deg; it proposes the nearest setting that goes in, moved
+1 deg inside the interval of settings that go in (or to its middle when it is narrower than 2 deg),
+and gives that interval.  For a serve that goes in it gives the margin in beta.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tennislab.core.court import ITF_COURT
+from tennislab.serve.launch import Setup, box_name, outcomes
+
+STEP = 0.5  #: scan step [deg]
+SPAN = 30.0  #: scan half-width of beta and azimuth [deg]
+ALPHA_MAX = 89.5  #: largest impact angle scanned [deg]
+
+
+def describe(setup: Setup, table, o: dict, clearance: float) -> tuple[str | None, str]:
+    """(reason, one sentence with the numbers) for the first serve of an :func:`outcomes` result."""
+    crit = setup.criteria
+    if not bool(table.ok[0]):
+        return "no-landing", f"the ball does not land within {setup.flight.t_max:g} s of flight"
+    X = float(o["landing_x"][0])
+    Y = float(o["net_height"][0])
+    land_x, land_y = float(table["land_x"][0]), float(table["land_y"][0])
+    net_x = -crit.server_x
+    if table["net_status"][0] == 0 or land_x <= 0:
+        return "short", f"the ball lands {X:.2f} m from the impact point, {net_x - X:.2f} m before the net"
+    if setup.target is None:
+        if Y <= crit.net_top:
+            return "net", (
+                f"the ball centre crosses the net at {Y:.3f} m, {crit.net_top - Y:.3f} m below the "
+                f"{crit.net_top:.3f} m the paper's test needs (net clearance {clearance:+.3f} m)"
+            )
+        if X > crit.service_line:
+            return "long", (
+                f"the ball lands {X:.2f} m from the impact point, {X - crit.service_line:.2f} m beyond the service "
+                f"line of the paper's test ({crit.service_line:.3f} m)"
+            )
+        return None, (
+            f"the ball clears the net by {clearance:.3f} m (centre at {Y:.3f} m) and lands {X:.2f} m from the "
+            f"impact point, {crit.service_line - X:.2f} m inside the service line"
+        )
+    box = box_name(setup.target)
+    x0, x1, y0, y1 = ITF_COURT.area_bounds(box)
+    if table["net_status"][0] == 2:
+        return "net", (
+            f"the ball hits the net: its centre passes the net at {Y:.3f} m, {-clearance:.3f} m too low "
+            f"(net clearance {clearance:+.3f} m)"
+        )
+    if land_x > x1:
+        return "long", f"the ball lands at x = {land_x:.2f} m, {land_x - x1:.2f} m beyond the service line ({x1:.2f} m)"
+    if land_y < y0 or land_y > y1:
+        out = max(y0 - land_y, land_y - y1)
+        return "wide", f"the ball lands at y = {land_y:.2f} m, {out:.2f} m outside the {box}"
+    return None, (
+        f"the ball clears the net by {clearance:.3f} m and lands at x = {land_x:.2f} m, y = {land_y:.2f} m: "
+        f"{x1 - land_x:.2f} m inside the service line, {min(land_y - y0, y1 - land_y):.2f} m inside the side lines"
+    )
+
+
+def runs(values: np.ndarray, ok: np.ndarray) -> list[tuple[float, float]]:
+    """Intervals [lo, hi] of consecutive ``values`` where ``ok``."""
+    out: list[tuple[float, float]] = []
+    start = None
+    for i, good in enumerate(ok):
+        if good and start is None:
+            start = i
+        if start is not None and (not good or i == ok.size - 1):
+            end = i if good else i - 1
+            out.append((float(values[start]), float(values[end])))
+            start = None
+    return out
+
+
+def pick(current: float, intervals: list[tuple[float, float]]) -> tuple[float, float, float] | None:
+    """(proposed value, lo, hi): the interval nearest to ``current`` and the value in it nearest to
+    ``current`` at least 1 deg from its ends (its middle if it is narrower than 2 deg)."""
+    if not intervals:
+        return None
+
+    def dist(iv):
+        lo, hi = iv
+        return 0.0 if lo <= current <= hi else min(abs(current - lo), abs(current - hi))
+
+    lo, hi = min(intervals, key=dist)
+    m = min(1.0, (hi - lo) / 2)
+    return float(np.clip(current, lo + m, hi - m)), lo, hi
+
+
+def _scan(setup: Setup, name: str, current: float, alpha: float, beta: float, azimuth: float):
+    if name == "alpha":
+        vals = np.arange(0.0, ALPHA_MAX + 1e-9, STEP)
+        o = outcomes(setup, vals, beta, azimuth)
+    else:
+        vals = np.clip(current + np.arange(-SPAN, SPAN + 1e-9, STEP), -89.0, 89.0)
+        vals = np.unique(vals)
+        o = outcomes(setup, alpha, vals, azimuth) if name == "beta" else outcomes(setup, alpha, beta, vals)
+    return vals, runs(vals, np.asarray(o["success"], bool))
+
+
+def _deg(x: float) -> str:
+    return f"{x:g}"
+
+
+def advise(setup: Setup, reason: str | None, alpha: float, beta: float, azimuth: float) -> str | None:
+    """What would put the serve in (or its margin when it is in); None if no scanned change does."""
+    _, beta_runs = _scan(setup, "beta", beta, alpha, beta, azimuth)
+    if reason is None:
+        p = pick(beta, beta_runs)
+        if p is None:  # pragma: no cover - the nominal serve itself is in the scan
+            return None
+        _, lo, hi = p
+        return (
+            f"Margin: in for beta {_deg(lo)} to {_deg(hi)} deg at alpha {_deg(alpha)} "
+            f"({_deg(beta - lo)} deg lower, {_deg(hi - beta)} deg higher)"
+        )
+    tips = []
+    if setup.target is not None:
+        _, az_runs = _scan(setup, "azimuth", azimuth, alpha, beta, azimuth)
+        p = pick(azimuth, az_runs)
+        if p is not None:
+            t, lo, hi = p
+            side = "left" if t > azimuth else "right"
+            tips.append(
+                f"turn the face {_deg(abs(t - azimuth))} deg to the {side} (azimuth {_deg(azimuth)} -> {_deg(t)} deg; "
+                f"in for azimuth {_deg(lo)} to {_deg(hi)} deg)"
+            )
+    p = pick(beta, beta_runs)
+    if p is not None:
+        t, lo, hi = p
+        verb = "open" if t < beta else "close"
+        tips.append(
+            f"{verb} the face by {_deg(abs(beta - t))} deg (beta {_deg(beta)} -> {_deg(t)}; in for beta {_deg(lo)} to "
+            f"{_deg(hi)} deg at alpha {_deg(alpha)})"
+        )
+    _, alpha_runs = _scan(setup, "alpha", alpha, alpha, beta, azimuth)
+    p = pick(alpha, alpha_runs)
+    if p is not None:
+        t, lo, hi = p
+        tips.append(
+            f"keep beta {_deg(beta)} and hit at alpha {_deg(t)} deg ({'more' if t > alpha else 'less'} brush; in for "
+            f"alpha {_deg(lo)} to {_deg(hi)} deg)"
+        )
+    text = "; or ".join(tips)  # azimuth (3-D), face angle, impact angle: the smallest change of technique first
+    if not text:
+        return (
+            f"no face angle within {SPAN:g} deg of {_deg(beta)}"
+            + (f", no azimuth within {SPAN:g} deg" if setup.target is not None else "")
+            + f" and no impact angle at beta {_deg(beta)} puts this serve in for {setup.player.name}"
+        )
+    return text[0].upper() + text[1:]
