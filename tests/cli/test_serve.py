@@ -1,4 +1,5 @@
-"""CLI contract of `impact`, `serve`, `serve-window`, `serve-mc` (issue 3): JSON keys, flags, errors."""
+"""CLI contract of `impact`, `serve`, `serve-window`, `serve-mc` (issue 3): JSON keys, flags, errors; the
+commands print what the workflows' results say (verdict, caveats) and reject flags they would ignore."""
 
 import csv
 import json
@@ -43,7 +44,7 @@ def test_impact_json_contract(capsys, tmp_path):
     assert d["inputs"]["racket_mass"] == 0.25 and d["inputs"]["friction"] == 0.4
 
 
-def test_impact_zero_angle_and_physics_flags(capsys):
+def test_impact_zero_angle_and_ball_flags(capsys):
     rc, out, _ = run(
         capsys,
         "impact",
@@ -57,15 +58,36 @@ def test_impact_zero_angle_and_physics_flags(capsys):
         "0.057",
         "--radius",
         "0.0335",
-        "--aero",
-        "constant",
-        "--cd",
-        "0.6",
         "--json",
     )
     d = json.loads(out)
     assert rc == 0 and d["ball"]["spin_rpm"] == 0 and d["ball"]["launch_angle"] == 0
     assert d["inputs"]["ball_mass"] == 0.057
+    assert any("placeholder" in c for c in d["caveats"])
+
+
+@pytest.mark.parametrize(
+    "flag", [("--wind", "1", "0", "0"), ("--aero", "constant"), ("--cd", "0.6"), ("--cl", "0.2"), ("--gravity", "9.8")]
+)
+def test_impact_rejects_flight_flags(capsys, flag):
+    """`impact` has no flight: the flight's physics flags are refused, not ignored."""
+    with pytest.raises(SystemExit) as e:
+        main(["impact", "--racket-speed", "30", "--impact-angle", "10", *flag])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "unrecognized arguments" in err and flag[0] in err
+
+
+def test_impact_seed_literal_scheme(capsys):
+    args = ("impact", "--racket-speed", "40", "--impact-angle", "36", "--json")
+    _, out, _ = run(capsys, *args, "--impact-scheme", "seed-literal")
+    d = json.loads(out)
+    assert d["inputs"]["friction_model"] == "seed-clamp" and d["inputs"]["approach_gap_m"] == 0.02
+    assert d["inputs"]["integrator"] == "euler" and d["inputs"]["dt_s"] == 1e-4
+    assert any("Euler" in c for c in d["caveats"]) and any("seed-clamp" in c for c in d["caveats"])
+    # single flags override the scheme
+    _, out2, _ = run(capsys, *args, "--impact-scheme", "seed-literal", "--integrator", "rk4", "--dt", "0")
+    d2 = json.loads(out2)
+    assert d2["inputs"]["integrator"] == "rk4" and not any("Euler" in c for c in d2["caveats"])
 
 
 def test_serve_json_contract(capsys):
@@ -75,6 +97,17 @@ def test_serve_json_contract(capsys):
     for k in ("speed", "spin_rpm", "launch_angle", "net_height", "landing_x"):
         assert isinstance(d[k], float)
     assert d["success"] is True and d["category"] == "flat"
+    assert d["verdict"]["success"] is True and d["verdict"]["reason"] is None
+    assert set(d["verdict"]) == {"success", "reason", "detail", "advice"} and isinstance(d["caveats"], list)
+
+
+def test_serve_text_says_why_it_failed(capsys):
+    rc, out, _ = run(capsys, "serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21")
+    lines = out.splitlines()
+    assert rc == 0 and any(ln.startswith("FAULT (net): ") for ln in lines)
+    assert any(ln.startswith("advice: Open the face") for ln in lines)
+    assert sum(ln.startswith("note: ") for ln in lines) == 2  # placeholder ball data, 2-D criteria
+    assert "seed 000" not in out and "seed-2d" in out
 
 
 def test_serve_3d_and_plot(capsys, tmp_path):
@@ -121,7 +154,7 @@ def test_serve_window_contract(capsys, tmp_path):
     assert isinstance(d["peak_spin_alpha"], float)
     assert len(d["by_alpha"]["spin_rpm"]) == 46 and d["by_alpha"]["regime"][0] == "roll"
     assert all(r[1] <= r[2] for r in d["alpha_range_by_beta"]["topspin"])
-    assert d["published"]["summary"]["flat"]["n"] == 17
+    assert d["published"]["summary"]["flat"]["n"] == 17 and d["caveats"]
     rows = list(csv.DictReader(f.open()))
     assert len(rows) == 46 * 46 and set(rows[0]) >= {"alpha", "beta", "success", "category"}
     assert png.stat().st_size > 10_000
@@ -129,7 +162,7 @@ def test_serve_window_contract(capsys, tmp_path):
 
 def test_serve_window_text_and_aliases(capsys):
     rc, out, _ = run(capsys, "serve-window", "--player", "rec", "--step", "3")
-    assert rc == 0 and "seed" in out and "peak spin" in out
+    assert rc == 0 and "  paper" in out and "peak spin" in out and "(paper 35)" in out and "note: " in out
 
 
 def test_serve_mc_contract(capsys, tmp_path):
@@ -219,13 +252,18 @@ def test_serve_mc_json_keys_and_resume(capsys, tmp_path):
 @pytest.mark.parametrize(
     "args, field",
     [
-        (("impact", "--racket-speed", "40", "--impact-angle", "95"), "impact angle"),
-        (("impact", "--racket-speed", "40", "--impact-angle", "10", "--friction", "-1"), "friction"),
-        (("serve", "--player", "nobody", "--impact-angle", "3", "--face-angle", "8"), "player"),
+        (("impact", "--racket-speed", "40", "--impact-angle", "95"), "--impact-angle"),
+        (("impact", "--racket-speed", "40", "--impact-angle", "10", "--friction", "-1"), "--friction"),
+        (("impact", "--racket-speed", "400", "--impact-angle", "10"), "--racket-speed"),
+        (("impact", "--racket-speed", "40", "--impact-angle", "10", "--approach-gap", "1"), "--approach-gap"),
+        (("serve", "--player", "nobody", "--impact-angle", "3", "--face-angle", "8"), "--player"),
         (("serve", "--impact-angle", "3", "--face-angle", "8", "--azimuth", "5"), "target"),
-        (("serve-window", "--step", "0"), "step"),
-        (("serve-mc", "--impact-angle", "3", "--face-angle", "8", "--n", "0"), "n"),
-        (("serve", "--impact-angle", "3", "--face-angle", "8", "--ball-model", "rubber"), "ball model"),
+        (("serve", "--impact-angle", "3", "--face-angle", "95"), "--face-angle"),
+        (("serve", "--impact-angle", "3", "--face-angle", "8", "--toss-velocity", "99"), "--toss-vz"),
+        (("serve-window", "--step", "0"), "--step"),
+        (("serve-mc", "--impact-angle", "3", "--face-angle", "8", "--n", "0"), "--n"),
+        (("serve", "--impact-angle", "3", "--face-angle", "8", "--ball-model", "rubber"), "--ball-model"),
+        (("serve", "--impact-angle", "3", "--face-angle", "8", "--impact-height", "9"), "--impact-height"),
     ],
 )
 def test_bad_input_exit_2(capsys, args, field):
@@ -254,4 +292,8 @@ def test_serve_window_all_players(capsys, tmp_path):
 def test_help(capsys, cmd):
     with pytest.raises(SystemExit) as e:
         main([cmd, "--help"])
-    assert e.value.code == 0 and "--json" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert e.value.code == 0 and "--json" in out
+    # the paper by name, not the project's internal "seed 000"; the scheme values are explained
+    assert "seed 000" not in out and "seed-2d" not in out
+    assert "--impact-scheme" in out and "Grosen" in out

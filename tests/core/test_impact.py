@@ -1,4 +1,5 @@
-"""Racket-ball impact (seed 000 sec. 2.2): invariants, limits, convergence and an independent reference."""
+"""Racket-ball impact (Grosen, Kousted & Treichel 2021, sec. 2.2): invariants, limits, convergence, an
+independent reference, and the model readings (tangential damper rules, approach gap)."""
 
 import dataclasses
 import math
@@ -13,6 +14,8 @@ from tennislab.core.haake2003 import get_ball_model
 from tennislab.core.impact import (
     HIST_COLUMNS,
     NS,
+    P_CT,
+    P_KT,
     ImpactParams,
     energy,
     impact,
@@ -54,7 +57,7 @@ def test_energy_never_created(alpha):
 
 
 def test_seed_clamp_rule_can_create_energy():
-    """The seed's eq 20 read literally (clamp, stretch not reset) is not dissipative: documented."""
+    """The paper's eq 20 read literally (clamp, stretch not reset) is not dissipative: documented."""
     pc = dataclasses.replace(P, friction_model="seed-clamp")
     r = impact(40.0, 45 * DEG, pc, history=True)
     p = pc.vectors(40.0 * math.cos(45 * DEG))[0]
@@ -108,13 +111,13 @@ def test_ball_on_rigid_wall_recovers_cor_and_contact_time():
 @pytest.mark.parametrize("alpha", [3.0, 20.0, 36.0, 50.0, 70.0])
 def test_matches_scipy_reference(alpha):
     """The compiled RK4 kernel against SciPy DOP853 at rtol 1e-11 on the same ODE: at the default
-    step within 3e-5 in spin (the stick-slip kinks make RK4 2nd order; 0.1 rpm at 4000 rpm),
-    within 1e-6 with 4x the steps."""
+    step within 5e-5 in spin (the stick-slip kinks make RK4 2nd order; the worst case is the grip kink
+    at alpha 3: 3.2e-5, 0.01 rpm of 400 rpm; 2e-6 or less from alpha 20), within 1e-6 with 4x the steps."""
     r = impact(40.0, alpha * DEG, P)
     ref = impact_reference(40.0, alpha * DEG, P)
     assert r.v_n == pytest.approx(ref.v_n, rel=2e-7)
-    assert r.v_t == pytest.approx(ref.v_t, rel=3e-5)
-    assert r.omega == pytest.approx(ref.omega, rel=3e-5)
+    assert r.v_t == pytest.approx(ref.v_t, rel=5e-5)
+    assert r.omega == pytest.approx(ref.omega, rel=5e-5)
     r4 = impact(40.0, alpha * DEG, P, steps=1600)
     assert r4.omega == pytest.approx(ref.omega, rel=1e-6)
     assert r.contact_time == pytest.approx(ref.contact_time, rel=1e-8)
@@ -185,14 +188,57 @@ def test_speed_dependent_vs_constant_ball():
     assert c.contact_time(30.0) == c.contact_time(10.0)
 
 
+def test_tangential_damper_restitutes_the_oblique_cor():
+    """``oscillator``: seed eq 6 applied to the tangential oscillator (mass m_t = m I/(I + m r^2) on the
+    spring k) gives it the restitution 1.04 COR (the paper's "COR 4 % higher"); ``ball`` (eq 6 with m_b and
+    T_c) gives it (1.04 COR)^2.236 (sqrt(m_b k_b / (m_t k)) = sqrt(1 / (0.4 x 0.5)) for a thin shell)."""
+    b = P.ball
+    m_t = b.mass * b.inertia / (b.inertia + b.mass * b.radius**2)
+    assert m_t == pytest.approx(0.4 * b.mass)
+    for v in (10.0, 25.0, 40.0):
+        e_t = 1.04 * P.ball_model.cor(v)
+        for rule, expo in (("oscillator", 1.0), ("ball", math.sqrt(1 / 0.2))):
+            p = dataclasses.replace(P, tangential_damping=rule).vectors(v)[0]
+            k, c = p[P_KT], p[P_CT]
+            half = math.pi * math.sqrt(m_t / k)
+            assert math.exp(-c * half / (2 * m_t)) == pytest.approx(e_t**expo, rel=1e-9)
+    with pytest.raises(InputError, match="tangential_damping"):
+        ImpactParams(tangential_damping="none")
+
+
+def test_approach_gap_preloads_the_tangential_spring():
+    """gap g: the racket's tangential travel during the approach, g V_t / V_n, is in the spring at first
+    touch (the paper's start); g = 0: unloaded.  The pre-load is energy the bodies never had."""
+    a = 30 * DEG
+    pg = dataclasses.replace(P, approach_gap=0.02)
+    r = impact(40.0, a, pg, history=True)
+    assert r.history["e"][0] == pytest.approx(0.02 * math.tan(a), rel=1e-12)
+    assert impact(40.0, a, P, history=True).history["e"][0] == 0.0
+    p = pg.vectors(40.0 * math.cos(a))[0]
+    kinetic = 0.5 * P.racket_mass * 40.0**2
+    assert energy(_state(r.history, 0), p) > kinetic * (1 + 1e-3)
+    ref = impact_reference(40.0, a, pg)
+    assert r.omega == pytest.approx(ref.omega, rel=1e-4)
+    with pytest.raises(InputError, match="approach_gap"):
+        ImpactParams(approach_gap=-0.01)
+
+
+def test_caveats():
+    assert any("placeholder" in c for c in P.caveats())
+    lit = ImpactParams(friction_model="seed-clamp", approach_gap=0.02).caveats()
+    assert any("seed-clamp" in c for c in lit) and any("approach gap" in c for c in lit)
+    const = dataclasses.replace(P, ball_model=get_ball_model("constant"))
+    assert const.caveats() == []
+
+
 def test_bad_input():
-    with pytest.raises(InputError, match="impact angle"):
+    with pytest.raises(InputError, match="alpha"):
         impact(40.0, 2.0, P)
-    with pytest.raises(InputError, match="racket speed"):
+    with pytest.raises(InputError, match="speed"):
         impact(-1.0, 0.1, P)
     with pytest.raises(InputError, match="friction_model"):
         ImpactParams(friction_model="magic")
-    with pytest.raises(InputError, match="ball model"):
+    with pytest.raises(InputError, match="ball_model"):
         get_ball_model("nope")
     with pytest.raises(InputError, match="racket_mass"):
         ImpactParams(racket_mass=0.0, ball=Ball())

@@ -264,5 +264,5 @@ def get_ball_model(model="haake2003", **params) -> BallImpactModel:
     try:
         factory = _REGISTRY[model]
     except KeyError:
-        raise InputError(f"ball model: unknown {model!r}; choose from {', '.join(ball_model_names())}") from None
+        raise InputError(f"ball_model: unknown {model!r}; choose from {', '.join(ball_model_names())}") from None
     return factory(**params)
