@@ -6,11 +6,16 @@ straightforward vectorised NumPy implementation of the seed's model (explicit Eu
 seed's dt = 1e-4 s for the impact and the flight, all alpha x beta serves of a window as one
 array).  Prints times and the ratio baseline / tennislab.
 
-    python benchmarks/bench_serve.py [--quick] [--mc N] [--mem 1e6,1e7]
+    python benchmarks/bench_serve.py [--quick] [--mc N] [--mem 1e6,1e7] [--against OLD_SRC]
 
 ``--mem`` runs ``serve-mc``'s Monte Carlo (pro, alpha 40, beta 19, sd 1 deg / 1 m/s) once per N
 in a fresh child process and prints its peak RSS (``ru_maxrss``) next to the RSS after the
 imports and a 1000-serve warm-up (the job's share is the difference): memory must be flat in N.
+
+``--against OLD_SRC`` times the three windows and the 10^6-serve Monte Carlo of this source tree and
+of another one (e.g. ``git archive <commit> src | tar -x -C /tmp/old``, then ``/tmp/old/src``) in
+alternating fresh processes (two rounds each, best kept) and prints the ratio new / old: on a shared
+machine only a ratio measured in the same run says whether performance regressed.
 """
 
 from __future__ import annotations
@@ -24,18 +29,28 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
+SRC = os.environ.get("TENNISLAB_BENCH_SRC") or os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
+sys.path.insert(0, SRC)
 
-from tennislab.serve.mc import run_mc
-from tennislab.serve.players import get_player
-from tennislab.serve.setup import seed_impact_params
-from tennislab.serve.window import serve_window
+import tennislab.serve as _serve  # noqa: E402
+import tennislab.serve.mc as _mc  # noqa: E402
+from tennislab.serve.players import get_player  # noqa: E402
+from tennislab.serve.setup import seed_impact_params  # noqa: E402
+from tennislab.serve.window import serve_window  # noqa: E402
+
+
+def run_mc(player, alpha, beta, **kw) -> float:
+    """P(success) of a Monte Carlo run with whichever API the source tree has (``--against`` old trees)."""
+    if hasattr(_serve, "monte_carlo"):
+        return _serve.monte_carlo(player, alpha, beta, **kw).p_success
+    return _mc.run_mc(player, alpha, beta, **kw)["p_success"]  # trees before the workflow refactoring
+
 
 PLAYERS = ("professional", "recreational", "junior")
 
 
 def numpy_seed_window(player, step=1.0, dt=1e-4):
-    """The seed's model, vectorised with NumPy: Euler impact (eqs 7-20) + Euler flight (eqs 1-4)."""
+    """The paper's model, vectorised with NumPy: Euler impact (eqs 7-20) + Euler flight (eqs 1-4)."""
     pl = get_player(player)
     p = seed_impact_params()
     m, r, mk, kk, mu = 0.059, 0.033, 0.2, 50e3, 0.35
@@ -128,10 +143,41 @@ def _mem_child(n: int) -> None:
     run_mc("pro", 40, 19, n=1000, seed=0)  # imports, compilation, caches
     base = _rss_mb()
     t = time.perf_counter()
-    r = run_mc("pro", 40, 19, n=n, seed=0)
+    p = run_mc("pro", 40, 19, n=n, seed=0)
     dt = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
-    print(f"{n} {dt:.1f} {base:.0f} {peak:.0f} {r['p_success']:.5f}")
+    print(f"{n} {dt:.1f} {base:.0f} {peak:.0f} {p:.5f}")
+
+
+def _time_child(n_mc: int) -> None:
+    """Warm windows (best of 3) and one Monte Carlo run of n_mc serves: prints the two times [s]."""
+    for p in PLAYERS:
+        serve_window(p, step=10)
+    t_win = best_of(lambda: [serve_window(p) for p in PLAYERS])
+    run_mc("pro", 40, 19, n=1000, seed=0)
+    t = time.perf_counter()
+    run_mc("pro", 40, 19, n=n_mc, seed=0)
+    print(f"{t_win:.4f} {time.perf_counter() - t:.3f}")
+
+
+def against(old_src: str, n_mc: int) -> None:
+    """This tree vs ``old_src``: alternating fresh processes, two rounds, best times, ratio new / old."""
+    trees = {"new": os.path.abspath(SRC), "old": os.path.abspath(old_src)}
+    best = {k: [math.inf, math.inf] for k in trees}
+    for _ in range(2):
+        for k, src in trees.items():
+            env = dict(os.environ, TENNISLAB_BENCH_SRC=src)
+            out = subprocess.run(
+                [sys.executable, os.path.abspath(__file__), "--time-child", str(n_mc)],
+                capture_output=True,
+                text=True,
+                check=True,
+                env=env,
+            ).stdout.split()
+            best[k] = [min(b, float(v)) for b, v in zip(best[k], out[-2:])]
+    for i, task in enumerate(("three 91 x 91 windows", f"Monte Carlo {n_mc:.0e} serves")):
+        n, o = best["new"][i], best["old"][i]
+        print(f"{task}: new {n:.3f} s, old {o:.3f} s, ratio new/old {n / o:.2f}")
 
 
 def memory(ns) -> None:
@@ -153,10 +199,18 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="baseline on one player only (x3 extrapolated)")
     ap.add_argument("--mc", type=int, default=1_000_000, help="Monte Carlo serves (default 10^6)")
     ap.add_argument("--mem", metavar="N1,N2", help="only the memory check: peak RSS per N (e.g. 1e6,1e7)")
+    ap.add_argument("--against", metavar="OLD_SRC", help="ratio against another source tree (see the docstring)")
     ap.add_argument("--mem-child", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--time-child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.mem_child:
         _mem_child(args.mem_child)
+        return 0
+    if args.time_child:
+        _time_child(args.time_child)
+        return 0
+    if args.against:
+        against(args.against, args.mc)
         return 0
     if args.mem:
         memory([int(float(v)) for v in args.mem.split(",")])
@@ -180,11 +234,11 @@ def main(argv=None) -> int:
 
     run_mc("pro", 40, 19, n=1000, seed=0)  # warm-up
     t, c = time.perf_counter(), time.process_time()
-    r = run_mc("pro", 40, 19, n=args.mc, seed=0)
+    p_ok = run_mc("pro", 40, 19, n=args.mc, seed=0)
     t_mc, c_mc = time.perf_counter() - t, time.process_time() - c
     print(
         f"Monte Carlo {args.mc:.0e} serves: {t_mc:.2f} s wall, {c_mc:.2f} s CPU (target < 5 s for 10^6), "
-        f"{args.mc / t_mc:,.0f} serves/s, P(success) = {r['p_success']:.4f}"
+        f"{args.mc / t_mc:,.0f} serves/s, P(success) = {p_ok:.4f}"
     )
     if hasattr(os, "getloadavg"):
         print(
