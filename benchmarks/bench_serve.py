@@ -14,7 +14,7 @@ imports and a 1000-serve warm-up (the job's share is the difference): memory mus
 
 ``--against OLD_SRC`` times the three windows and the 10^6-serve Monte Carlo of this source tree and
 of another one (e.g. ``git archive <commit> src | tar -x -C /tmp/old``, then ``/tmp/old/src``) in
-alternating fresh processes (two rounds each, best kept) and prints the ratio new / old: on a shared
+alternating fresh processes (three rounds each, best kept) and prints the ratio new / old: on a shared
 machine only a ratio measured in the same run says whether performance regressed.
 """
 
@@ -161,10 +161,10 @@ def _time_child(n_mc: int) -> None:
 
 
 def against(old_src: str, n_mc: int) -> None:
-    """This tree vs ``old_src``: alternating fresh processes, two rounds, best times, ratio new / old."""
+    """This tree vs ``old_src``: alternating fresh processes, three rounds, best times, ratio new / old."""
     trees = {"new": os.path.abspath(SRC), "old": os.path.abspath(old_src)}
     best = {k: [math.inf, math.inf] for k in trees}
-    for _ in range(2):
+    for _ in range(3):
         for k, src in trees.items():
             env = dict(os.environ, TENNISLAB_BENCH_SRC=src)
             out = subprocess.run(

@@ -107,7 +107,7 @@ def test_serve_text_says_why_it_failed(capsys):
     assert rc == 0 and any(ln.startswith("FAULT (net): ") for ln in lines)
     assert any(ln.startswith("advice: Open the face") for ln in lines)
     assert sum(ln.startswith("note: ") for ln in lines) == 2  # placeholder ball data, 2-D criteria
-    assert "seed 000" not in out and "seed-2d" in out
+    assert "seed 000" not in out and "seed-2d" not in out and "the paper's 2-D test" in out
 
 
 def test_serve_3d_and_plot(capsys, tmp_path):
@@ -134,7 +134,7 @@ def test_serve_3d_and_plot(capsys, tmp_path):
         "--gravity",
         "9.81",
     )
-    assert rc == 0 and png.stat().st_size > 10_000 and "deuce-box" in out
+    assert rc == 0 and png.stat().st_size > 10_000 and "the real net and deuce-box" in out
 
 
 def test_serve_window_contract(capsys, tmp_path):

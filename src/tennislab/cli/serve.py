@@ -184,6 +184,11 @@ def _physics(args) -> dict:
     return {"flight": flight, "impact_params": params, "method": method, "dt": dt}
 
 
+def _criteria(mode: str) -> str:
+    """The success test in words (the JSON keeps the value: ``seed-2d``, ``deuce-box``, ``ad-box``)."""
+    return "the paper's 2-D test" if mode == "seed-2d" else f"the real net and {mode}"
+
+
 def _print_caveats(caveats) -> None:
     for c in caveats:
         print(f"note: {c}")
@@ -218,7 +223,7 @@ def run_serve(args) -> int:
     )
     print(
         f"net: ball centre {res.net_height:.3f} m; lands X = {res.landing_x:.3f} m from the impact point "
-        f"(court x = {res.landing['x']:.3f}, y = {res.landing['y']:.3f}) [{res.criteria}]"
+        f"(court x = {res.landing['x']:.3f}, y = {res.landing['y']:.3f}); judged by {_criteria(res.criteria)}"
     )
     print(res.verdict.line())
     if res.verdict.advice:
@@ -246,7 +251,7 @@ def comparison_table(win) -> list[str]:
     )
     lines = [
         f"{win.player.name} (impact height {win.player.impact_height:g} m, racket {win.player.racket_speed:g} m/s; "
-        f"criteria {win.mode})",
+        f"judged by {_criteria(win.mode)})",
         f"{'':9s}{'n':>5s}" + "".join(f"{k:>18s}" for k, _ in keys),
     ]
     for cat in ("flat", "topspin"):
@@ -278,7 +283,7 @@ def run_window(args) -> int:
     res: ServeWindow | ServeWindows
     if args.player == "all":
         if args.impact_height is not None or args.racket_speed is not None:
-            raise InputError("impact_height: --player all takes no impact height or racket speed")
+            raise InputError("--player all: --impact-height/--racket-speed need a single player")
         res = windows("all", **kw)
         wins = list(res.windows)
     else:
@@ -382,7 +387,7 @@ def run_mc(args) -> int:
     m = res.landing["mean"]
     print(
         f"{res.player.name}: P(success) = {res.p_success:.4f} +- {res.p_success_se:.4f} "
-        f"over {res.n} serves ({res.criteria})"
+        f"over {res.n} serves (judged by {_criteria(res.criteria)})"
     )
     if m[0] is not None:
         e = res.landing["ellipse_95"]
