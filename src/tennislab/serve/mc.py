@@ -443,6 +443,7 @@ def monte_carlo(
     check_range("impact_angle", impact_angle, -89.0, 89.0, "deg")
     check_range("face_angle", face_angle, -90.0, 90.0, "deg")
     check_serve_options(target, azimuth_deg, 0.0, server_y)
+    check_range("dt", dt, 0.0, 1e-3, "s")
     flight = flight or seed_flight_params()
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()

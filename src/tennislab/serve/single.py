@@ -162,6 +162,7 @@ def simulate(
     check_range("impact_angle", impact_angle, -89.999, 89.999, "deg")
     check_range("face_angle", face_angle, -90.0, 90.0, "deg")
     check_range("toss_vz", toss_vz, -30.0, 30.0, "m/s")
+    check_range("dt", dt, 0.0, 1e-3, "s")
     _, ph = check_serve_options(target, azimuth_deg, brush_deg, server_y)
     setup = Setup(player, flight, impact_params, crit, target, ph, float(server_y), float(toss_vz), float(dt), method)
     o = outcomes(setup, impact_angle, face_angle, azimuth_deg)

@@ -303,6 +303,7 @@ def window(
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     crit = criteria or SeedCriteria()
     check_serve_options(target, azimuth_deg, brush_deg, server_y)
+    check_range("dt", dt, 0.0, 1e-3, "s")
     a = np.asarray(angle_grid(step) if alpha_deg is None else alpha_deg, float)
     b = np.asarray(angle_grid(step) if beta_deg is None else beta_deg, float)
     if a.size == 0 or b.size == 0:
