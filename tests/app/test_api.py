@@ -11,22 +11,15 @@ import pytest
 
 pytest.importorskip("fastapi")
 pytest.importorskip("httpx")
-from fastapi.testclient import TestClient
 
 from tennislab.app import fields as F
-from tennislab.app.server import STATIC, create_app
+from tennislab.app.server import STATIC
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.core.flight import fly as core_fly
 from tennislab.results import jsonable
 from tennislab.trajectory import fly
 from tennislab.units import DEG, KMH, RPM
-
-
-@pytest.fixture(scope="module")
-def client():
-    with TestClient(create_app(allowed_hosts=["testserver"])) as c:
-        yield c
 
 
 def err(r, status=422) -> str:

@@ -271,7 +271,7 @@ class Pool:
                 self._changed.clear()
                 try:
                     await asyncio.wait_for(self._changed.wait(), self.poll_s)
-                except asyncio.TimeoutError:
+                except TimeoutError:
                     pass
                 w = self._take(heavy)
                 if w is not None:

@@ -179,7 +179,7 @@ def json_depth(raw: bytes) -> int:
 def check_content_type(value: str | None) -> None:
     """Only ``application/json`` (optionally ``; charset=utf-8``): what no HTML form or simple request sends."""
     media, *params = [p.strip().lower() for p in (value or "").split(";")]
-    ok = media == "application/json" and all(p in ("charset=utf-8", "charset=\"utf-8\"", "") for p in params)
+    ok = media == "application/json" and all(p in ("charset=utf-8", 'charset="utf-8"', "") for p in params)
     if not ok:
         got = F.short(value) if value else "none"
         raise Refused(415, f"request: expected Content-Type application/json, got {got}")
@@ -202,7 +202,7 @@ async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
 
     try:
         raw = await asyncio.wait_for(_read(), BODY_TIMEOUT_S)
-    except asyncio.TimeoutError:
+    except TimeoutError:
         raise Refused(408, f"request: the body did not arrive within {BODY_TIMEOUT_S:g} s") from None
     if not raw.strip():
         raise InputError("request: expected a JSON object, got an empty body")
@@ -231,6 +231,7 @@ def create_app(
     allowed_hosts: list[str] | None = None,
     *,
     workers: int = 2,
+    spares: int = 1,
     deadline_s: float | None = None,
     max_waiting: int = 32,
     ready: Callable[[], None] | None = None,
@@ -238,11 +239,12 @@ def create_app(
     """Build the application.
 
     ``allowed_hosts``: Host names accepted besides loopback literals (default :data:`LOOPBACK_HOSTS`;
-    ``["*"]`` for any), a guard against DNS rebinding.  ``workers``: processes of the physics pool;
+    ``["*"]`` for any), a guard against DNS rebinding.  ``workers``: processes of the physics pool
+    (plus ``spares`` started ahead to replace a stopped one);
     ``deadline_s``: one time limit for every job (default: per job, :data:`tennislab.app.pool.DEADLINES_S`);
     ``ready``: called once the workers answer (``tennislab app`` prints its URL then).
     """
-    pool = Pool(workers, deadline_s=deadline_s, max_waiting=max_waiting)
+    pool = Pool(workers, spares=spares, deadline_s=deadline_s, max_waiting=max_waiting)
 
     @contextlib.asynccontextmanager
     async def lifespan(app):

@@ -24,9 +24,7 @@ PLOT_POINTS = 160
 
 def physics_params(v: dict) -> FlightParams:
     """:class:`FlightParams` from the physics fields of a form (aero, air_density, wind_x, wind_y)."""
-    return FlightParams.from_options(
-        aero=v["aero"], air_density=v["air_density"], wind=(v["wind_x"], v["wind_y"], 0.0)
-    )
+    return FlightParams.from_options(aero=v["aero"], air_density=v["air_density"], wind=(v["wind_x"], v["wind_y"], 0.0))
 
 
 def trajectory_points(tr, n: int = PLOT_POINTS) -> list[list[float]]:
