@@ -156,6 +156,13 @@ def test_every_message_names_the_label_never_the_key():
         (None, "shots[0].speed_kmh: 250 km/h", "shot 1: ball speed: 250 km/h"),
         (None, "shots[1]: every shot must", "shot 2: every shot must"),
         ("flight", "something\nelse: x", "something else: x"),
+        (
+            "aim",
+            "target: beyond its reach; raise speed_kmh (max 200)",
+            "target: beyond its reach; raise ball speed (max 200)",
+        ),
+        ("aim", "target: no_such_name here", "target: no_such_name here"),
+        ("serve", "azimuth/brush/server_y: need target", "azimuth/brush/server position y (3-D): need target"),
     ],
 )
 def test_label_message(form, message, want):

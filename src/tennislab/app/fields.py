@@ -316,26 +316,33 @@ def label_of(form: str | None, name: str) -> str | None:
 
 
 _LEADING = re.compile(r"^(shots\[(\d+)\]\.?)?([A-Za-z_][A-Za-z0-9_ ]*?)?(\[\d+\])?(?=: )")
+#: an internal name inside a message (``speed_kmh``): words joined by underscores
+_IDENTIFIER = re.compile(r"\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b")
 
 
 def label_message(form: str | None, message: str) -> str:
     """A one-line message whose leading parameter name is replaced by the label of its field.
 
     ``speed_ms: -1 m/s is ...`` -> ``speed: -1 m/s is ...`` on the flight form;
-    ``shots[2].target_x: ...`` -> ``shot 3: target x: ...``.  Unknown names are left as they are.
+    ``shots[2].target_x: ...`` -> ``shot 3: target x: ...``; an internal name inside the message
+    (``... raise speed_kmh``) becomes its label too.  Unknown names are left as they are.
     """
     msg = " ".join(str(message).split())
     m = _LEADING.match(msg)
+    shot, name = (m.group(2), m.group(3)) if m else (None, None)
+    in_form = "aim" if shot is not None else form
+
+    def inner(mm: re.Match) -> str:  # "raise speed_kmh (max 200)" -> "raise ball speed (max 200)"
+        return label_of(in_form, mm.group(0)) or mm.group(0)
+
     if not m:
-        return msg
-    rest = msg[m.end() :]
-    shot, name = m.group(2), m.group(3)
+        return _IDENTIFIER.sub(inner, msg)
+    rest = _IDENTIFIER.sub(inner, msg[m.end() :])
     if shot is not None:
         lab = label_of("aim", name) if name else None
-        head = f"shot {int(shot) + 1}" + (f": {lab or name}" if name else "")
-        return head + rest
+        return f"shot {int(shot) + 1}" + (f": {lab or name}" if name else "") + rest
     lab = label_of(form, name) if name else None
-    return (lab + rest) if lab else msg
+    return (lab or msg[: m.end()]) + rest
 
 
 def validate(form: str, body) -> dict:

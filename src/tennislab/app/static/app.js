@@ -44,7 +44,7 @@ function fieldError(f, raw) {
     const lo = f.lo === null ? "-inf" : pyFloat(f.lo), hi = f.hi === null ? "inf" : pyFloat(f.hi);
     return `${lab}: ${fmtG(v)}${u} is outside the allowed range ${f.lo_open ? "(" : "["}${lo}, ${hi}]${u}`;
   }
-  if (f.kind === "int" && !Number.isInteger(v)) return `${lab}: expected a whole number, got '${s}'`;
+  if (f.kind === "int" && !Number.isInteger(v)) return `${lab}: expected a whole number, got ${pyFloat(v)}`;
   return "";
 }
 
@@ -150,9 +150,28 @@ function clearBox(el) { el.innerHTML = ""; delete el.dataset.for; }
 const PAGES = {};
 function page(name, def) { PAGES[name] = def; }
 
+/* Computations scheduled or running, per page: state.idle() is true when nothing is pending. */
+const busy = {};
+function begin(n) { busy[n] = (busy[n] || 0) + 1; }
+function end(n) { busy[n] -= 1; }
+state.idle = () => Object.values(busy).every(v => v === 0);
+function unschedule(name) {
+  if (state.timers[name]) { clearTimeout(state.timers[name]); state.timers[name] = null; end(name); }
+}
+function schedule(name, fn) {
+  unschedule(name);
+  begin(name);
+  state.timers[name] = setTimeout(async () => { state.timers[name] = null; try { await fn(); } finally { end(name); } }, AUTO_DELAY_MS);
+}
+async function now(name, fn) {   /* run at once (a click, a submit), dropping a pending run */
+  unschedule(name);
+  begin(name);
+  try { await fn(); } finally { end(name); }
+}
+
 function onEdit(name) {
   const pg = PAGES[name];
-  clearTimeout(state.timers[name]);
+  unschedule(name);
   const {body, errors} = readForm(pg.form);
   updateURL(name);
   if (!body) {
@@ -163,7 +182,7 @@ function onEdit(name) {
   }
   if (pg.auto && pg.auto()) {
     setStatus($(pg.status), "inputs changed…", "busy");
-    state.timers[name] = setTimeout(() => pg.run(), AUTO_DELAY_MS);
+    schedule(name, pg.run);
   } else {
     pg.clear();
     setStatus($(pg.status), pg.hint || "", "");
@@ -171,7 +190,6 @@ function onEdit(name) {
 }
 async function runPage(name) {
   const pg = PAGES[name];
-  clearTimeout(state.timers[name]);
   const {body, errors} = readForm(pg.form);
   updateURL(name);
   if (!body) {
@@ -299,12 +317,10 @@ async function runServe() {
 }
 /* The window follows the player, height, racket speed and step (it is quick: at most 181 x 181 serves). */
 function scheduleWindow() {
-  clearTimeout(state.timers.window);
   setStatus($("#window-status"), "inputs changed…", "busy");
-  state.timers.window = setTimeout(runWindow, AUTO_DELAY_MS);
+  schedule("window", runWindow);
 }
 async function runWindow() {
-  clearTimeout(state.timers.window);
   const s = readForm("serve", ["player", "height", "racket_speed"]), w = readForm("window", ["step"]);
   const errors = s.errors.concat(w.errors);
   if (errors.length) { clearWindow(); setStatus($("#window-status"), errors[0], "error"); return; }
@@ -349,7 +365,7 @@ function drawLauncherCourt(extra, pts = []) {
   ax.svg.onclick = evt => {
     const [x, y] = ax.fromClient(evt);
     $("#aim-target_x").value = x.toFixed(2); $("#aim-target_y").value = y.toFixed(2);
-    runAim();
+    now("launcher", runAim);
   };
   return ax;
 }
@@ -402,7 +418,9 @@ function renderDrill() {
 async function downloadDrill() {
   const shots = state.drill.map(s => s.body);
   const name = $("#drill-name").value || "my drill";
-  const r = await post("drill", "/api/launcher/drill", {name, shots}, $("#drill-status")); if (!r) return;
+  let r = null;
+  await now("drill", async () => { r = await post("drill", "/api/launcher/drill", {name, shots}, $("#drill-status")); });
+  if (!r) return;
   download(new Blob([r.text], {type: r.media_type || "text/plain"}), r.filename);
 }
 page("drill", {form: null, status: "#drill-status", clear() {}});
@@ -457,12 +475,19 @@ function callFromFile() {
     state.track = null; PAGES.linecall.clear();
     setStatus($("#call-status"), `track file: the track file is larger than ${state.meta.limits.track_bytes / 1000} kB`, "error"); return;
   }
-  const rd = new FileReader(); rd.onload = () => { state.track = String(rd.result); runCall(); }; rd.readAsText(f);
+  begin("linecall");
+  const rd = new FileReader();
+  rd.onloadend = () => { end("linecall"); if (rd.result !== null) { state.track = String(rd.result); now("linecall", runCall); } };
+  rd.readAsText(f);
 }
 async function callSample() {
   $("#linecall-target").value = "deuce-box"; $("#linecall-line").value = "auto";
-  const r = await fetch("/api/linecall/sample");
-  state.track = await r.text(); runCall();
+  await now("linecall", async () => {
+    const r = await fetch("/api/linecall/sample");
+    if (!r.ok) { PAGES.linecall.clear(); setStatus($("#call-status"), `example track: HTTP ${r.status}`, "error"); return; }
+    state.track = await r.text();
+    await runCall();
+  });
 }
 
 /* ---------- exports: PNG of each plot, CSV of the numbers ---------- */
@@ -563,8 +588,8 @@ async function openPage(fromURL) {
   const given = fromURL ? applyURL() : false;
   const pg = PAGES[name];
   if (given || !state.ran[name]) {
-    if (pg.auto && pg.auto()) await pg.run(); else onEdit(name);
-    if (name === "serve") await runWindow();
+    if (pg.auto && pg.auto()) await now(name, pg.run); else onEdit(name);
+    if (name === "serve") await now("window", runWindow);
   }
   updateURL(name);
 }
@@ -577,7 +602,7 @@ async function init() {
   $("#version").textContent = "tennislab " + meta.version;
   const court = meta.court;
 
-  buildForm("flight", $("#flight-form"), {onEdit: () => onEdit("flight"), onSubmit: runFlight});
+  buildForm("flight", $("#flight-form"), {onEdit: () => onEdit("flight"), onSubmit: () => now("flight", runFlight)});
   state.views.flight = new P.View3D($("#flight-3d"), court);
 
   buildForm("serve", $("#serve-form"), {onEdit: n => {
@@ -585,12 +610,12 @@ async function init() {
     if (n === "height" || n === "racket_speed") $("#serve-player").value = "custom";
     if (["player", "height", "racket_speed"].includes(n)) scheduleWindow();
     onEdit("serve");
-  }, onSubmit: runServe});
+  }, onSubmit: () => now("serve", runServe)});
   buildForm("window", $("#window-form"), {only: ["step"], inline: true, submit: "compute window", submitId: "run-window",
-    onEdit: () => { updateURL("serve"); scheduleWindow(); }, onSubmit: runWindow});
+    onEdit: () => { updateURL("serve"); scheduleWindow(); }, onSubmit: () => now("window", runWindow)});
   state.views.serve = new P.View3D($("#serve-3d"), court);
   state.heat = new P.HeatMap($("#serve-heatmap"), (a, b) => {
-    $("#serve-impact_angle").value = a; $("#serve-face_angle").value = b; runServe();
+    $("#serve-impact_angle").value = a; $("#serve-face_angle").value = b; now("serve", runServe);
   });
 
   buildForm("aim", $("#aim-form"), {onEdit: n => {
@@ -600,7 +625,7 @@ async function init() {
       if ($("#aim-shot").value === "flat") $("#aim-spin_rpm").value = 0;
     }
     onEdit("launcher");
-  }, onSubmit: runAim, submit: "aim"});
+  }, onSubmit: () => now("launcher", runAim), submit: "aim"});
   $("#add-shot").addEventListener("click", () => {
     if (state.lastAim && state.drill.length < meta.limits.drill_shots) { state.drill.push(state.lastAim); renderDrill(); }
   });
