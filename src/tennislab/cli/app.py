@@ -94,13 +94,15 @@ def bind(host: str, port: int) -> socket.socket:
 def run(args) -> int:
     check_range("port", args.port, 0, 65535)
     check_range("workers", args.workers, 1, 16)
-    try:
+    try:  # the app's third-party extras (optional: every other command works without them)
+        import fastapi  # noqa: F401
         import uvicorn
-
-        from tennislab.app.server import create_app
     except ImportError as exc:
         msg = f"app: the web app needs the optional dependencies: pip install 'tennislab[app]' ({exc})"
         raise InputError(msg) from None
+    # imported here, not at the top: tennislab.app.server needs fastapi, an optional extra
+    from tennislab.app.server import create_app
+
     sock = bind(args.host, args.port)
     try:
         addrs = [sock.getsockname()[0]]
