@@ -44,8 +44,10 @@ def test_validate_raises_only_input_error(form, body, known):
         assert len(msg) < 500, msg  # bounded: user text is cut to 40 characters
         from tennislab.app.fields import field_label
 
-        # the message opens with the offending field's label (which may itself contain ": ")
-        assert any(msg.startswith(label + ": ") for label in {field_label(k) for k in data} | {"body"}), msg
+        # the message opens with the offending field's label on screen (or the unknown key as given)
+        fields = FORMS[form].by_name()
+        heads = {fields[k].label if k in fields else field_label(k) for k in data} | {"request"}
+        assert any(msg.startswith(h + ": ") for h in heads), msg
         return
     # accepted: every value is of its kind and within range
     for name, f in FORMS[form].by_name().items():
@@ -60,7 +62,7 @@ def test_validate_raises_only_input_error(form, body, known):
 
 @pytest.mark.parametrize("body", [None, [], "x", 3, [("a", 1)]])
 def test_body_must_be_an_object(body):
-    with pytest.raises(InputError, match="^body:"):
+    with pytest.raises(InputError, match="^request:"):
         validate("flight", body)
 
 
@@ -73,12 +75,12 @@ def test_defaults_validate_and_empty_body_gives_defaults():
 @pytest.mark.parametrize(
     "value, msg",
     [
-        (91, "a: 91 deg is outside the allowed range [0.0, 90.0] deg"),
-        (-1e-9, "a: -1e-09 deg is outside the allowed range [0.0, 90.0] deg"),
-        ("12x", "a: expected a number, got '12x'"),
-        (float("nan"), "a: must be a finite number, got nan"),
-        (True, "a: expected a number, got True"),
-        ([1], "a: expected a number, got [1]"),
+        (91, "angle: 91 deg is outside the allowed range [0.0, 90.0] deg"),
+        (-1e-9, "angle: -1e-09 deg is outside the allowed range [0.0, 90.0] deg"),
+        ("12x", "angle: expected a number, got '12x'"),
+        (float("nan"), "angle: must be a finite number, got nan"),
+        (True, "angle: expected a number, got True"),
+        ([1], "angle: expected a number, got [1]"),
     ],
 )
 def test_messages(value, msg):
@@ -92,7 +94,7 @@ def test_long_or_odd_user_text_is_cut():
     f = Field("a", "angle", "float", 0.0, 0.0, 90.0, "deg")
     with pytest.raises(InputError) as exc:
         f.parse("9" * 10_000)
-    assert str(exc.value) == "a: expected a number, got a text of 10000 characters"
+    assert str(exc.value) == "angle: expected a number, got a text of 10000 characters"
     with pytest.raises(InputError) as exc:
         f.parse(list(range(1000)))
     assert len(str(exc.value)) < 100
@@ -110,3 +112,60 @@ def test_numeric_strings_and_ints():
     assert g.parse("b") == "b"
     with pytest.raises(InputError, match="'z' is not one of a, b"):
         g.parse("z")
+
+
+@pytest.mark.parametrize("value", [None, "", "   "])
+def test_a_present_but_empty_value_is_required(value):
+    """An emptied field never silently takes its default: missing key = default, empty value = error."""
+    with pytest.raises(InputError, match="^speed: a value is required$"):
+        validate("flight", {"speed_kmh": value})
+    assert validate("flight", {})["speed_kmh"] == FORMS["flight"].by_name()["speed_kmh"].default
+
+
+def test_huge_integers_are_refused_cleanly():
+    with pytest.raises(InputError, match="^position x: .* outside the allowed range"):
+        validate("flight", {"x": 10**400})
+
+
+def test_every_message_names_the_label_never_the_key():
+    """For every field of every form, a bad value gives a message opening with the label on screen."""
+    for name, form in FORMS.items():
+        for f in form.fields:
+            bad = "not-a-choice" if f.kind == "choice" else (f.hi + 1 if f.hi is not None else "x")
+            with pytest.raises(InputError) as exc:
+                validate(name, {f.name: bad})
+            msg = str(exc.value)
+            assert msg.startswith(f.label + ": "), msg
+            if "_" in f.name:  # an internal key such as speed_kmh never reaches the user
+                assert f.name not in msg, msg
+
+
+@pytest.mark.parametrize(
+    "form, message, want",
+    [
+        ("flight", "speed_ms: -1 m/s is outside", "speed: -1 m/s is outside"),
+        ("flight", "spin_axis: unknown axis 'x'", "spin axis: unknown axis 'x'"),
+        ("flight", "flight: the ball does not land", "flight: the ball does not land"),
+        ("serve", "impact angle: 95 deg is outside", "impact angle α: 95 deg is outside"),
+        ("serve", "racket_speed: 0 m/s", "racket speed: 0 m/s"),
+        ("aim", "speed_kmh: 250 km/h is outside", "ball speed: 250 km/h is outside"),
+        ("aim", "target: cannot be reached", "target: cannot be reached"),
+        ("linecall", "csv: line 3: expected 4 numbers", "track file: line 3: expected 4 numbers"),
+        (None, "shots: expected a list", "drill: expected a list"),
+        (None, "shots[2].target x: expected a number", "shot 3: target x: expected a number"),
+        (None, "shots[0].speed_kmh: 250 km/h", "shot 1: ball speed: 250 km/h"),
+        (None, "shots[1]: every shot must", "shot 2: every shot must"),
+        ("flight", "something\nelse: x", "something else: x"),
+        (
+            "aim",
+            "target: beyond its reach; raise speed_kmh (max 200)",
+            "target: beyond its reach; raise ball speed (max 200)",
+        ),
+        ("aim", "target: no_such_name here", "target: no_such_name here"),
+        ("serve", "azimuth/brush/server_y: need target", "azimuth/brush/server position y (3-D): need target"),
+    ],
+)
+def test_label_message(form, message, want):
+    from tennislab.app.fields import label_message
+
+    assert label_message(form, message.replace("\\n", "\n")) == want

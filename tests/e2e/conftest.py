@@ -4,18 +4,18 @@ The tests are marked ``e2e`` and skip cleanly when Playwright or a Chromium
 binary is missing (``make test`` without a browser still passes).  The browser
 is the system's (Debian ``chromium``; override with ``TENNISLAB_CHROMIUM``),
 driven through Playwright's ``executable_path`` (never ``playwright install``).
+Pages are opened at a desktop width (1400 px) and a phone's (390 px).
 Screenshots go to ``out/screenshots/`` (kept as CI artifacts).
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
-import socket
 import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import pytest
@@ -31,6 +31,7 @@ CHROMIUM_ARGS = [
     "--disable-sync",
     "--no-first-run",
 ]
+WIDTHS = {"1400px": (1400, 1000), "390px": (390, 844)}
 
 
 def chromium_path() -> str | None:
@@ -44,50 +45,28 @@ def chromium_path() -> str | None:
     return "/usr/bin/chromium" if os.path.exists("/usr/bin/chromium") else None
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def start_server(env_extra: dict | None = None):
-    """Start ``tennislab app`` on a free loopback port; returns (process, base URL) once it answers."""
+def start_server():
+    """Start ``tennislab app --port 0``; returns (process, base URL) once it prints its URL."""
     pytest.importorskip("fastapi")
     pytest.importorskip("uvicorn")
-    port = _free_port()
-    env = {k: v for k, v in os.environ.items() if k != "TENNISLAB_APP_DISABLE"}
-    env.update(env_extra or {})
-    import tempfile
-
-    log = tempfile.TemporaryFile()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", str(port)],
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        env=env,
+        [sys.executable, "-m", "tennislab", "app", "--host", "127.0.0.1", "--port", "0"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
     )
-    url = f"http://127.0.0.1:{port}"
-    deadline = time.time() + 90
-    while True:
-        try:
-            urllib.request.urlopen(url + "/api/meta", timeout=2).read()
+    deadline = time.monotonic() + 90
+    lines = []
+    while time.monotonic() < deadline:
+        line = proc.stderr.readline()
+        if not line:
             break
-        except OSError:
-            if proc.poll() is not None or time.time() > deadline:
-                proc.kill()
-                log.seek(0)
-                tail = log.read().decode(errors="replace")[-2000:]
-                pytest.fail(f"tennislab app did not start (exit code {proc.poll()}):\n{tail}")
-            time.sleep(0.3)
-    return proc, url
-
-
-def stop_server(proc):
-    proc.terminate()
-    try:
-        proc.wait(10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+        lines.append(line)
+        m = re.search(r"(http://\S+?)/\s", line)
+        if m:
+            return proc, m.group(1)
+    proc.kill()
+    pytest.fail("tennislab app did not start:\n" + "".join(lines))
 
 
 @pytest.fixture(scope="session")
@@ -95,15 +74,13 @@ def server():
     """``tennislab app`` started as a subprocess on a free loopback port; yields its base URL."""
     proc, url = start_server()
     yield url
-    stop_server(proc)
-
-
-@pytest.fixture(scope="session")
-def degraded_server():
-    """The same with serve, line calling and the launcher switched off (``TENNISLAB_APP_DISABLE``)."""
-    proc, url = start_server({"TENNISLAB_APP_DISABLE": "serve,linecall,launcher"})
-    yield url
-    stop_server(proc)
+    proc.terminate()
+    try:
+        _, err = proc.communicate(timeout=15)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        _, err = proc.communicate()
+    assert "Traceback" not in (err or ""), err
 
 
 @pytest.fixture(scope="session")
@@ -118,8 +95,8 @@ def browser():
         b.close()
 
 
-def _page(browser, base):
-    ctx = browser.new_context(viewport={"width": 1300, "height": 1000}, accept_downloads=True)
+def _page(browser, base, size, tag):
+    ctx = browser.new_context(viewport={"width": size[0], "height": size[1]}, accept_downloads=True)
     pg = ctx.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
@@ -132,23 +109,24 @@ def _page(browser, base):
         ),
     )
     pg.base = base
-    pg.snap = lambda name: screenshot(pg, name)
+    pg.width = size[0]
+    pg.snap = lambda name: screenshot(pg, f"{name}-{tag}")
     return ctx, pg, errors
 
 
-@pytest.fixture
-def page(browser, server):
-    """A fresh page with JS errors collected (a test fails on any uncaught error)."""
-    ctx, pg, errors = _page(browser, server)
+@pytest.fixture(params=list(WIDTHS))
+def page(request, browser, server):
+    """A fresh page at 1400 px and at 390 px, JS errors collected (a test fails on any uncaught error)."""
+    ctx, pg, errors = _page(browser, server, WIDTHS[request.param], request.param)
     yield pg
     ctx.close()
     assert not errors, errors
 
 
 @pytest.fixture
-def degraded_page(browser, degraded_server):
-    """A page of the server without serve, line calling and launcher."""
-    ctx, pg, errors = _page(browser, degraded_server)
+def wide_page(browser, server):
+    """A fresh page at 1400 px only (for the tests whose subject is not the layout)."""
+    ctx, pg, errors = _page(browser, server, WIDTHS["1400px"], "1400px")
     yield pg
     ctx.close()
     assert not errors, errors

@@ -1,14 +1,13 @@
 """The FastAPI application of ``tennislab app``.
 
-Routes (all JSON; every field validated by :mod:`tennislab.app.fields`):
+Routes (every field validated by :mod:`tennislab.app.fields`):
 
 =========================  ===============================================
 ``GET  /``                 the page (``static/index.html``)
 ``GET  /static/...``       scripts and styles shipped in the package (no CDN)
-``GET  /api/meta``         version, which modules are available, the forms'
-                           field definitions, the court geometry, players
-``POST /api/flight``       one flight from a launch
-``POST /api/serve``        one serve (impact + 3-D flight + success)
+``GET  /api/meta``         version, the forms' field definitions, the court geometry, players, limits
+``POST /api/flight``       one flight from a launch (:func:`tennislab.trajectory.fly`)
+``POST /api/serve``        one serve (impact + 3-D flight + success and verdict)
 ``POST /api/serve/window`` the alpha x beta serve window (heat map)
 ``POST /api/launcher/aim`` quantised machine settings for a target
 ``POST /api/launcher/drill`` a drill file from several aimed shots
@@ -16,130 +15,275 @@ Routes (all JSON; every field validated by :mod:`tennislab.app.fields`):
 ``GET  /api/linecall/sample`` a synthetic example track (CSV text)
 =========================  ===============================================
 
-Errors: bad input -> 422 ``{"error": "field: message"}`` (the messages of
-:class:`tennislab.errors.InputError`); a module that is not installed -> 503
-``{"error": ...}``; a body over the size limit -> 413.  Nothing in a request
-is executed: values are parsed as numbers or checked against fixed choices
-and passed to the physics functions.
+What the server promises (``docs/security.md``): it answers only its own page.  Every request's
+``Host`` must be a loopback name (or one allowed by ``--allow-host``); every state-changing request
+and every ``/api/`` request from a browser must come from the page itself (``Origin`` equal to the
+server's own, or no ``Origin`` and no cross-site ``Sec-Fetch-Site``); POST bodies must be
+``application/json`` (so no HTML form or ``no-cors`` fetch of another site can send one), at most
+:data:`~tennislab.app.fields.MAX_BODY_BYTES`, received within :data:`BODY_TIMEOUT_S` and nested at
+most :data:`~tennislab.app.fields.MAX_JSON_DEPTH` deep (checked before parsing).  The page cannot
+be framed (``frame-ancestors 'none'``, ``X-Frame-Options: DENY``).  The physics runs in a pool of
+worker processes (:mod:`tennislab.app.pool`) with per-job deadlines; a job whose client has gone is
+cancelled.
+
+Errors are one line of JSON ``{"error": "label: message"}`` naming the field by its label on
+screen: 422 bad input, 415 wrong content type, 413 too large, 408 too slow, 403 foreign origin,
+400 foreign host, 503 busy or past a deadline.
 """
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import ipaddress
 import json
 import logging
-import math
-import threading
+import re
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 from fastapi import FastAPI, Request
-from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse
+from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
-from starlette.concurrency import run_in_threadpool
-from starlette.middleware.trustedhost import TrustedHostMiddleware
+from starlette.datastructures import Headers, MutableHeaders
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from tennislab import __version__
+from tennislab.app import features
 from tennislab.app import fields as F
 from tennislab.app import services as S
+from tennislab.app.pool import ClientGone, Pool, PoolError
 from tennislab.errors import InputError
 
 STATIC = Path(__file__).parent / "static"
-#: One physics call at a time: the compiled kernels already use every core, and Numba's
-#: ``workqueue`` threading layer (the fallback when neither TBB nor OpenMP is present) must not
-#: be entered from two threads at once.
-PHYSICS_LOCK = threading.Lock()
+#: Host names accepted when bound to loopback (any loopback IP literal is accepted too)
 LOOPBACK_HOSTS = ["127.0.0.1", "localhost", "[::1]", "::1"]
+#: a request body must arrive within this time [s]
+BODY_TIMEOUT_S = 15.0
 log = logging.getLogger("tennislab.app")
 
 SECURITY_HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' data: blob:; style-src 'self'; "
-    "script-src 'self'; connect-src 'self'; object-src 'none'; base-uri 'none'",
+    "script-src 'self'; connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'none'; "
+    "frame-ancestors 'none'",
+    "X-Frame-Options": "DENY",
     "X-Content-Type-Options": "nosniff",
     "Referrer-Policy": "no-referrer",
+    "Cross-Origin-Opener-Policy": "same-origin",
+    "Cross-Origin-Resource-Policy": "same-origin",
 }
+SAFE_METHODS = {"GET", "HEAD"}
+ALLOWED_METHODS = {"GET", "HEAD", "POST"}
 
 
-class TooLarge(Exception):
-    pass
+class Refused(Exception):
+    """A request refused before any work: HTTP ``status`` and a one-line message."""
 
-
-def clean(obj):
-    """JSON-safe copy: numpy -> python, NaN/inf -> None."""
-    if isinstance(obj, dict):
-        return {str(k): clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return clean(obj.tolist())
-    if isinstance(obj, (float, np.floating)):
-        f = float(obj)
-        return f if math.isfinite(f) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj
-
-
-async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
-    """The request body parsed as JSON, refusing bodies over ``limit`` bytes."""
-    cl = request.headers.get("content-length")
-    if cl is not None and cl.isdigit() and int(cl) > limit:
-        raise TooLarge()
-    buf = bytearray()
-    async for chunk in request.stream():
-        buf += chunk
-        if len(buf) > limit:
-            raise TooLarge()
-    if not buf:
-        raise InputError("body: expected a JSON object, got an empty body")
-    try:
-        return json.loads(bytes(buf))
-    except (ValueError, UnicodeDecodeError):
-        raise InputError("body: not valid JSON") from None
-
-
-def _locked(fn, *args, **kw):
-    with PHYSICS_LOCK:
-        return fn(*args, **kw)
+    def __init__(self, status: int, message: str):
+        super().__init__(message)
+        self.status = status
 
 
 def _error(status: int, msg: str) -> JSONResponse:
     return JSONResponse({"error": msg}, status_code=status)
 
 
-def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
-    """Build the application.  ``allowed_hosts``: Host headers accepted (default loopback names;
-    ``["*"]`` for any), a guard against DNS rebinding when bound to loopback."""
-    app = FastAPI(title="tennislab", version=__version__, docs_url=None, redoc_url=None, openapi_url=None)
-    app.add_middleware(TrustedHostMiddleware, allowed_hosts=allowed_hosts or LOOPBACK_HOSTS)
+# ---------------------------------------------------------------------- host and origin
+def host_name(value: str) -> str | None:
+    """The host name of a ``Host`` header (``name``, ``name:port``, ``[v6]:port``), lower case; None if malformed."""
+    v = value.strip().lower()
+    if v.startswith("["):
+        end = v.find("]")
+        rest = v[end + 1 :] if end > 0 else "x"
+        if rest and not (rest.startswith(":") and rest[1:].isdigit()):
+            return None
+        return v[1:end]
+    name, _, port = v.partition(":")
+    if port and not port.isdigit():
+        return None
+    return name or None
 
-    @app.middleware("http")
-    async def _headers(request: Request, call_next):
+
+def is_loopback_literal(name: str) -> bool:
+    try:
+        return ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
+
+
+class Guard:
+    """ASGI middleware: Host, Origin and method checks before the app; security headers on every answer."""
+
+    def __init__(self, app, allowed_hosts: list[str]) -> None:
+        self.app = app
+        self.any_host = "*" in allowed_hosts
+        self.names = {h.strip("[]").lower() for h in allowed_hosts}
+
+    def host_ok(self, name: str | None) -> bool:
+        return name is not None and (self.any_host or name in self.names or is_loopback_literal(name))
+
+    def check(self, method: str, path: str, headers: Headers) -> tuple[int, str] | None:
+        host = headers.get("host", "")
+        if not self.host_ok(host_name(host)):
+            return 400, f"host: {F.short(host)} is not a name of this server (start it with --allow-host NAME)"
+        if method not in ALLOWED_METHODS:
+            return 405, f"method: {method} is not allowed"
+        if method in SAFE_METHODS and not path.startswith("/api/"):
+            return None  # the page and its files may be opened from anywhere (they cannot be framed)
+        origin = headers.get("origin")
+        site = headers.get("sec-fetch-site")
+        if origin is not None:
+            if origin.lower() != f"http://{host.lower()}":
+                return 403, f"origin: requests from {F.short(origin)} are refused (the app answers only its own page)"
+        elif site in ("cross-site", "same-site"):
+            return 403, f"origin: {site} requests are refused (the app answers only its own page)"
+        return None
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        path = scope["path"]
+
+        async def send_with_headers(message):
+            if message["type"] == "http.response.start":
+                h = MutableHeaders(scope=message)
+                for k, v in SECURITY_HEADERS.items():
+                    if k not in h:
+                        h[k] = v
+                if path.startswith("/api/"):
+                    h["Cache-Control"] = "no-store"
+            await send(message)
+
+        problem = self.check(scope["method"], path, Headers(scope=scope))
+        if problem is not None:
+            await _error(*problem)(scope, receive, send_with_headers)
+            return
+        await self.app(scope, receive, send_with_headers)
+
+
+# ---------------------------------------------------------------------- JSON bodies
+_JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"', re.S)
+
+
+def json_depth(raw: bytes) -> int:
+    """Nesting depth of a JSON text (brackets inside strings ignored), without parsing it."""
+    a = np.frombuffer(_JSON_STRING.sub(b'""', raw), dtype=np.uint8)
+    if a.size == 0:
+        return 0
+    step = ((a == 0x5B) | (a == 0x7B)).astype(np.int32) - ((a == 0x5D) | (a == 0x7D)).astype(np.int32)
+    return int(np.cumsum(step).max(initial=0))
+
+
+def check_content_type(value: str | None) -> None:
+    """Only ``application/json`` (optionally ``; charset=utf-8``): what no HTML form or simple request sends."""
+    media, *params = [p.strip().lower() for p in (value or "").split(";")]
+    ok = media == "application/json" and all(p in ("charset=utf-8", 'charset="utf-8"', "") for p in params)
+    if not ok:
+        got = F.short(value) if value else "none"
+        raise Refused(415, f"request: expected Content-Type application/json, got {got}")
+
+
+async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
+    """The request body parsed as JSON: content type, size, time and depth checked first."""
+    check_content_type(request.headers.get("content-type"))
+    cl = request.headers.get("content-length")
+    if cl is not None and (not cl.isdigit() or int(cl) > limit):
+        raise Refused(413, f"request: the body is larger than the limit of {limit // 1000} kB")
+
+    async def _read() -> bytes:
+        buf = bytearray()
+        async for chunk in request.stream():
+            buf += chunk
+            if len(buf) > limit:
+                raise Refused(413, f"request: the body is larger than the limit of {limit // 1000} kB")
+        return bytes(buf)
+
+    try:
+        raw = await asyncio.wait_for(_read(), BODY_TIMEOUT_S)
+    except TimeoutError:
+        raise Refused(408, f"request: the body did not arrive within {BODY_TIMEOUT_S:g} s") from None
+    if not raw.strip():
+        raise InputError("request: expected a JSON object, got an empty body")
+    depth = json_depth(raw)
+    if depth > F.MAX_JSON_DEPTH:
+        raise InputError(f"request: JSON nested {depth} levels deep; at most {F.MAX_JSON_DEPTH} are accepted")
+    try:
+        return json.loads(raw)
+    except (ValueError, UnicodeDecodeError, RecursionError):
+        raise InputError("request: not valid JSON (UTF-8)") from None
+
+
+# ---------------------------------------------------------------------- the application
+#: path -> (form validated, job run, request keys passed to the job as they are)
+POSTS = {
+    "/api/flight": ("flight", "flight", ()),
+    "/api/serve": ("serve", "serve", ()),
+    "/api/serve/window": ("window", "window", ()),
+    "/api/launcher/aim": ("aim", "aim", ()),
+    "/api/launcher/drill": (None, "drill", ("shots", "name")),
+    "/api/linecall": ("linecall", "linecall", ("csv",)),
+}
+
+
+def create_app(
+    allowed_hosts: list[str] | None = None,
+    *,
+    workers: int = 2,
+    spares: int = 1,
+    deadline_s: float | None = None,
+    max_waiting: int = 32,
+    ready: Callable[[], None] | None = None,
+) -> FastAPI:
+    """Build the application.
+
+    ``allowed_hosts``: Host names accepted besides loopback literals (default :data:`LOOPBACK_HOSTS`;
+    ``["*"]`` for any), a guard against DNS rebinding.  ``workers``: processes of the physics pool
+    (plus ``spares`` started ahead to replace a stopped one);
+    ``deadline_s``: one time limit for every job (default: per job, :data:`tennislab.app.pool.DEADLINES_S`);
+    ``ready``: called once the workers answer (``tennislab app`` prints its URL then).
+    """
+    pool = Pool(workers, spares=spares, deadline_s=deadline_s, max_waiting=max_waiting)
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app):
+        await pool.start()
+        if ready is not None:
+            ready()
         try:
-            resp = await call_next(request)
-        except TooLarge:  # pragma: no cover - handled below; kept for streaming edge cases
-            resp = _error(413, "body: larger than the limit")
-        for k, v in SECURITY_HEADERS.items():
-            resp.headers.setdefault(k, v)
-        if request.url.path.startswith("/api/"):
-            resp.headers["Cache-Control"] = "no-store"
-        return resp
+            yield
+        finally:
+            await pool.close()
+
+    app = FastAPI(
+        title="tennislab", version=__version__, docs_url=None, redoc_url=None, openapi_url=None, lifespan=lifespan
+    )
+    app.state.pool = pool
 
     @app.exception_handler(InputError)
     async def _input_error(request, exc):
-        return _error(422, str(exc))
+        return _error(422, " ".join(str(exc).split()))
 
-    @app.exception_handler(S.Unavailable)
-    async def _unavailable(request, exc):
-        return _error(503, str(exc))
+    @app.exception_handler(Refused)
+    async def _refused(request, exc):
+        return _error(exc.status, str(exc))
 
-    @app.exception_handler(TooLarge)
-    async def _too_large(request, exc):
-        return _error(413, f"body: larger than the limit of {F.MAX_BODY_BYTES // 1000} kB")
+    @app.exception_handler(ClientGone)
+    async def _gone(request, exc):
+        return Response(status_code=499)  # nobody reads it
+
+    @app.exception_handler(PoolError)
+    async def _pool_error(request, exc):
+        return _error(exc.status, str(exc))
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http_error(request, exc):
+        what = {404: "not found", 405: "method not allowed"}.get(exc.status_code, str(exc.detail))
+        return _error(exc.status_code, f"{F.short(request.url.path)}: {what}")
 
     @app.exception_handler(Exception)
-    async def _internal(request, exc):  # pragma: no cover - defensive
+    async def _internal(request, exc):  # pragma: no cover - a bug
         log.exception("internal error")
         return _error(500, f"internal error: {type(exc).__name__}")
 
@@ -151,51 +295,52 @@ def create_app(allowed_hosts: list[str] | None = None) -> FastAPI:
 
     @app.get("/api/meta")
     async def meta():
-        from tennislab.app import features
-
-        return clean(
+        return JSONResponse(
             {
                 "version": __version__,
-                "modules": S.availability(),
                 "forms": F.forms_spec(),
                 "court": S.court_geometry(),
                 "players": features.players(),
-                "limits": {"track_bytes": F.MAX_TRACK_BYTES, "drill_shots": F.MAX_DRILL_SHOTS},
+                "limits": {
+                    "track_bytes": F.MAX_TRACK_BYTES,
+                    "drill_shots": F.MAX_DRILL_SHOTS,
+                    "body_bytes": F.MAX_BODY_BYTES,
+                    "json_depth": F.MAX_JSON_DEPTH,
+                },
+                "pool": pool.snapshot(),
             }
         )
 
-    def post(path: str, form: str | None, fn, *, extra: tuple = ()):
-        """Register a POST route: parse JSON, validate ``form`` (keeping ``extra`` raw keys), call ``fn``."""
+    async def run(request: Request, form: str | None, job: str, vals: dict, extra: dict):
+        try:
+            return await pool.run(job, vals, extra, gone=request.is_disconnected)
+        except InputError as exc:
+            raise InputError(F.label_message(form, str(exc))) from None
 
+    def post(path: str, form: str | None, job: str, extra_keys: tuple):
         async def handler(request: Request):
             body = await read_json(request)
             if not isinstance(body, dict):
-                raise InputError("body: expected a JSON object")
-            raw = {k: body.pop(k) for k in extra if k in body}
+                raise InputError("request: expected a JSON object")
+            extra = {k: body.pop(k) for k in extra_keys if k in body}
             if form:
                 vals = F.validate(form, body)
             elif body:
-                raise InputError(f"{F.field_label(sorted(body)[0])}: unknown field (allowed: {', '.join(extra)})")
+                raise InputError(f"{F.field_label(sorted(body)[0])}: unknown field (allowed: {', '.join(extra_keys)})")
             else:
                 vals = {}
-            result = await run_in_threadpool(_locked, fn, vals, **raw)
-            return JSONResponse(clean(result))
+            return JSONResponse(await run(request, form, job, vals, extra))
 
         handler.__name__ = "post_" + path.strip("/").replace("/", "_")
         app.post(path)(handler)
 
-    from tennislab.app import features
-
-    post("/api/flight", "flight", lambda v: S.flight(v))
-    post("/api/serve", "serve", features.serve)
-    post("/api/serve/window", "window", features.serve_window)
-    post("/api/launcher/aim", "aim", features.aim)
-    post("/api/launcher/drill", None, features.drill, extra=("shots", "name"))
-    post("/api/linecall", "linecall", features.linecall, extra=("csv",))
+    for path, (form, job, extra_keys) in POSTS.items():
+        post(path, form, job, extra_keys)
 
     @app.get("/api/linecall/sample")
-    async def sample():
-        text = await run_in_threadpool(_locked, features.sample_track)
+    async def sample(request: Request):
+        text = await run(request, None, "sample", {}, {})
         return PlainTextResponse(text, media_type="text/csv")
 
+    app.add_middleware(Guard, allowed_hosts=allowed_hosts or LOOPBACK_HOSTS)
     return app

@@ -1,7 +1,16 @@
-/* tennislab app: forms built from the server's field definitions, validated here and on the server. */
+/* tennislab app: forms built from the server's field definitions, validated here and on the server.
+
+   Every page computes as soon as its inputs are valid (and again on each change); an emptied or bad
+   field blocks the computation, clears the results shown and says why, with the field's label.  The
+   URL keeps the inputs (#page?name=value&...): a link or a reload restores them. */
 "use strict";
 const P = window.TLPlots;
-const state = {meta: null, drill: [], lastAim: null, serveView: null, flightView: null, window: null};
+const state = {
+  meta: null, drill: [], lastAim: null, window: null, track: null, heat: null, views: {},
+  results: {}, timers: {}, aborts: {}, ran: {},
+};
+window.tennislab = state;  // for the curious and for the browser tests
+const AUTO_DELAY_MS = 300;
 
 function $(sel) { return document.querySelector(sel); }
 function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
@@ -18,27 +27,37 @@ function fmtG(v) {            /* Python's format(v, "g") */
   return s;
 }
 function pyFloat(x) { return Number.isInteger(x) ? x.toFixed(1) : String(x); }   /* str(float) */
+const NUMBER = /^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$/;
+const NONFINITE = /^\s*[+-]?(inf|infinity|nan)\s*$/i;
 function fieldError(f, raw) {
-  if (f.kind === "choice") return f.choices.includes(raw) ? "" : `${f.name}: '${raw}' is not one of ${f.choices.join(", ")}`;
-  if (raw === "" || raw === null || raw === undefined) return f.optional ? "" : `${f.name}: a value is required`;
-  const v = Number(raw);
-  if (String(raw).trim() === "" || Number.isNaN(v)) return `${f.name}: expected a number, got '${raw}'`;
-  if (!Number.isFinite(v)) return `${f.name}: must be a finite number, got '${raw}'`;
+  const lab = f.label, s = raw === null || raw === undefined ? "" : String(raw);
+  if (s.length > 60) return `${lab}: expected ${f.kind === "choice" ? "one of " + f.choices.join(", ") : "a number"}, got a text of ${s.length} characters`;
+  if (s.trim() === "") return `${lab}: a value is required`;
+  if (f.kind === "choice") return f.choices.includes(s) ? "" : `${lab}: '${s}' is not one of ${f.choices.join(", ")}`;
+  if (NONFINITE.test(s)) return `${lab}: must be a finite number, got '${s.trim()}'`;
+  if (!NUMBER.test(s)) return `${lab}: expected a number, got '${s}'`;
+  const v = Number(s);
+  if (!Number.isFinite(v)) return `${lab}: must be a finite number, got '${s.trim()}'`;
   const u = f.unit ? " " + f.unit : "";
   const badLo = f.lo !== null && (f.lo_open ? v <= f.lo : v < f.lo), badHi = f.hi !== null && v > f.hi;
   if (badLo || badHi) {
     const lo = f.lo === null ? "-inf" : pyFloat(f.lo), hi = f.hi === null ? "inf" : pyFloat(f.hi);
-    return `${f.name}: ${fmtG(v)}${u} is outside the allowed range ${f.lo_open ? "(" : "["}${lo}, ${hi}]${u}`;
+    return `${lab}: ${fmtG(v)}${u} is outside the allowed range ${f.lo_open ? "(" : "["}${lo}, ${hi}]${u}`;
   }
-  if (f.kind === "int" && !Number.isInteger(v)) return `${f.name}: expected a whole number, got '${raw}'`;
+  if (f.kind === "int" && !Number.isInteger(v)) return `${lab}: expected a whole number, got ${pyFloat(v)}`;
   return "";
 }
 
-function buildForm(formName, container, onSubmit, submitLabel = "compute") {
-  const specs = state.meta.forms[formName];
+function specs(formName, only) {
+  const all = state.meta.forms[formName];
+  return only ? all.filter(f => only.includes(f.name)) : all;
+}
+
+/* A form from the field definitions; every edit validates the field and tells the page (onEdit). */
+function buildForm(formName, container, opts = {}) {
   const form = document.createElement("form");
-  form.id = "form-" + formName; form.noValidate = true; form.className = "tlform";
-  for (const f of specs) {
+  form.id = "form-" + formName; form.noValidate = true; form.className = opts.inline ? "tlform inline" : "tlform";
+  for (const f of specs(formName, opts.only)) {
     const row = document.createElement("div"); row.className = "field";
     const lab = document.createElement("label"); lab.htmlFor = `${formName}-${f.name}`;
     lab.textContent = f.label + (f.unit ? ` [${f.unit}]` : "");
@@ -49,54 +68,71 @@ function buildForm(formName, container, onSubmit, submitLabel = "compute") {
       inp.value = f.default;
     } else {
       inp = document.createElement("input"); inp.type = "text"; inp.inputMode = "decimal";
-      inp.value = f.default; inp.dataset.lo = f.lo; inp.dataset.hi = f.hi;
+      inp.value = f.default;
     }
     inp.id = `${formName}-${f.name}`; inp.name = f.name;
     if (f.help) inp.title = f.help;
     const err = document.createElement("div"); err.className = "field-error"; err.id = `err-${formName}-${f.name}`;
-    inp.addEventListener("input", () => { err.textContent = fieldError(f, inp.value); inp.classList.toggle("bad", !!err.textContent); });
+    const check = () => { err.textContent = fieldError(f, inp.value); inp.classList.toggle("bad", !!err.textContent); };
+    inp.addEventListener("input", () => { check(); if (opts.onEdit) opts.onEdit(f.name); });
+    inp.addEventListener("change", check);
     row.append(lab, inp, err); form.appendChild(row);
   }
-  const btn = document.createElement("button"); btn.type = "submit"; btn.textContent = submitLabel; btn.id = `submit-${formName}`;
+  const btn = document.createElement("button"); btn.type = "submit"; btn.textContent = opts.submit || "compute";
+  btn.id = opts.submitId || `submit-${formName}`;
   form.appendChild(btn);
-  form.addEventListener("submit", e => { e.preventDefault(); onSubmit(); });
+  form.addEventListener("submit", e => { e.preventDefault(); if (opts.onSubmit) opts.onSubmit(); });
   container.appendChild(form);
   return form;
 }
 
-/* Read and validate a form: returns the body or null (messages shown under the fields). */
-function readForm(formName) {
-  const body = {}; let ok = true;
-  for (const f of state.meta.forms[formName]) {
+/* Read and validate a form: {body, errors}; messages are shown under the fields. */
+function readForm(formName, only) {
+  const body = {}, errors = [];
+  for (const f of specs(formName, only)) {
     const inp = document.getElementById(`${formName}-${f.name}`), err = document.getElementById(`err-${formName}-${f.name}`);
     const msg = fieldError(f, inp.value);
     err.textContent = msg; inp.classList.toggle("bad", !!msg);
-    if (msg) { ok = false; continue; }
-    body[f.name] = f.kind === "choice" ? inp.value : (inp.value === "" ? null : Number(inp.value));
+    if (msg) { errors.push(msg); continue; }
+    body[f.name] = f.kind === "choice" ? inp.value : Number(inp.value);
   }
-  return ok ? body : null;
+  return {body: errors.length ? null : body, errors};
 }
 function setField(formName, name, value) {
   const inp = document.getElementById(`${formName}-${name}`); inp.value = value;
   inp.dispatchEvent(new Event("input"));
 }
+function rawValues(formName, only) {
+  const out = {};
+  for (const f of specs(formName, only)) out[f.name] = document.getElementById(`${formName}-${f.name}`).value;
+  return out;
+}
 
-async function api(path, body, statusEl) {
-  if (statusEl) { statusEl.textContent = "computing…"; statusEl.className = "status busy"; }
+function setStatus(el, text, kind) { el.textContent = text; el.className = "status " + kind; }
+
+/* POST a body for a page: a newer request of the same page aborts the older one (the server then
+   cancels its work); a failure clears the page's results and shows the server's one-line message. */
+async function post(page, path, body, statusEl) {
+  if (state.aborts[page]) state.aborts[page].abort();
+  const ctl = new AbortController(); state.aborts[page] = ctl;
+  setStatus(statusEl, "computing…", "busy");
   try {
-    const r = await fetch(path, body === undefined ? {} : {method: "POST", headers: {"Content-Type": "application/json"}, body: JSON.stringify(body)});
+    const r = await fetch(path, {method: "POST", headers: {"Content-Type": "application/json"}, body: JSON.stringify(body), signal: ctl.signal});
     const j = await r.json().catch(() => ({error: `HTTP ${r.status}`}));
+    if (state.aborts[page] !== ctl) return null;     // superseded while the answer was read
     if (!r.ok) throw new Error(j.error || `HTTP ${r.status}`);
-    if (statusEl) { statusEl.textContent = "done"; statusEl.className = "status ok"; }
+    setStatus(statusEl, "done", "ok");
     return j;
   } catch (e) {
-    if (statusEl) { statusEl.textContent = e.message; statusEl.className = "status error"; }
+    if (e.name === "AbortError" || state.aborts[page] !== ctl) return null;
+    PAGES[page].clear();
+    setStatus(statusEl, e.message, "error");
     return null;
   }
 }
 
-/* A result table: rows [label, value, key, unit]; each value cell carries data-key and data-value. */
-function resultTable(el, rows) {
+/* A result table: rows [label, value, key, unit, digits]; each value cell carries data-key and data-value. */
+function resultTable(el, rows, inputs) {
   el.innerHTML = "";
   const t = document.createElement("table"); t.className = "results";
   for (const [label, value, key, unit, digits] of rows) {
@@ -106,57 +142,160 @@ function resultTable(el, rows) {
     c.textContent = typeof value === "number" ? fmt(value, digits ?? 2) + (unit ? " " + unit : "") : String(value ?? "–");
   }
   el.appendChild(t);
+  el.dataset.for = JSON.stringify(inputs || {});
+}
+function clearBox(el) { el.innerHTML = ""; delete el.dataset.for; }
+
+/* ---------- pages: run (compute from the form), clear (remove every result shown) ---------- */
+const PAGES = {};
+function page(name, def) { PAGES[name] = def; }
+
+/* Computations scheduled or running, per page: state.idle() is true when nothing is pending. */
+const busy = {};
+function begin(n) { busy[n] = (busy[n] || 0) + 1; }
+function end(n) { busy[n] -= 1; }
+state.idle = () => Object.values(busy).every(v => v === 0);
+function unschedule(name) {
+  if (state.timers[name]) { clearTimeout(state.timers[name]); state.timers[name] = null; end(name); }
+}
+function schedule(name, fn) {
+  unschedule(name);
+  begin(name);
+  state.timers[name] = setTimeout(async () => { state.timers[name] = null; try { await fn(); } finally { end(name); } }, AUTO_DELAY_MS);
+}
+async function now(name, fn) {   /* run at once (a click, a submit), dropping a pending run */
+  unschedule(name);
+  begin(name);
+  try { await fn(); } finally { end(name); }
 }
 
-function unavailable(page, feature) {
-  const m = state.meta.modules[feature];
-  if (m && m.available) return false;
-  const box = document.getElementById(`${page}-body`);
-  const p = document.createElement("p"); p.className = "unavailable"; p.id = `${page}-unavailable`;
-  p.textContent = `${feature}: not available in this installation${m && m.reason ? " (" + m.reason + ")" : ""}.`;
-  box.replaceChildren(p);
-  return true;
+function onEdit(name) {
+  const pg = PAGES[name];
+  unschedule(name);
+  const {body, errors} = readForm(pg.form);
+  updateURL(name);
+  if (!body) {
+    if (state.aborts[name]) state.aborts[name].abort();
+    pg.clear();
+    setStatus($(pg.status), errors[0] + (errors.length > 1 ? ` (and ${errors.length - 1} more)` : ""), "error");
+    return;
+  }
+  if (pg.auto && pg.auto()) {
+    setStatus($(pg.status), "inputs changed…", "busy");
+    schedule(name, pg.run);
+  } else {
+    pg.clear();
+    setStatus($(pg.status), pg.hint || "", "");
+  }
+}
+async function runPage(name) {
+  const pg = PAGES[name];
+  const {body, errors} = readForm(pg.form);
+  updateURL(name);
+  if (!body) {
+    pg.clear();
+    setStatus($(pg.status), errors[0] + (errors.length > 1 ? ` (and ${errors.length - 1} more)` : ""), "error");
+    return null;
+  }
+  state.ran[name] = true;
+  return body;
 }
 
 /* ---------- views shared by pages ---------- */
-function drawFlight(prefix, flights, opts = {}) {
-  const court = state.meta.court;
-  let zmax = 3;
-  for (const f of flights) for (const p of f.points) zmax = Math.max(zmax, p[2] + 0.5);
-  const side = P.courtSide($(`#${prefix}-side`), court, {zmax: Math.ceil(zmax)});
-  const top = P.courtTop($(`#${prefix}-top`), court, {});
+function drawFlight(prefix, flights, extra = {}) {
+  const court = state.meta.court, pts = flights.flatMap(f => f.points);
+  const side = P.courtSide($(`#${prefix}-side`), court, {points: pts.map(p => [p[0], p[2]]).concat(extra.side || [])});
+  const top = P.courtTop($(`#${prefix}-top`), court, {points: pts.map(p => [p[0], p[1]]).concat(extra.top || [])});
   flights.forEach((f, i) => {
     const col = f.color || P.COLORS[i % P.COLORS.length];
     side.path(f.points.map(p => [p[0], p[2]]), {stroke: col, "stroke-width": 2, class: "traj"});
     top.path(f.points.map(p => [p[0], p[1]]), {stroke: col, "stroke-width": 2, class: "traj"});
-    const e = f.points[f.points.length - 1];
-    top.dot(e[0], e[1], 4, {fill: col, stroke: "#000", class: "landing"});
+    for (const b of (f.bounces || [])) top.dot(b[0], b[1], 3.5, {fill: col, stroke: "#000", class: "bounce"});
   });
   return {side, top};
 }
+function emptyViews(prefix) {
+  const court = state.meta.court;
+  P.courtSide($(`#${prefix}-side`), court, {});
+  P.courtTop($(`#${prefix}-top`), court, {});
+  if (state.views[prefix]) state.views[prefix].setTracks([]);
+}
 
 /* ---------- flight page ---------- */
+page("flight", {
+  form: "flight", status: "#flight-status", auto: () => true,
+  run: runFlight,
+  clear() { clearBox($("#flight-result")); emptyViews("flight"); state.results.flight = null; exportsEnabled(); },
+});
 async function runFlight() {
-  const body = readForm("flight"); if (!body) return;
-  const r = await api("/api/flight", body, $("#flight-status")); if (!r) return;
-  resultTable($("#flight-result"), [
+  const body = await runPage("flight"); if (!body) return;
+  const r = await post("flight", "/api/flight", body, $("#flight-status")); if (!r) return;
+  const rows = [
     ["landing x", r.landing.x, "landing_x", "m", 3], ["landing y", r.landing.y, "landing_y", "m", 3],
-    ["flight time", r.landing.t, "landing_t", "s", 3], ["net", r.net.result, "net_result"],
-    ["net clearance", r.net.clearance, "net_clearance", "m", 3], ["apex height", r.apex.z, "apex_z", "m", 3],
+    ["flight time", r.landing.t, "landing_t", "s", 3], ["landing speed", r.landing.speed_kmh, "landing_speed_kmh", "km/h", 1],
+    ["net", r.net.result, "net_result"], ["net clearance", r.net.clearance, "net_clearance", "m", 3],
+    ["apex height", r.apex.z, "apex_z", "m", 3], ["apex x", r.apex.x, "apex_x", "m", 2],
     ["lands in", r.landing.areas.join(", ") || "out", "areas"],
-  ]);
-  drawFlight("flight", [r]);
-  state.flightView.setTracks([{points: r.points}]);
+  ];
+  (r.bounces || []).forEach((b, i) => {
+    rows.push([`bounce ${i + 1} x`, b.x, `bounces.${i}.x`, "m", 3], [`bounce ${i + 1} y`, b.y, `bounces.${i}.y`, "m", 3]);
+  });
+  resultTable($("#flight-result"), rows, body);
+  const bounces = [[r.landing.x, r.landing.y]].concat((r.bounces || []).slice(1).map(b => [b.x, b.y]));
+  drawFlight("flight", [{points: r.points, bounces}]);
+  state.views.flight.setTracks([{points: r.points}]);
+  state.results.flight = {inputs: body, rows, points: r.points};
+  exportsEnabled();
 }
 
 /* ---------- serve explorer ---------- */
+const REASONS = {net: "into the net", long: "long", wide: "wide", short: "short"};
+function renderVerdict(r) {
+  const box = $("#serve-verdict"); box.replaceChildren();
+  const v = r.verdict || null, ok = v ? !!v.success : !!r.success;
+  box.className = "verdict " + (ok ? "in" : "fault");
+  box.dataset.success = ok ? "yes" : "no";
+  box.dataset.reason = v && v.reason ? v.reason : "";
+  const head = document.createElement("strong"); head.id = "serve-verdict-head";
+  head.textContent = ok ? "In: a successful serve" : `Fault${v && v.reason ? ": " + (REASONS[v.reason] || v.reason) : ""}`;
+  const detail = document.createElement("p"); detail.id = "serve-verdict-detail";
+  detail.textContent = v ? (v.detail || "") : (ok
+    ? `It succeeds by the criteria “${r.criteria || "seed-2d"}”.`
+    : `It fails the criteria “${r.criteria || "seed-2d"}”; this version of the serve model does not say why.`);
+  box.append(head, detail);
+  if (v && v.advice) {
+    const adv = document.createElement("p"); adv.id = "serve-verdict-advice";
+    adv.textContent = (ok ? "" : "To fix it: ") + v.advice;
+    box.append(adv);
+  }
+  if (r.caveats && r.caveats.length) {
+    const ul = document.createElement("ul"); ul.id = "serve-caveats";
+    for (const c of r.caveats) { const li = document.createElement("li"); li.textContent = c; ul.append(li); }
+    box.append(ul);
+  }
+}
+page("serve", {
+  form: "serve", status: "#serve-status", auto: () => true,
+  run: runServe,
+  clear() {
+    clearBox($("#serve-result")); $("#serve-verdict").replaceChildren(); $("#serve-verdict").className = "verdict";
+    emptyViews("serve"); state.results.serve = null; exportsEnabled();
+  },
+});
 function applyPlayer() {
   const name = $("#serve-player").value, prof = state.meta.players[name];
-  if (prof) { setField("serve", "height", prof.height); setField("serve", "racket_speed", prof.racket_speed); }
+  if (prof) {
+    $("#serve-height").value = prof.height; $("#serve-racket_speed").value = prof.racket_speed;
+  }
+}
+function clearWindow(msg) {
+  state.window = null; state.heat.set(null); $("#window-legend").replaceChildren();
+  setStatus($("#window-status"), msg || "", msg ? "busy" : ""); exportsEnabled();
 }
 async function runServe() {
-  const body = readForm("serve"); if (!body) return;
-  const r = await api("/api/serve", body, $("#serve-status")); if (!r) return;
+  const body = await runPage("serve"); if (!body) return;
+  const r = await post("serve", "/api/serve", body, $("#serve-status")); if (!r) return;
+  renderVerdict(r);
   resultTable($("#serve-result"), [
     ["ball speed", r.speed, "speed", "m/s", 2], ["spin", r.spin_rpm, "spin_rpm", "rpm", 0],
     ["launch angle", r.launch_angle, "launch_angle", "deg", 2], ["net clearance", r.net_clearance, "net_clearance", "m", 3],
@@ -164,18 +303,33 @@ async function runServe() {
     ["landing x (from the server)", r.landing_x, "landing_x", "m", 3], ["landing y", r.landing_y, "landing_y", "m", 3],
     ["category", r.category, "category"], ["success", r.success ? "yes" : "no", "success"],
     ["impact regime", r.regime ?? "–", "regime"], ["contact time", r.contact_time_ms, "contact_time_ms", "ms", 2],
-  ]);
-  if (r.flight) { drawFlight("serve", [r.flight]); state.serveView.setTracks([{points: r.flight.points}]); }
-  if (state.heat && state.heat.data) state.heat.select(body.impact_angle, body.face_angle);
+  ], body);
+  const rows = [...$("#serve-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
+  if (r.flight) {
+    drawFlight("serve", [{points: r.flight.points, bounces: [[r.landing.x, r.landing.y]]}]);
+    state.views.serve.setTracks([{points: r.flight.points}]);
+  } else {
+    emptyViews("serve");
+  }
+  state.results.serve = {inputs: body, rows, points: r.flight ? r.flight.points : []};
+  if (state.window) state.heat.select(body.impact_angle, body.face_angle);
+  exportsEnabled();
+}
+/* The window follows the player, height, racket speed and step (it is quick: at most 181 x 181 serves). */
+function scheduleWindow() {
+  setStatus($("#window-status"), "inputs changed…", "busy");
+  schedule("window", runWindow);
 }
 async function runWindow() {
-  const s = readForm("serve"); if (!s) return;
-  const body = {player: s.player, height: s.height, racket_speed: s.racket_speed, step: Number($("#window-step").value)};
-  const msg = fieldError(state.meta.forms.window.find(f => f.name === "step"), $("#window-step").value);
-  $("#err-window-step").textContent = msg; if (msg) return;
-  const r = await api("/api/serve/window", body, $("#window-status")); if (!r) return;
-  state.window = r; state.heat.set(r);
-  state.heat.select(s.impact_angle, s.face_angle);
+  const s = readForm("serve", ["player", "height", "racket_speed"]), w = readForm("window", ["step"]);
+  const errors = s.errors.concat(w.errors);
+  if (errors.length) { clearWindow(); setStatus($("#window-status"), errors[0], "error"); return; }
+  const body = {...s.body, step: w.body.step};
+  const r = await post("window", "/api/serve/window", body, $("#window-status"));
+  if (!r) return;
+  state.window = {inputs: body, data: r}; state.heat.set(r);
+  const cur = readForm("serve").body;
+  if (cur) state.heat.select(cur.impact_angle, cur.face_angle);
   const legend = $("#window-legend"); legend.innerHTML = "";
   for (const it of r.legend) {
     const sp = document.createElement("span"); sp.className = "swatch"; sp.style.background = it.color;
@@ -183,12 +337,24 @@ async function runWindow() {
     lab.className = "legend-item";
     legend.append(sp, lab);
   }
+  exportsEnabled();
 }
+page("window", {form: "window", status: "#window-status", clear() { clearWindow(); }});
 
 /* ---------- launcher planner ---------- */
-function drawLauncherCourt(extra) {
-  const ax = P.courtTop($("#launcher-court"), state.meta.court, {});
+page("launcher", {
+  form: "aim", status: "#aim-status", auto: () => true,
+  run: runAim,
+  clear() {
+    clearBox($("#aim-result")); state.lastAim = null; $("#add-shot").disabled = true;
+    drawLauncherCourt(); P.courtSide($("#launcher-side"), state.meta.court, {}); state.results.aim = null; exportsEnabled();
+  },
+});
+function drawLauncherCourt(extra, pts = []) {
   const mx = Number($("#aim-machine_x").value), my = Number($("#aim-machine_y").value);
+  const all = pts.concat(state.drill.flatMap(s => s.result.flight.points.map(p => [p[0], p[1]])));
+  if (Number.isFinite(mx) && Number.isFinite(my)) all.push([mx, my]);
+  const ax = P.courtTop($("#launcher-court"), state.meta.court, {points: all});
   if (Number.isFinite(mx) && Number.isFinite(my)) ax.rect(mx - 0.25, mx + 0.25, my - 0.25, my + 0.25, {class: "machine"}, "front");
   state.drill.forEach((s, i) => {
     ax.path(s.result.flight.points.map(p => [p[0], p[1]]), {stroke: P.COLORS[(i + 1) % P.COLORS.length], "stroke-width": 1.5, class: "traj drill"});
@@ -198,17 +364,20 @@ function drawLauncherCourt(extra) {
   if (extra) extra(ax);
   ax.svg.onclick = evt => {
     const [x, y] = ax.fromClient(evt);
-    setField("aim", "target_x", x.toFixed(2)); setField("aim", "target_y", y.toFixed(2));
-    runAim();
+    $("#aim-target_x").value = x.toFixed(2); $("#aim-target_y").value = y.toFixed(2);
+    now("launcher", runAim);
   };
   return ax;
 }
 async function runAim() {
-  const body = readForm("aim"); if (!body) return;
-  const r = await api("/api/launcher/aim", body, $("#aim-status"));
-  if (!r) { state.lastAim = null; $("#add-shot").disabled = true; return; }
+  const body = await runPage("launcher"); if (!body) return;
+  const r = await post("launcher", "/api/launcher/aim", body, $("#aim-status"));
+  if (!r) return;
   state.lastAim = {body, result: r};
   $("#add-shot").disabled = false;
+  drawAim(body, r);
+}
+function drawAim(body, r) {
   const st = r.settings;
   resultTable($("#aim-result"), [
     ["height", st.height_m, "settings.height_m", "m", 1], ["speed", st.speed_kmh, "settings.speed_kmh", "km/h", 0],
@@ -220,14 +389,18 @@ async function runAim() {
     ["exact elevation", r.exact ? r.exact.elevation_deg : null, "exact.elevation_deg", "deg", 2],
     ["exact heading", r.exact ? r.exact.heading_deg : null, "exact.heading_deg", "deg", 2],
     ["flight time", r.flight_time_s, "flight_time_s", "s", 2],
-  ]);
+  ], body);
+  const pts = r.flight.points;
   drawLauncherCourt(ax => {
-    ax.path(r.flight.points.map(p => [p[0], p[1]]), {stroke: P.COLORS[0], "stroke-width": 2.5, class: "traj"});
+    ax.path(pts.map(p => [p[0], p[1]]), {stroke: P.COLORS[0], "stroke-width": 2.5, class: "traj"});
     ax.dot(body.target_x, body.target_y, 5, {fill: "none", stroke: "#ff0", "stroke-width": 2, class: "target"});
     ax.dot(r.landing.x, r.landing.y, 4, {fill: P.COLORS[0], stroke: "#000", class: "landing"});
-  });
-  const side = P.courtSide($("#launcher-side"), state.meta.court, {zmax: Math.ceil(Math.max(3, ...r.flight.points.map(p => p[2] + 0.5)))});
-  side.path(r.flight.points.map(p => [p[0], p[2]]), {stroke: P.COLORS[0], "stroke-width": 2, class: "traj"});
+  }, pts.map(p => [p[0], p[1]]));
+  const side = P.courtSide($("#launcher-side"), state.meta.court, {points: pts.map(p => [p[0], p[2]])});
+  side.path(pts.map(p => [p[0], p[2]]), {stroke: P.COLORS[0], "stroke-width": 2, class: "traj"});
+  const rows = [...$("#aim-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
+  state.results.aim = {inputs: body, rows, points: pts};
+  exportsEnabled();
 }
 function renderDrill() {
   const tb = $("#drill-table tbody"); tb.innerHTML = "";
@@ -239,23 +412,39 @@ function renderDrill() {
   });
   $("#drill-count").textContent = state.drill.length;
   $("#download-drill").disabled = state.drill.length === 0;
-  drawLauncherCourt();
+  if (state.lastAim) drawAim(state.lastAim.body, state.lastAim.result); else drawLauncherCourt();
+  exportsEnabled();
 }
 async function downloadDrill() {
   const shots = state.drill.map(s => s.body);
   const name = $("#drill-name").value || "my drill";
-  const r = await api("/api/launcher/drill", {name, shots}, $("#drill-status")); if (!r) return;
-  const blob = new Blob([r.text], {type: r.media_type || "text/plain"});
-  const a = document.createElement("a"); a.href = URL.createObjectURL(blob); a.download = r.filename; a.id = "drill-link";
-  document.body.appendChild(a); a.click(); setTimeout(() => { URL.revokeObjectURL(a.href); a.remove(); }, 1000);
+  let r = null;
+  await now("drill", async () => { r = await post("drill", "/api/launcher/drill", {name, shots}, $("#drill-status")); });
+  if (!r) return;
+  download(new Blob([r.text], {type: r.media_type || "text/plain"}), r.filename);
 }
+page("drill", {form: null, status: "#drill-status", clear() {}});
 
 /* ---------- line-call replay ---------- */
-async function runCall(text) {
-  const body = readForm("linecall"); if (!body) return;
-  if (text.length > state.meta.limits.track_bytes) { $("#call-status").textContent = "csv: the track file is larger than 1000 kB"; $("#call-status").className = "status error"; return; }
-  body.csv = text;
-  const r = await api("/api/linecall", body, $("#call-status")); if (!r) return;
+page("linecall", {
+  form: "linecall", status: "#call-status", auto: () => state.track !== null,
+  hint: "choose a track file, or call the example track",
+  run: () => runCall(),
+  clear() {
+    clearBox($("#call-result"));
+    P.courtTop($("#call-zoom"), state.meta.court, {width: 520, height: 340});
+    P.courtSide($("#call-side"), state.meta.court, {});
+    state.results.call = null; exportsEnabled();
+  },
+});
+async function runCall() {
+  const body = await runPage("linecall"); if (!body) return;
+  const text = state.track;
+  if (text === null) { PAGES.linecall.clear(); setStatus($("#call-status"), "track file: choose a track file first", "error"); return; }
+  if (text.length > state.meta.limits.track_bytes) {
+    PAGES.linecall.clear(); setStatus($("#call-status"), `track file: the track file is larger than ${state.meta.limits.track_bytes / 1000} kB`, "error"); return;
+  }
+  const r = await post("linecall", "/api/linecall", {...body, csv: text}, $("#call-status")); if (!r) return;
   resultTable($("#call-result"), [
     ["call", r.call, "call"], ["against", r.target || r.line || "–", "against"], ["line drawn", r.line ?? "–", "line"],
     ["distance of the mark to the line", r.distance_mm, "distance_mm", "mm", 1],
@@ -263,7 +452,7 @@ async function runCall(text) {
     ["bounce sigma", r.bounce.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", r.mark.length * 1000, "mark.length_mm", "mm", 1],
     ["mark width", r.mark.width * 1000, "mark.width_mm", "mm", 1], ["fit rms", r.fit.rms_mm, "fit.rms_mm", "mm", 2],
     ["outliers", r.fit.outliers, "fit.outliers", "", 0],
-  ]);
+  ], body);
   const court = state.meta.court;
   const bx = r.mark.x, by = r.mark.y, half = 0.3;
   const zoom = P.courtTop($("#call-zoom"), court, {window: [bx - half, bx + half, by - half * 0.6, by + half * 0.6], width: 520, height: 340, tick: 0.2, pad: [40, 8, 8, 28]});
@@ -271,74 +460,188 @@ async function runCall(text) {
   const g = P.svgEl("g", {id: "call-mark", class: "mark " + (r.call === "in" ? "in" : "out")}, zoom.layers.front);
   for (const d of r.mark.discs) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
   zoom.dot(r.bounce.x, r.bounce.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
-  const side = P.courtSide($("#call-side"), court, {zmax: 4});
+  const sidePts = r.track.map(p => [p[1], p[3]]).concat(r.fitted.map(p => [p[0], p[2]]));
+  const side = P.courtSide($("#call-side"), court, {points: sidePts});
   for (const p of r.track) side.dot(p[1], p[3], 1.2, {fill: "#888"});
   side.path(r.fitted.map(p => [p[0], p[2]]), {stroke: "#d62828", "stroke-width": 2, class: "traj"});
+  const rows = [...$("#call-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
+  state.results.call = {inputs: body, rows, track: r.track, fitted: r.fitted};
+  exportsEnabled();
 }
 function callFromFile() {
   const f = $("#track-file").files[0];
-  if (!f) { $("#call-status").textContent = "csv: choose a track file first"; $("#call-status").className = "status error"; return; }
-  if (f.size > state.meta.limits.track_bytes) { $("#call-status").textContent = "csv: the track file is larger than 1000 kB"; $("#call-status").className = "status error"; return; }
-  const rd = new FileReader(); rd.onload = () => runCall(String(rd.result)); rd.readAsText(f);
+  if (!f) { state.track = null; PAGES.linecall.clear(); setStatus($("#call-status"), "track file: choose a track file first", "error"); return; }
+  if (f.size > state.meta.limits.track_bytes) {
+    state.track = null; PAGES.linecall.clear();
+    setStatus($("#call-status"), `track file: the track file is larger than ${state.meta.limits.track_bytes / 1000} kB`, "error"); return;
+  }
+  begin("linecall");
+  const rd = new FileReader();
+  rd.onloadend = () => { end("linecall"); if (rd.result !== null) { state.track = String(rd.result); now("linecall", runCall); } };
+  rd.readAsText(f);
 }
 async function callSample() {
-  setField("linecall", "target", "deuce-box"); setField("linecall", "line", "auto");
-  const r = await fetch("/api/linecall/sample"); runCall(await r.text());
+  $("#linecall-target").value = "deuce-box"; $("#linecall-line").value = "auto";
+  await now("linecall", async () => {
+    const r = await fetch("/api/linecall/sample");
+    if (!r.ok) { PAGES.linecall.clear(); setStatus($("#call-status"), `example track: HTTP ${r.status}`, "error"); return; }
+    state.track = await r.text();
+    await runCall();
+  });
+}
+
+/* ---------- exports: PNG of each plot, CSV of the numbers ---------- */
+function download(blob, name) {
+  const a = document.createElement("a"); a.href = URL.createObjectURL(blob); a.download = name;
+  document.body.appendChild(a); a.click(); setTimeout(() => { URL.revokeObjectURL(a.href); a.remove(); }, 1000);
+}
+function csvText(header, rows) {
+  const q = v => { const s = v === null || v === undefined ? "" : String(v); return /[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s; };
+  return [header, ...rows].map(r => r.map(q).join(",")).join("\n") + "\n";
+}
+function numbersCSV(formName, res) {
+  const rows = [];
+  for (const f of state.meta.forms[formName]) if (f.name in res.inputs) rows.push(["input", f.label, res.inputs[f.name], f.unit]);
+  for (const [label, value, key] of res.rows) rows.push(["result", label, value, key]);
+  return csvText(["section", "quantity", "value", "unit_or_key"], rows);
+}
+const pointsCSV = pts => csvText(["x_m", "y_m", "z_m"], pts);
+const CSV = {
+  "flight-results": () => state.results.flight && numbersCSV("flight", state.results.flight),
+  "flight-trajectory": () => state.results.flight && pointsCSV(state.results.flight.points),
+  "serve-results": () => state.results.serve && numbersCSV("serve", state.results.serve),
+  "serve-trajectory": () => state.results.serve && pointsCSV(state.results.serve.points),
+  "serve-window": () => {
+    if (!state.window) return null;
+    const d = state.window.data, rows = [], lab = Object.fromEntries(d.legend.map(l => [l.code, l.label]));
+    d.beta.forEach((b, j) => d.alpha.forEach((a, i) => rows.push([a, b, d.code[j][i], lab[d.code[j][i]], d.speed[j][i], d.spin_rpm[j][i]])));
+    return csvText(["alpha_deg", "beta_deg", "code", "outcome", "speed_ms", "spin_rpm"], rows);
+  },
+  "aim-results": () => state.results.aim && numbersCSV("aim", state.results.aim),
+  "aim-trajectory": () => state.results.aim && pointsCSV(state.results.aim.points),
+  "drill": () => state.drill.length ? csvText(
+    ["shot", "target_x_m", "target_y_m", "speed_kmh", "spin_rpm", "spin_axis_deg", "elevation_deg", "heading_deg", "roller1_rpm", "roller2_rpm", "miss_mm"],
+    state.drill.map((s, i) => { const st = s.result.settings; return [i + 1, s.body.target_x, s.body.target_y, st.speed_kmh, st.spin_rpm, st.spin_axis_deg, st.elevation_deg, st.heading_deg, s.result.rollers.rpm1, s.result.rollers.rpm2, s.result.miss_mm]; })) : null,
+  "call-results": () => state.results.call && numbersCSV("linecall", state.results.call),
+  "call-track": () => state.results.call && csvText(["kind", "t_s", "x_m", "y_m", "z_m"],
+    state.results.call.track.map(p => ["track", ...p]).concat(state.results.call.fitted.map(p => ["fit", "", ...p]))),
+};
+const PNG_READY = {
+  "flight-3d": () => !!state.results.flight, "flight-side": () => !!state.results.flight, "flight-top": () => !!state.results.flight,
+  "serve-3d": () => !!state.results.serve, "serve-side": () => !!state.results.serve, "serve-top": () => !!state.results.serve,
+  "serve-heatmap": () => !!state.window, "launcher-court": () => true, "launcher-side": () => !!state.results.aim,
+  "call-zoom": () => !!state.results.call, "call-side": () => !!state.results.call,
+};
+function exportsEnabled() {
+  document.querySelectorAll("button.export").forEach(b => {
+    b.disabled = b.dataset.csv ? !CSV[b.dataset.csv]() : !PNG_READY[b.dataset.png]();
+  });
+}
+async function exportClicked(b) {
+  if (b.dataset.csv) {
+    const text = CSV[b.dataset.csv]();
+    if (text) download(new Blob([text], {type: "text/csv"}), `tennislab-${b.dataset.csv}.csv`);
+  } else {
+    const blob = await P.plotPNG(document.getElementById(b.dataset.png));
+    download(blob, `tennislab-${b.dataset.png}.png`);
+  }
+}
+
+/* ---------- the URL keeps the inputs: #page?name=value&... ---------- */
+const URL_FORMS = {flight: [["flight"]], serve: [["serve"], ["window", ["step"]]], launcher: [["aim"]], linecall: [["linecall"]]};
+function currentPage() {
+  const p = location.hash.slice(1).split("?")[0];
+  return p in URL_FORMS ? p : "serve";
+}
+function updateURL(name) {
+  if (!(name in URL_FORMS) || currentPage() !== name) return;
+  const q = new URLSearchParams();
+  for (const [form, only] of URL_FORMS[name]) {
+    for (const [k, v] of Object.entries(rawValues(form, only))) q.set(form === "window" ? "window_" + k : k, v);
+  }
+  history.replaceState(null, "", `#${name}?${q.toString()}`);
+}
+/* Put the URL's values in the page's form (unknown names ignored); true if any was given. */
+function applyURL() {
+  const [name, query] = location.hash.slice(1).split("?");
+  if (!(name in URL_FORMS) || !query) return false;
+  const q = new URLSearchParams(query);
+  let any = false;
+  for (const [form, only] of URL_FORMS[name]) {
+    for (const f of specs(form, only)) {
+      const key = form === "window" ? "window_" + f.name : f.name;
+      if (q.has(key)) { document.getElementById(`${form}-${f.name}`).value = q.get(key); any = true; }
+    }
+  }
+  return any;
 }
 
 /* ---------- pages ---------- */
 function showPage() {
-  const page = (location.hash || "#serve").slice(1);
-  document.querySelectorAll(".page").forEach(p => p.hidden = p.id !== `page-${page}`);
-  document.querySelectorAll("nav a").forEach(a => a.classList.toggle("active", a.getAttribute("href") === `#${page}`));
+  const name = currentPage();
+  document.querySelectorAll(".page").forEach(p => p.hidden = p.id !== `page-${name}`);
+  document.querySelectorAll("nav a").forEach(a => a.classList.toggle("active", a.getAttribute("href") === `#${name}`));
+  return name;
+}
+async function openPage(fromURL) {
+  const name = showPage();
+  const given = fromURL ? applyURL() : false;
+  const pg = PAGES[name];
+  if (given || !state.ran[name]) {
+    if (pg.auto && pg.auto()) await now(name, pg.run); else onEdit(name);
+    if (name === "serve") await now("window", runWindow);
+  }
+  updateURL(name);
 }
 
 async function init() {
-  state.meta = await api("/api/meta");
-  if (!state.meta) { document.body.textContent = "cannot reach the tennislab server"; return; }
-  $("#version").textContent = "tennislab " + state.meta.version;
-  const court = state.meta.court;
+  let meta = null;
+  try { const r = await fetch("/api/meta"); if (r.ok) meta = await r.json(); } catch (e) { meta = null; }
+  if (!meta) { document.body.textContent = "cannot reach the tennislab server"; return; }
+  state.meta = meta;
+  $("#version").textContent = "tennislab " + meta.version;
+  const court = meta.court;
 
-  // flight page (always available)
-  buildForm("flight", $("#flight-form"), runFlight);
-  state.flightView = new P.View3D($("#flight-3d"), court);
+  buildForm("flight", $("#flight-form"), {onEdit: () => onEdit("flight"), onSubmit: () => now("flight", runFlight)});
+  state.views.flight = new P.View3D($("#flight-3d"), court);
 
-  // serve explorer
-  if (!unavailable("serve", "serve")) {
-    buildForm("serve", $("#serve-form"), runServe);
-    $("#serve-player").addEventListener("change", applyPlayer);
-    for (const n of ["height", "racket_speed"]) $(`#serve-${n}`).addEventListener("change", () => { $("#serve-player").value = "custom"; });
-    applyPlayer();
-    state.serveView = new P.View3D($("#serve-3d"), court);
-    state.heat = new P.HeatMap($("#serve-heatmap"), (a, b) => { setField("serve", "impact_angle", a); setField("serve", "face_angle", b); runServe(); });
-    $("#run-window").addEventListener("click", runWindow);
-  }
-  // launcher planner
-  if (!unavailable("launcher", "launcher")) {
-    buildForm("aim", $("#aim-form"), runAim, "aim");
-    $("#aim-shot").addEventListener("change", () => {
+  buildForm("serve", $("#serve-form"), {onEdit: n => {
+    if (n === "player") applyPlayer();
+    if (n === "height" || n === "racket_speed") $("#serve-player").value = "custom";
+    if (["player", "height", "racket_speed"].includes(n)) scheduleWindow();
+    onEdit("serve");
+  }, onSubmit: () => now("serve", runServe)});
+  buildForm("window", $("#window-form"), {only: ["step"], inline: true, submit: "compute window", submitId: "run-window",
+    onEdit: () => { updateURL("serve"); scheduleWindow(); }, onSubmit: () => now("window", runWindow)});
+  state.views.serve = new P.View3D($("#serve-3d"), court);
+  state.heat = new P.HeatMap($("#serve-heatmap"), (a, b) => {
+    $("#serve-impact_angle").value = a; $("#serve-face_angle").value = b; now("serve", runServe);
+  });
+
+  buildForm("aim", $("#aim-form"), {onEdit: n => {
+    if (n === "shot") {
       const axis = {topspin: 0, flat: 0, backspin: 180, "sidespin-left": 90, "sidespin-right": -90}[$("#aim-shot").value];
-      if (axis !== undefined) setField("aim", "spin_axis_deg", axis);
-      if ($("#aim-shot").value === "flat") setField("aim", "spin_rpm", 0);
-    });
-    $("#add-shot").addEventListener("click", () => { if (state.lastAim && state.drill.length < state.meta.limits.drill_shots) { state.drill.push(state.lastAim); renderDrill(); } });
-    $("#clear-drill").addEventListener("click", () => { state.drill = []; renderDrill(); });
-    $("#download-drill").addEventListener("click", downloadDrill);
-    drawLauncherCourt();
-    P.courtSide($("#launcher-side"), court, {});
-  }
-  // line-call replay
-  if (!unavailable("linecall", "linecall")) {
-    buildForm("linecall", $("#linecall-form"), callFromFile, "call from file");
-    $("#call-sample").addEventListener("click", callSample);
-    P.courtTop($("#call-zoom"), court, {width: 520, height: 340});
-    P.courtSide($("#call-side"), court, {});
-  }
-  window.addEventListener("hashchange", showPage);
-  showPage();
-  // first paint: the default flight and serve (fast), so the pages open with something to look at
-  await runFlight();
-  if (state.meta.modules.serve.available) await runServe();
+      if (axis !== undefined) $("#aim-spin_axis_deg").value = axis;
+      if ($("#aim-shot").value === "flat") $("#aim-spin_rpm").value = 0;
+    }
+    onEdit("launcher");
+  }, onSubmit: () => now("launcher", runAim), submit: "aim"});
+  $("#add-shot").addEventListener("click", () => {
+    if (state.lastAim && state.drill.length < meta.limits.drill_shots) { state.drill.push(state.lastAim); renderDrill(); }
+  });
+  $("#clear-drill").addEventListener("click", () => { state.drill = []; renderDrill(); });
+  $("#download-drill").addEventListener("click", downloadDrill);
+
+  buildForm("linecall", $("#linecall-form"), {onEdit: () => onEdit("linecall"), onSubmit: callFromFile, submit: "call from file"});
+  $("#track-file").addEventListener("change", callFromFile);
+  $("#call-sample").addEventListener("click", callSample);
+
+  for (const name of ["flight", "serve", "launcher", "linecall"]) PAGES[name].clear();
+  clearWindow();
+  document.querySelectorAll("button.export").forEach(b => b.addEventListener("click", () => exportClicked(b)));
+  exportsEnabled();
+  window.addEventListener("hashchange", () => openPage(true));
+  await openPage(true);
   document.body.dataset.ready = "1";
 }
 document.addEventListener("DOMContentLoaded", init);

@@ -34,6 +34,7 @@ class Axes {
       su = sv = s;
     }
     Object.assign(this, {u0, u1, v0, v1, su, sv, l, t});
+    svg.tlAxes = this;  // read by the export and by the tests (is everything drawn inside?)
     this.layers = {
       back: svgEl("g", {class: "back"}, svg), data: svgEl("g", {class: "data"}, svg),
       front: svgEl("g", {class: "front"}, svg),
@@ -86,30 +87,49 @@ class Axes {
   }
 }
 
-/* Court top view (x right, y up). opts.window = [x0, x1, y0, y1] to zoom. */
+/* Range [lo, hi] of values vs, widened to contain [a, b] and padded by pad (for framing). */
+function span(vs, a, b, pad) {
+  let lo = a, hi = b;
+  for (const v of vs) if (Number.isFinite(v)) { lo = Math.min(lo, v - pad); hi = Math.max(hi, v + pad); }
+  return [lo, hi];
+}
+function niceStep(range, n) {
+  const raw = range / n, p = Math.pow(10, Math.floor(Math.log10(raw)));
+  for (const m of [1, 2, 5, 10]) if (m * p >= raw) return m * p;
+  return 10 * p;
+}
+
+/* Court top view (x right, y up). opts.window = [x0, x1, y0, y1] to zoom; otherwise the court and
+   every point of opts.points ([[x, y], ...]) are framed. */
 function courtTop(svg, court, opts = {}) {
   const L = court.half_length, d = court.doubles_width / 2, m = opts.margin ?? 3;
-  const win = opts.window || [-L - m, L + m, -d - m, d + m];
+  const pts = opts.points || [];
+  const [x0, x1] = span(pts.map(p => p[0]), -L - m, L + m, 1);
+  const [y0, y1] = span(pts.map(p => p[1]), -d - m, d + m, 1);
+  const win = opts.window || [x0, x1, y0, y1];
   const ax = new Axes(svg, opts.width || 760, opts.height || 400, [win[0], win[1]], [win[2], win[3]],
     {equal: true, pad: opts.pad || [34, 8, 8, 28]});
   ax.rect(ax.u0, ax.u1, ax.v0, ax.v1, {class: "surround"});
   ax.rect(-L, L, -d, d, {class: "court"});
   for (const [name, r] of Object.entries(court.lines)) ax.rect(r[0], r[1], r[2], r[3], {class: "cline", "data-line": name});
   ax.line(0, -court.y_post, 0, court.y_post, {class: "net"});
-  ax.ticks(opts.tick || 2, opts.tick || 2, "x [m]", "y [m]");
+  const t = opts.tick || niceStep(Math.max(ax.u1 - ax.u0, ax.v1 - ax.v0), 14);
+  ax.ticks(t, t, "x [m]", "y [m]");
   return ax;
 }
 
-/* Court side view (x right, z up). */
+/* Court side view (x right, z up): frames the court and every point of opts.points ([[x, z], ...]). */
 function courtSide(svg, court, opts = {}) {
   const L = court.half_length, m = opts.margin ?? 3;
-  const ax = new Axes(svg, opts.width || 760, opts.height || 200, opts.urange || [-L - m, L + m],
-    [0, opts.zmax || 4], {pad: [34, 8, 8, 28]});
+  const pts = opts.points || [];
+  const urange = opts.urange || span(pts.map(p => p[0]), -L - m, L + m, 1);
+  const zmax = Math.max(opts.zmax || 3, ...pts.map(p => p[1] * 1.08 + 0.3).filter(Number.isFinite));
+  const ax = new Axes(svg, opts.width || 760, opts.height || 200, urange, [0, zmax], {pad: [34, 8, 8, 28]});
   ax.rect(ax.u0, ax.u1, 0, ax.v1, {class: "sky"});
   for (const x of [-L, L, -court.service_line, court.service_line]) ax.line(x, 0, x, ax.v1, {class: "guide"});
   ax.line(ax.u0, 0, ax.u1, 0, {class: "ground"});
   ax.line(0, 0, 0, court.net_center_height, {class: "net"});
-  ax.ticks(2, 1, "x [m]", "z [m]");
+  ax.ticks(niceStep(ax.u1 - ax.u0, 14), niceStep(zmax, 5), "x [m]", "z [m]");
   return ax;
 }
 
@@ -127,14 +147,29 @@ class View3D {
       this.draw();
     });
     canvas.addEventListener("pointerup", () => { drag = null; });
+    canvas.tlView = this;  // read by the tests (is everything drawn inside?)
     this.draw();
   }
-  project(p) {
+  /* view coordinates [m] of a court point: turned about z by yaw, tilted toward the viewer by pitch */
+  view(p) {
     const cy = Math.cos(this.yaw), sy = Math.sin(this.yaw), cp = Math.cos(this.pitch), sp = Math.sin(this.pitch);
-    const xr = p[0] * cy - p[1] * sy, yr = p[0] * sy + p[1] * cy;     // rotate about z
-    const sx = xr, sz = p[2] * cp + yr * sp;                           // tilt toward the viewer
-    const W = this.c.width, H = this.c.height, s = Math.min(W / 30, H / 18);
-    return [W / 2 + sx * s, H * 0.62 - sz * s];
+    const xr = p[0] * cy - p[1] * sy, yr = p[0] * sy + p[1] * cy;
+    return [xr, p[2] * cp + yr * sp];
+  }
+  /* Scale and centre so that the court, the net and every point of every track (and its shadow) fit. */
+  frame() {
+    const ct = this.court, L = ct.half_length + 1, d = ct.doubles_width / 2 + 1;
+    const pts = [[-L, -d, 0], [L, -d, 0], [L, d, 0], [-L, d, 0], [0, -ct.y_post, ct.net_post_height], [0, ct.y_post, ct.net_post_height]];
+    for (const t of this.tracks) for (const p of (t.points || [])) { pts.push(p); pts.push([p[0], p[1], 0]); }
+    let u0 = Infinity, u1 = -Infinity, v0 = Infinity, v1 = -Infinity;
+    for (const p of pts) { const [u, v] = this.view(p); u0 = Math.min(u0, u); u1 = Math.max(u1, u); v0 = Math.min(v0, v); v1 = Math.max(v1, v); }
+    const W = this.c.width, H = this.c.height, pad = 12, bottom = 22;   // room for the hint text
+    const s = Math.min((W - 2 * pad) / Math.max(u1 - u0, 1e-6), (H - pad - bottom) / Math.max(v1 - v0, 1e-6));
+    this.fit = {s, uc: (u0 + u1) / 2, vc: (v0 + v1) / 2, xc: W / 2, yc: pad + (H - pad - bottom) / 2};
+  }
+  project(p) {
+    const [u, v] = this.view(p), f = this.fit;
+    return [f.xc + (u - f.uc) * f.s, f.yc - (v - f.vc) * f.s];
   }
   poly(pts, stroke, width = 1, fill = null) {
     const g = this.g; g.beginPath();
@@ -145,6 +180,7 @@ class View3D {
   setTracks(tracks) { this.tracks = tracks || []; this.draw(); }
   draw() {
     const g = this.g = this.c.getContext("2d"), ct = this.court;
+    this.frame();
     g.fillStyle = "#1d3b24"; g.fillRect(0, 0, this.c.width, this.c.height);
     const L = ct.half_length, d = ct.doubles_width / 2;
     this.poly([[-L, -d, 0], [L, -d, 0], [L, d, 0], [-L, d, 0]], null, 1, "#3a7d44");
@@ -186,7 +222,7 @@ class HeatMap {
       if (!cell) { canvas.title = ""; return; }
       const d = this.data, code = d.code[cell[1]][cell[0]];
       const lab = (d.legend.find(l => l.code === code) || {}).label || "";
-      canvas.title = `alpha ${d.alpha[cell[0]]} deg, beta ${d.beta[cell[1]]} deg: ${lab}`;
+      canvas.title = `α ${d.alpha[cell[0]]} deg, β ${d.beta[cell[1]]} deg: ${lab}`;
     });
   }
   geom() { const pad = [40, 10, 10, 34]; return {l: pad[0], t: pad[1], w: this.c.width - pad[0] - pad[2], h: this.c.height - pad[1] - pad[3]}; }
@@ -218,10 +254,10 @@ class HeatMap {
     g.strokeStyle = "#333"; g.strokeRect(gm.l, gm.t, gm.w, gm.h);
     g.fillStyle = "#222"; g.font = "11px sans-serif"; g.textAlign = "center";
     for (let a = 0; a <= 90; a += 15) { const x = gm.l + (a - d.alpha[0] + d.step / 2) / (d.step * na) * gm.w; g.fillText(a, x, gm.t + gm.h + 13); }
-    g.fillText("impact angle alpha [deg]", gm.l + gm.w / 2, gm.t + gm.h + 28);
+    g.fillText("impact angle α [deg]", gm.l + gm.w / 2, gm.t + gm.h + 28);
     g.textAlign = "right";
     for (let b = 0; b <= 90; b += 15) { const y = gm.t + gm.h - (b - d.beta[0] + d.step / 2) / (d.step * nb) * gm.h; g.fillText(b, gm.l - 4, y + 4); }
-    g.save(); g.translate(11, gm.t + gm.h / 2); g.rotate(-Math.PI / 2); g.textAlign = "center"; g.fillText("face angle beta [deg]", 0, 0); g.restore();
+    g.save(); g.translate(11, gm.t + gm.h / 2); g.rotate(-Math.PI / 2); g.textAlign = "center"; g.fillText("face angle β [deg]", 0, 0); g.restore();
     if (this.sel) {
       const [x, y] = this.cellCenter(this.sel[0], this.sel[1]);
       g.strokeStyle = "#000"; g.lineWidth = 2; g.strokeRect(x - Math.max(cw, 6) / 2 - 1, y - Math.max(ch, 6) / 2 - 1, Math.max(cw, 6) + 2, Math.max(ch, 6) + 2);
@@ -230,4 +266,26 @@ class HeatMap {
   }
 }
 
-window.TLPlots = {Axes, courtTop, courtSide, View3D, HeatMap, COLORS, svgEl};
+/* PNG of a plot: a canvas as it is; an SVG drawn on a canvas at twice its size, with the page's CSS
+   copied into presentation attributes (the image is rendered without the page's style sheet). */
+const STYLE_PROPS = ["fill", "stroke", "stroke-width", "stroke-dasharray", "opacity", "font-size", "font-family", "font-weight"];
+function canvasBlob(canvas) { return new Promise(res => canvas.toBlob(res, "image/png")); }
+async function plotPNG(el) {
+  if (el instanceof HTMLCanvasElement) return canvasBlob(el);
+  const clone = el.cloneNode(true), src = el.querySelectorAll("*"), dst = clone.querySelectorAll("*");
+  src.forEach((e, i) => { const cs = getComputedStyle(e); for (const p of STYLE_PROPS) { const v = cs.getPropertyValue(p); if (v) dst[i].setAttribute(p, v); } });
+  const vb = el.viewBox.baseVal, k = 2;
+  clone.setAttribute("xmlns", SVGNS); clone.setAttribute("width", vb.width); clone.setAttribute("height", vb.height);
+  clone.removeAttribute("style");
+  const url = URL.createObjectURL(new Blob([new XMLSerializer().serializeToString(clone)], {type: "image/svg+xml"}));
+  try {
+    const img = new Image();
+    await new Promise((res, rej) => { img.onload = res; img.onerror = () => rej(new Error("cannot draw the plot")); img.src = url; });
+    const c = document.createElement("canvas"); c.width = vb.width * k; c.height = vb.height * k;
+    const g = c.getContext("2d"); g.fillStyle = "#fff"; g.fillRect(0, 0, c.width, c.height);
+    g.drawImage(img, 0, 0, c.width, c.height);
+    return canvasBlob(c);
+  } finally { URL.revokeObjectURL(url); }
+}
+
+window.TLPlots = {Axes, courtTop, courtSide, View3D, HeatMap, COLORS, svgEl, plotPNG};
