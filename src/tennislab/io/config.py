@@ -18,7 +18,9 @@ The format (docs/config.md)::
 from __future__ import annotations
 
 import difflib
+import json
 import math
+import re
 import tomllib
 
 from tennislab.errors import InputError
@@ -51,11 +53,20 @@ FLAT_TABLES = {"physics": PHYSICS_KEYS, "court": COURT_KEYS, "defaults": DEFAULT
 PROFILE_TABLES = ("players", "machines")
 
 
+_BARE = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _key(key) -> str:
+    """A key as TOML writes it: bare when it can be, else quoted (so a message stays on one line)."""
+    k = str(key)
+    return k if _BARE.match(k) else json.dumps(k)
+
+
 def _unknown(where: str, key: str, allowed) -> InputError:
     allowed = sorted(allowed)
-    near = difflib.get_close_matches(key, allowed, n=1)
+    near = difflib.get_close_matches(str(key), allowed, n=1)
     hint = f" (did you mean {near[0]}?)" if near else ""
-    return InputError(f"{where}{key}: unknown key{hint}; allowed: {', '.join(allowed)}")
+    return InputError(f"{where}{_key(key)}: unknown key{hint}; allowed: {', '.join(allowed)}")
 
 
 def read_toml(path: str, limit: int = MAX_BYTES) -> dict:
@@ -69,23 +80,29 @@ def read_toml(path: str, limit: int = MAX_BYTES) -> dict:
         raise InputError(f"{path}: not valid TOML: {' '.join(str(exc).split())}") from None
 
 
+def _short(value) -> str:
+    """A value for a message: its repr on one line, cut to 40 characters."""
+    r = " ".join(repr(value).split())
+    return r if len(r) <= 40 else r[:37] + "..."
+
+
 def check_value(where: str, value, kind) -> object:
     """``value`` if it has the form ``kind`` (NUMBER, TEXT or (NUMBER, n)); numbers become floats."""
     if kind == TEXT:
         if not isinstance(value, str):
-            raise InputError(f"{where}: expected a text in quotes, got {value!r}")
+            raise InputError(f"{where}: expected a text in quotes, got {_short(value)}")
         return value
     if kind == NUMBER:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InputError(f"{where}: expected a number, got {value!r}")
+            raise InputError(f"{where}: expected a number, got {_short(value)}")
         f = float(value)
         if not math.isfinite(f):
-            raise InputError(f"{where}: must be a finite number, got {value!r}")
+            raise InputError(f"{where}: must be a finite number, got {_short(value)}")
         return f
     assert isinstance(kind, tuple)
     n = kind[1]
     if not isinstance(value, list) or len(value) != n:
-        raise InputError(f"{where}: expected a list of {n} numbers, got {value!r}")
+        raise InputError(f"{where}: expected a list of {n} numbers, got {_short(value)}")
     return [check_value(f"{where}[{i}]", v, NUMBER) for i, v in enumerate(value)]
 
 
@@ -97,8 +114,8 @@ def check_table(where: str, table, keys: dict | None) -> dict:
     for k, v in table.items():
         if keys is None:
             if isinstance(v, (dict, list)):
-                raise InputError(f"{where}{k}: expected a number or a text, got {v!r}")
-            out[k] = v if isinstance(v, str) or isinstance(v, bool) else check_value(f"{where}{k}", v, NUMBER)
+                raise InputError(f"{where}{_key(k)}: expected a number or a text, got {_short(v)}")
+            out[k] = v if isinstance(v, (str, bool)) else check_value(f"{where}{_key(k)}", v, NUMBER)
         elif k not in keys:
             raise _unknown(where, k, keys)
         else:
@@ -122,8 +139,10 @@ def parse_config(data: dict, where: str = "") -> dict:
                 raise InputError(f"{prefix}{section}: expected tables [{section}.NAME]")
             keys = MACHINE_KEYS if section == "machines" else None
             for name, table in value.items():
-                if not name.strip():
-                    raise InputError(f"{prefix}{section}: a profile needs a name")
+                if not _BARE.match(name):
+                    raise InputError(
+                        f"{prefix}{section}.{_key(name)}: a profile name uses letters, digits, '_' and '-' only"
+                    )
                 out[section][name] = check_table(f"{prefix}{section}.{name}.", table, keys)
         else:
             raise _unknown(prefix, section, (*FLAT_TABLES, *PROFILE_TABLES))
