@@ -136,9 +136,11 @@ def test_speed_elevation_heading_equal_the_velocity_vector(capsys):
     import math
 
     speed, el, hd = 30.0, 12.0, -4.0
-    v = [speed * math.cos(math.radians(el)) * math.cos(math.radians(hd)),
-         speed * math.cos(math.radians(el)) * math.sin(math.radians(hd)),
-         speed * math.sin(math.radians(el))]  # fmt: skip
+    v = [
+        speed * math.cos(math.radians(el)) * math.cos(math.radians(hd)),
+        speed * math.cos(math.radians(el)) * math.sin(math.radians(hd)),
+        speed * math.sin(math.radians(el)),
+    ]
     a = fly_json(capsys, "--velocity", *map(str, v))
     b = fly_json(capsys, "--speed-ms", "30", "--elevation-deg", "12", "--heading-deg", "-4")
     c = fly_json(capsys, "--speed-kmh", "108", "--elevation-deg", "12", "--heading-deg", "-4")
@@ -176,8 +178,17 @@ def test_named_spin_axes_equal_their_vectors(capsys, name, vector):
 def test_json_keys_launch_landing_bounce_caveats(capsys):
     d = fly_json(capsys, "--speed-kmh", "120", "--elevation-deg", "6", "--spin-rpm", "2500", "--spin-axis", "topspin")
     assert d["bounce"] == d["landing"]  # the contract key stays beside the new name
-    assert set(d["launch"]) >= {"position", "velocity", "spin", "speed_ms", "speed_kmh", "elevation_deg",
-                                "heading_deg", "spin_rpm", "spin_axis_deg"}  # fmt: skip
+    assert set(d["launch"]) >= {
+        "position",
+        "velocity",
+        "spin",
+        "speed_ms",
+        "speed_kmh",
+        "elevation_deg",
+        "heading_deg",
+        "spin_rpm",
+        "spin_axis_deg",
+    }
     assert d["launch"]["position"] == [-11.885, 0.0, 1.0]  # the default position
     assert d["launch"]["spin_axis_deg"] == pytest.approx(0.0, abs=1e-9)
     assert d["caveats"] == []
@@ -197,11 +208,16 @@ def test_a_ball_into_the_net_says_so(capsys):
         (["--velocity", "1e9", "0", "7"], "--velocity: |v| = 1e+09 m/s is outside the allowed range [0, 100] m/s"),
         (["--velocity", "1e160", "0", "0"], "--velocity: |v| = 1e+160 m/s is outside the allowed range"),
         (["--speed-kmh", "400", "--elevation-deg", "5"], "--speed-kmh: 400 km/h is outside the allowed range [0, 360]"),
-        (["--speed-mph", "250", "--elevation-deg", "5"], "--speed-mph: 250 mph is outside the allowed range [0, 223.7]"),
+        (
+            ["--speed-mph", "250", "--elevation-deg", "5"],
+            "--speed-mph: 250 mph is outside the allowed range [0, 223.7]",
+        ),
         (["--speed-ms", "-3", "--elevation-deg", "5"], "--speed-ms: -3 m/s is outside the allowed range [0, 100]"),
         (["--speed-ms", "30", "--elevation-deg", "95"], "--elevation-deg: 95 deg is outside the allowed range"),
-        (["--velocity", "30", "0", "5", "--spin-rpm", "20000", "--spin-axis", "topspin"],
-         "--spin-rpm: 20000 rpm is outside the allowed range [0, 10000] rpm"),
+        (
+            ["--velocity", "30", "0", "5", "--spin-rpm", "20000", "--spin-axis", "topspin"],
+            "--spin-rpm: 20000 rpm is outside the allowed range [0, 10000] rpm",
+        ),
         (["--velocity", "30", "0", "5", "--spin", "0", "2000", "0"], "--spin: |omega| = 2000 rad/s (19099 rpm)"),
         (["--position", "0", "0", "-1", "--velocity", "30", "0", "5"], "--position z: -1 m is below the ball radius"),
         (["--position", "1e6", "0", "1", "--velocity", "30", "0", "5"], "--position[0]: 1e+06 m is outside"),
@@ -213,8 +229,10 @@ def test_a_ball_into_the_net_says_so(capsys):
         (["--velocity", "30", "0", "5", "--spin-axis", "topspin"], "--spin-rpm: give --spin-rpm and --spin-axis"),
         (["--velocity", "30", "0", "5", "--spin-rpm", "1", "--spin-axis", "1", "2"], "--spin-axis: expected a name"),
         (["--velocity", "30", "0", "5", "--spin-rpm", "1", "--spin-axis", "0", "0", "0"], "zero vector"),
-        (["--velocity", "30", "0", "5", "--spin", "0", "1", "0", "--spin-rpm", "3", "--spin-axis", "topspin"],
-         "--spin: give either a spin vector or --spin-rpm with --spin-axis"),
+        (
+            ["--velocity", "30", "0", "5", "--spin", "0", "1", "0", "--spin-rpm", "3", "--spin-axis", "topspin"],
+            "--spin: give either a spin vector or --spin-rpm with --spin-axis",
+        ),
         (["--velocity", "30", "0", "5", "--surface", "clay"], "--surface: the surface is used only for bounces"),
     ],
 )

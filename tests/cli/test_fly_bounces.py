@@ -95,8 +95,14 @@ def _check_framed(fig, result):
     "launch",
     [
         # the case: the second bounce used to be off the axes
-        dict(position=(-11.885, 0, 1.0), velocity=(27, 0, 7), spin_rpm=2500, spin_axis="topspin", bounces=2,
-             surface="clay"),  # fmt: skip
+        dict(
+            position=(-11.885, 0, 1.0),
+            velocity=(27, 0, 7),
+            spin_rpm=2500,
+            spin_axis="topspin",
+            bounces=2,
+            surface="clay",
+        ),
         # a high lob: its apex is far above the default 3 m
         dict(position=(-11.0, 0, 0.8), speed_kmh=80, elevation_deg=55, bounces=1),
         # a wide, long ball bouncing out of the court to the side
@@ -117,8 +123,29 @@ def test_fly_plot_frames_the_second_bounce(capsys, tmp_path, monkeypatch):
 
     figs = []
     monkeypatch.setattr(fly_cli, "save_figure", lambda fig, path: figs.append(fig))
-    args = ["fly", "--position", "-11.885", "0", "1.0", "--velocity", "27", "0", "7", "--spin-rpm", "2500",
-            "--spin-axis", "0", "1", "0", "--surface", "clay", "--bounces", "2", "--plot", str(tmp_path / "f.png")]  # fmt: skip
+    args = [
+        "fly",
+        "--position",
+        "-11.885",
+        "0",
+        "1.0",
+        "--velocity",
+        "27",
+        "0",
+        "7",
+        "--spin-rpm",
+        "2500",
+        "--spin-axis",
+        "0",
+        "1",
+        "0",
+        "--surface",
+        "clay",
+        "--bounces",
+        "2",
+        "--plot",
+        str(tmp_path / "f.png"),
+    ]
     rc, out, err = run(capsys, *args)
     assert rc == 0, err
     from tennislab.trajectory import fly

@@ -132,9 +132,9 @@ def test_caveats_of_results_dicts_and_lists():
 
 def test_build_imports_its_sections_directly_and_not_the_app():
     tree = ast.parse((SRC / "build.py").read_text())
-    imported = [
-        n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
-    ] + [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    imported = [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)] + [
+        a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names
+    ]
     assert not [m for m in imported if m.startswith("tennislab.app")]
     assert "importlib" not in imported
     for key, _, fn in B.SECTIONS:
@@ -283,7 +283,7 @@ def test_cli_report_to_an_html_file_for_ones_own_player(tmp_path, capsys, monkey
     assert seen["players"][0] == ("Ana", 2.55, 31.0)
     assert [p[0] for p in seen["players"][1:]] == ["professional", "recreational", "junior"]
     html = out.read_text()
-    assert "<td class=\"l\">Ana</td><td>2.55</td><td>31.0</td>" in html
+    assert '<td class="l">Ana</td><td>2.55</td><td>31.0</td>' in html
     assert sorted(os.listdir(tmp_path)) == ["ana-report.html", "ana.toml"]
 
 

@@ -73,7 +73,7 @@ def test_guard_rails_name_the_parameter(kw, param):
     with pytest.raises(InputError) as e:
         fly((-11.885, 0, 1), **kw)
     msg = str(e.value)
-    assert msg.startswith(param + ":") or msg.startswith(param + " "), msg
+    assert msg.startswith((param + ":", param + " ")), msg
     assert "\n" not in msg
 
 

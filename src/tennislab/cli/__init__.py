@@ -115,7 +115,7 @@ def flag_message(message: str, options: set[str]) -> str:
     return head + sep + _INNER.sub(inner, rest) if sep else message
 
 
-def _one_line(text: str) -> str:
+def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 

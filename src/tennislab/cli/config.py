@@ -38,8 +38,11 @@ FLAG_DESTS: dict[str, dict[str, str]] = {
     "defaults": {"player": "player", "machine": "machine"},
 }
 #: machine profile key -> flag dest (``--machine NAME`` fills these when not given)
-MACHINE_DESTS = {"position": "machine_position", "roller_radius": "roller_radius",
-                 "roller_axis_distance": "roller_axis_distance"}  # fmt: skip
+MACHINE_DESTS = {
+    "position": "machine_position",
+    "roller_radius": "roller_radius",
+    "roller_axis_distance": "roller_axis_distance",
+}
 
 
 @dataclass(frozen=True)

@@ -87,9 +87,7 @@ def launch_vectors(
         v = check_vector("velocity", velocity)
         sp = math.hypot(*v)
         if sp > MAX_SPEED_MS:
-            raise InputError(
-                f"velocity: |v| = {sp:.4g} m/s is outside the allowed range [0, {MAX_SPEED_MS:g}] m/s"
-            )
+            raise InputError(f"velocity: |v| = {sp:.4g} m/s is outside the allowed range [0, {MAX_SPEED_MS:g}] m/s")
     if spin is not None and (spin_rpm is not None or spin_axis is not None):
         raise InputError("spin: give either a spin vector or spin_rpm with spin_axis, not both")
     if spin_rpm is None and spin_axis is None:
@@ -192,7 +190,7 @@ class FlightResult(Result):
                 "spin": land.spin,
                 "areas": ITF_COURT.areas_at(land.x, land.y),
             }
-        out = {
+        out: dict[str, object] = {
             "launch": {
                 "position": y0[0:3],
                 "velocity": y0[3:6],
