@@ -275,3 +275,16 @@ def test_plots_are_written_with_the_users_umask(tmp_path, capsys, ext):
         assert os.listdir(tmp_path) == [out.name]  # no temporary file left
     finally:
         os.umask(old)
+
+
+def test_the_help_examples_run(capsys, tmp_path, monkeypatch):
+    import shlex
+
+    from tennislab.cli.fly import EXAMPLES
+
+    monkeypatch.chdir(tmp_path)
+    lines = " ".join(EXAMPLES.replace("\\\n", " ").splitlines()[1:])
+    for cmd in [c for c in lines.split("tennislab ") if c.strip()]:
+        rc, _, err = run(capsys, *shlex.split(cmd))
+        assert rc == 0, (cmd, err)
+    assert (tmp_path / "fly.png").stat().st_size > 10_000

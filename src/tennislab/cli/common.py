@@ -101,16 +101,20 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
     p.set_defaults(physics_preset=preset, **{d: None for d in PHYSICS_DESTS if d not in chosen})
     g = p.add_argument_group("physics")
     specs = {
-        "aero": dict(default=None, help=f"aero model: {', '.join(aero_model_names())} (default {default_aero})"),
+        "aero": dict(
+            default=None, metavar="NAME", help=f"aero model: {', '.join(aero_model_names())} (default {default_aero})"
+        ),
         "cd": dict(type=float, help="drag coefficient for models that take one [-]"),
         "cl": dict(type=float, help="lift coefficient for models that take one [-]"),
         "aero_table": dict(metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)"),
-        "mass": dict(type=float, help=f"ball mass [kg] (default {base.get('mass', 0.0577)})"),
-        "radius": dict(type=float, help=f"ball radius [m] (default {base.get('radius', 0.0335)})"),
-        "air_density": dict(type=float, help=f"air density [kg/m^3] (default {base.get('air_density', 1.199)})"),
-        "gravity": dict(type=float, help=f"gravity [m/s^2] (default {base.get('gravity', 9.80665)})"),
+        "mass": dict(type=float, metavar="KG", help=f"ball mass [kg] (default {base.get('mass', 0.0577)})"),
+        "radius": dict(type=float, metavar="M", help=f"ball radius [m] (default {base.get('radius', 0.0335)})"),
+        "air_density": dict(
+            type=float, metavar="KG_M3", help=f"air density [kg/m^3] (default {base.get('air_density', 1.199)})"
+        ),
+        "gravity": dict(type=float, metavar="M_S2", help=f"gravity [m/s^2] (default {base.get('gravity', 9.80665)})"),
         "wind": dict(type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]"),
-        "spin_decay": dict(type=float, help="spin decay rate [1/s] (default 0: off)"),
+        "spin_decay": dict(type=float, metavar="PER_S", help="spin decay rate [1/s] (default 0: off)"),
     }
     for dest in PHYSICS_DESTS:
         if dest in chosen:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import textwrap
 
 import numpy as np
 
@@ -26,7 +27,7 @@ DEFAULT_POSITION = (-11.885, 0.0, 1.0)
 EXAMPLES = """examples:
   tennislab fly --speed-kmh 120 --elevation-deg 6 --spin-rpm 2500 --spin-axis topspin
   tennislab fly --position -11.885 0.5 2.8 --velocity 49.5 -1.5 -4.5 --json
-  tennislab fly --speed-mph 60 --elevation-deg 14 --heading-deg -3 --spin-rpm 1500 --spin-axis slice \\
+  tennislab fly --speed-mph 55 --elevation-deg 8 --heading-deg -3 --spin-rpm 1500 --spin-axis slice \\
                 --bounces 2 --surface clay --plot fly.png
 """
 
@@ -35,10 +36,13 @@ def register(sub) -> None:
     p = sub.add_parser(
         "fly",
         help="one flight from a launch: landing, net clearance, apex (and bounces)",
-        description="Fly one ball from a launch to its landing (or through N bounces). Give the launch as a "
-        "velocity vector [m/s] or as a speed with elevation and heading [deg], and the spin as a vector "
-        "[rad/s] or as a rate [rpm] about a named axis. Frame: origin at the centre of the net on the "
-        "ground, x toward the far baseline, y to the left, z up (docs/conventions.md).",
+        description=textwrap.fill(
+            "Fly one ball from a launch to its landing (or through N bounces). Give the launch as a "
+            "velocity vector [m/s] or as a speed with elevation and heading [deg], and the spin as a vector "
+            "[rad/s] or as a rate [rpm] about a named axis. Frame: origin at the centre of the net on the "
+            "ground, x toward the far baseline, y to the left, z up (docs/conventions.md).",
+            width=100,
+        ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
