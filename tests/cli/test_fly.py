@@ -288,3 +288,22 @@ def test_the_help_examples_run(capsys, tmp_path, monkeypatch):
         rc, _, err = run(capsys, *shlex.split(cmd))
         assert rc == 0, (cmd, err)
     assert (tmp_path / "fly.png").stat().st_size > 10_000
+
+
+def test_every_accepted_figure_type_is_written(tmp_path):
+    """--plot accepts exactly the formats Matplotlib writes without LaTeX or optional codecs."""
+    import matplotlib.pyplot as plt
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
+
+    supported = FigureCanvasBase.get_supported_filetypes()
+    fig, ax = plt.subplots(figsize=(2, 2))
+    ax.plot([0, 1], [0, 1])
+    try:
+        for ext in FIGURE_SUFFIXES:
+            assert ext[1:] in supported, ext
+            save_figure(fig, str(tmp_path / f"f{ext}"))
+            assert (tmp_path / f"f{ext}").stat().st_size > 100
+    finally:
+        plt.close(fig)

@@ -33,8 +33,6 @@ import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import matplotlib.pyplot as plt
-
 from tennislab import __version__
 from tennislab.errors import InputError
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path
@@ -80,6 +78,8 @@ class Context:
     def save(self, fig, name: str) -> str:
         """Embed a Matplotlib figure: returns a PNG data URI for ``<img src>`` (``name`` labels it in
         the summary; no file is written) and closes the figure."""
+        import matplotlib.pyplot as plt  # not at the top: 0.5 s of every command's start-up (-X importtime)
+
         try:
             uri = figure_data_uri(fig)
         finally:
