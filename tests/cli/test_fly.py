@@ -307,3 +307,29 @@ def test_every_accepted_figure_type_is_written(tmp_path):
             assert (tmp_path / f"f{ext}").stat().st_size > 100
     finally:
         plt.close(fig)
+
+
+def test_library_parameter_names_become_the_commands_flags():
+    from tennislab.cli import flag_message
+
+    opts = {"--spin-rpm", "--spin-axis", "--speed-kmh", "--velocity"}
+    assert flag_message("spin_axis: give spin_rpm and spin_axis together", opts) == (
+        "--spin-axis: give --spin-rpm and --spin-axis together"
+    )
+    assert flag_message("speed_kmh: 400 km/h is outside", opts) == "--speed-kmh: 400 km/h is outside"
+    assert flag_message("velocity[0]: must be finite", opts) == "--velocity[0]: must be finite"
+    # names the command has no flag for, paths and dotted keys stay as they are
+    assert flag_message("mass: see my_file.csv and physics.spin_rpm", opts) == (
+        "mass: see my_file.csv and physics.spin_rpm"
+    )
+
+
+def test_an_os_error_is_one_line(capsys, monkeypatch):
+    from tennislab.cli import fly as fly_cli
+
+    def full(*a, **k):
+        raise OSError(28, "No space left on device", "/tmp/x.png")
+
+    monkeypatch.setattr(fly_cli, "save_figure", full)
+    rc, out, err = run(capsys, "fly", "--velocity", "30", "0", "5", "--plot", "x.png")
+    assert rc == 2 and err == "tennislab fly: error: /tmp/x.png: No space left on device\n"
