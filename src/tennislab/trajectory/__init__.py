@@ -39,8 +39,9 @@ MAX_SPEED_MS = 100.0
 #: Highest spin rate accepted [rpm]: the topspin of elite forehands reaches about 5,000 rpm (Kelley et
 #: al. 2008, Sports Eng.; reference-data.md); 10,000 rpm is twice that.
 MAX_SPIN_RPM = 10_000.0
-#: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long).
-MAX_DISTANCE_M = 100.0
+#: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long;
+#: the same limit as core.flight's guard rail).
+MAX_DISTANCE_M = 1000.0
 
 #: the launch speed's units: parameter -> (m/s per unit, unit label)
 _SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
