@@ -72,7 +72,8 @@ def test_an_empty_file_is_an_empty_configuration(tmp_path):
         ("physics = 3\n", "physics: expected a table"),
         ("[court]\nsurfce = 'clay'\n", "court.surfce: unknown key (did you mean surface?)"),
         ("[machines.club]\nradius = 0.1\n", "machines.club.radius: unknown key"),
-        ("[players.me]\nimpact_height = [1]\n", "players.me.impact_height: expected a number or a text"),
+        ("[players.me]\nimpact_height = [[1]]\n", "players.me.impact_height: expected a list of numbers or texts"),
+        ("[players.me]\nx = {a = 1}\n", "players.me.x: expected a number, a text or a list, got a table"),
         ("players = 1\n", "players: expected tables [players.NAME]"),
         ("[physics\n", "not valid TOML"),
         ("a = 1\na = 2\n", "not valid TOML"),
@@ -103,7 +104,7 @@ def test_one_player_files(tmp_path):
         "racket_speed": 31.0,
     }
     assert read_player_file(write(tmp_path, "[player]\nimpact_height = 2.5\n", "b.toml")) == {"impact_height": 2.5}
-    with pytest.raises(InputError, match="c.toml: x: expected a number or a text"):
+    with pytest.raises(InputError, match="c.toml: x: expected a number, a text or a list"):
         read_player_file(write(tmp_path, "[x]\ny = 1\n", "c.toml"))
 
 

@@ -106,16 +106,28 @@ def check_value(where: str, value, kind) -> object:
     return [check_value(f"{where}[{i}]", v, NUMBER) for i, v in enumerate(value)]
 
 
+def _plain(where: str, v):
+    """A profile's value: a number (as float), a text, true/false, or a flat list of numbers and texts."""
+    if isinstance(v, (str, bool)):
+        return v
+    if isinstance(v, list):
+        if any(isinstance(x, (dict, list)) for x in v):
+            raise InputError(f"{where}: expected a list of numbers or texts, got {_short(v)}")
+        return [x if isinstance(x, (str, bool)) else check_value(f"{where}[{i}]", x, NUMBER) for i, x in enumerate(v)]
+    if isinstance(v, dict):
+        raise InputError(f"{where}: expected a number, a text or a list, got a table")
+    return check_value(where, v, NUMBER)
+
+
 def check_table(where: str, table, keys: dict | None) -> dict:
-    """A table whose keys are among ``keys`` (key -> kind; None: any key, values numbers or texts)."""
+    """A table whose keys are among ``keys`` (key -> kind; None: any key, values numbers, texts or
+    flat lists of them)."""
     if not isinstance(table, dict):
         raise InputError(f"{where.rstrip('.')}: expected a table")
     out = {}
     for k, v in table.items():
         if keys is None:
-            if isinstance(v, (dict, list)):
-                raise InputError(f"{where}{_key(k)}: expected a number or a text, got {_short(v)}")
-            out[k] = v if isinstance(v, (str, bool)) else check_value(f"{where}{_key(k)}", v, NUMBER)
+            out[k] = _plain(f"{where}{_key(k)}", v)
         elif k not in keys:
             raise _unknown(where, k, keys)
         else:
