@@ -219,7 +219,10 @@ def test_a_ball_into_the_net_says_so(capsys):
             "--spin-rpm: 20000 rpm is outside the allowed range [0, 10000] rpm",
         ),
         (["--velocity", "30", "0", "5", "--spin", "0", "2000", "0"], "--spin: |omega| = 2000 rad/s (19099 rpm)"),
-        (["--position", "0", "0", "-1", "--velocity", "30", "0", "5"], "--position z: -1 m is below the ball radius"),
+        (
+            ["--position", "0", "0", "-1", "--velocity", "30", "0", "5"],
+            ("--position z: -1 m is below the ball radius", "--position: z = -1 m is outside the allowed range"),
+        ),
         (["--position", "1e6", "0", "1", "--velocity", "30", "0", "5"], "--position[0]: 1e+06 m is outside"),
         (["--speed-kmh", "100"], "--elevation-deg: give the launch elevation [deg] with --speed-kmh"),
         (["--elevation-deg", "5"], "--elevation-deg: give a velocity vector, or a speed with an elevation"),
@@ -240,7 +243,8 @@ def test_absurd_or_ignored_inputs_are_refused_with_the_range(capsys, args, expec
     rc, out, err = run(capsys, "fly", *args)
     assert rc == 2 and out == ""
     assert err.count("\n") == 1 and "Traceback" not in err
-    assert err.startswith("tennislab fly: error: ") and expect in err, err
+    alternatives = expect if isinstance(expect, tuple) else (expect,)  # core's wording or the workflow's
+    assert err.startswith("tennislab fly: error: ") and any(e in err for e in alternatives), err
 
 
 # ------------------------------------------------------------------ output files (issue 16)
