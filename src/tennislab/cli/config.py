@@ -17,6 +17,7 @@ import argparse
 import dataclasses
 import os
 from dataclasses import dataclass, field
+from typing import Any
 
 from tennislab.core.flight import FlightParams
 from tennislab.core.surfaces import get_surface
@@ -80,7 +81,7 @@ def player_from_dict(name: str, fields: dict, where: str) -> Player:
     """A :class:`~tennislab.serve.players.Player` from a profile's fields (the dataclass's field
     names; ``name`` optional); an unknown or missing field is a one-line error naming it."""
     known = [f.name for f in dataclasses.fields(Player)]
-    d = {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
+    d: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
     d.setdefault("name", name)
     for k in d:
         if k not in known:
