@@ -58,11 +58,11 @@ def data_extent(points) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def frame_views(
-    ax_side, ax_top, points, court: Court = ITF_COURT, margin: float = 3.0, pad: float = 0.6, headroom: float = 0.08
+    ax_side, ax_top, points, court: Court = ITF_COURT, margin: float = 3.0, pad: float = 1.0, headroom: float = 0.08
 ) -> None:
     """Set both views' limits to hold the court (with ``margin`` [m] around it) and every point of
-    ``points`` (N, 3) [m] with ``pad`` [m] to spare; the side view's height gets ``headroom``
-    (a fraction) above the highest point and is at least :data:`MIN_SIDE_HEIGHT`.
+    ``points`` (N, 3) [m] with ``pad`` [m] to spare; the side view starts at the ground and its
+    height gets ``headroom`` (a fraction) above the highest point, at least :data:`MIN_SIDE_HEIGHT`.
 
     Either axis may be None (a figure with one view)."""
     L, d = court.half_length, court.doubles_width / 2
@@ -73,7 +73,7 @@ def frame_views(
         lo = np.minimum(lo, ext[0] - pad)
         hi = np.maximum(hi, ext[1] + pad)
         hi[2] = max(hi[2], ext[1][2] * (1.0 + headroom) + 0.2)
-    lo[2] = min(0.0, lo[2])
+    lo[2] = 0.0  # the ground: a ball centre is never below it
     if ax_side is not None:
         ax_side.set_xlim(lo[0], hi[0])
         ax_side.set_ylim(lo[2], hi[2])
