@@ -61,3 +61,95 @@ def test_text_output_and_plot(capsys, tmp_path):
 def test_bad_input(capsys, bad, msg):
     rc, out, err = run(capsys, *ARGS, *bad)
     assert rc == 2 and msg in err and len(err.strip().splitlines()) == 1
+
+
+# ------------------------------------------------------------------ plots frame everything they draw (issue 17)
+def _inside(ax, xs, ys, tol=1e-9):
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    xs, ys = np.asarray(xs, float), np.asarray(ys, float)
+    return bool(np.all((xs >= x0 - tol) & (xs <= x1 + tol) & (ys >= y0 - tol) & (ys <= y1 + tol)))
+
+
+def _check_framed(fig, result):
+    """Every drawn flight point, every bounce, the apex and the end are inside both views' limits."""
+    import matplotlib.pyplot as plt
+
+    ax_side, ax_top = fig.axes[:2]
+    d = result.to_dict()
+    try:
+        for ax in (ax_side, ax_top):
+            lines = [ln for ln in ax.get_lines() if ln.get_gid() in ("flight", "bounce", "end")]
+            assert lines
+            for ln in lines:
+                assert _inside(ax, ln.get_xdata(), ln.get_ydata()), ln.get_gid()
+        assert len([ln for ln in ax_top.get_lines() if ln.get_gid() == "bounce"]) == len(d.get("bounces", []))
+        for b in d.get("bounces", []):
+            assert _inside(ax_top, [b["x"]], [b["y"]]) and _inside(ax_side, [b["x"]], [0.0])
+        assert _inside(ax_side, [d["apex"]["x"]], [d["apex"]["z"]])
+        assert ax_side.get_ylim()[1] > d["apex"]["z"]
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    "launch",
+    [
+        # the issue's case: the second bounce used to be off the axes
+        dict(
+            position=(-11.885, 0, 1.0),
+            velocity=(27, 0, 7),
+            spin_rpm=2500,
+            spin_axis="topspin",
+            bounces=2,
+            surface="clay",
+        ),
+        # a high lob: its apex is far above the default 3 m
+        dict(position=(-11.0, 0, 0.8), speed_kmh=80, elevation_deg=55, bounces=1),
+        # a wide, long ball bouncing out of the court to the side
+        dict(position=(-11.885, 3, 1.0), speed_kmh=150, elevation_deg=8, heading_deg=25, bounces=3),
+    ],
+)
+def test_plots_frame_every_bounce_and_the_apex(launch):
+    from tennislab.plot.trajectory import plot_trajectories
+    from tennislab.trajectory import fly
+
+    res = fly(**launch)
+    _check_framed(plot_trajectories([res]), res)
+
+
+def test_fly_plot_frames_the_second_bounce(capsys, tmp_path, monkeypatch):
+    """Through the command: the figure `fly --bounces 2 --plot` saves holds both bounces."""
+    from tennislab.cli import fly as fly_cli
+
+    figs = []
+    monkeypatch.setattr(fly_cli, "save_figure", lambda fig, path: figs.append(fig))
+    args = [
+        "fly",
+        "--position",
+        "-11.885",
+        "0",
+        "1.0",
+        "--velocity",
+        "27",
+        "0",
+        "7",
+        "--spin-rpm",
+        "2500",
+        "--spin-axis",
+        "0",
+        "1",
+        "0",
+        "--surface",
+        "clay",
+        "--bounces",
+        "2",
+        "--plot",
+        str(tmp_path / "f.png"),
+    ]
+    rc, out, err = run(capsys, *args)
+    assert rc == 0, err
+    from tennislab.trajectory import fly
+
+    res = fly((-11.885, 0, 1.0), (27, 0, 7), spin_rpm=2500, spin_axis=(0, 1, 0), surface="clay", bounces=2)
+    assert res.to_dict()["bounces"][1]["x"] > 15  # beyond the old fixed limit of 14.885 m
+    _check_framed(figs[0], res)

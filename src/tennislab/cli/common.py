@@ -1,56 +1,135 @@
-"""Shared CLI pieces: the physics flags of ``tennislab fly`` and JSON output.
+"""Shared CLI pieces: the physics, machine, launch and output flags, and JSON output.
 
-Every command that simulates flight accepts the physics flags (``--aero``,
-``--cd``, ``--cl``, ``--mass``, ``--radius``, ``--air-density``,
-``--gravity``, ``--wind``, ``--spin-decay``) so any study can be rerun with
-other constants.  The other flag groups that several commands share are added
-here too: the launcher's machine flags (:func:`add_machine_flags`) and the
-output flags ``--csv`` / ``--plot`` / ``--json`` (:func:`add_output_flags`).
+Every command that simulates flight accepts the physics flags (``--aero``, ``--cd``, ``--cl``,
+``--mass``, ``--radius``, ``--air-density``, ``--gravity``, ``--wind``, ``--spin-decay``) so any study
+can be rerun with other constants (their defaults can also come from ``tennislab.toml``:
+:mod:`tennislab.cli.config`).  The other flag groups that several commands share are added here too:
+the launcher's machine flags (:func:`add_machine_flags`), the launch vocabulary
+(:func:`add_launch_flags`: a velocity or a speed with elevation and heading; a spin vector or a rate
+about a named axis) and the output flags ``--csv`` / ``--plot`` / ``--json`` (:func:`add_output_flags`),
+whose paths are checked when the command line is parsed, before any work (:func:`output_file`,
+:func:`figure_file`, :func:`output_dir`).
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 
 from tennislab.core.aero import DEFAULT_AERO, aero_model_names
 from tennislab.core.flight import PRESETS, FlightParams
+from tennislab.core.launch import SPIN_AXES_DEG, spin_axis_angle
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
-from tennislab.io.files import atomic_write  # noqa: F401  (re-exported for commands)
-from tennislab.plot.save import save_figure  # noqa: F401  (re-exported for commands)
+from tennislab.io.files import atomic_write, check_output_dir, check_output_path
+from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
 from tennislab.results import jsonable
 
+__all__ = [
+    "PHYSICS_DESTS",
+    "SPEED_UNITS",
+    "add_launch_flags",
+    "add_machine_flags",
+    "add_output_flags",
+    "add_physics_flags",
+    "add_speed_flags",
+    "atomic_write",
+    "emit_json",
+    "figure_file",
+    "launch_from_args",
+    "output_dir",
+    "output_file",
+    "parse_spin_axis",
+    "physics_from_args",
+    "physics_options",
+    "save_figure",
+    "speed_from_args",
+]
 
-def add_physics_flags(p, preset: str = "standard") -> None:
+#: dests of the physics flags, in the order of :func:`add_physics_flags`
+PHYSICS_DESTS = ("aero", "cd", "cl", "aero_table", "mass", "radius", "air_density", "gravity", "wind", "spin_decay")
+
+
+# ------------------------------------------------------------------ output paths, checked at parse time
+def _argparse_type(check, name: str):
+    """An argparse ``type`` that runs ``check(param, value)`` when the command line is parsed, so a
+    bad output path is refused (one line, exit 2) before any work."""
+
+    def convert(value: str) -> str:
+        try:
+            return check(value)
+        except InputError as exc:
+            msg = str(exc)
+            raise argparse.ArgumentTypeError(msg.split(": ", 1)[1] if msg.startswith("output: ") else msg) from None
+
+    convert.__name__ = name
+    return convert
+
+
+def output_file(suffixes=None):
+    """argparse ``type`` for an output file (:func:`tennislab.io.files.check_output_path`; with
+    ``suffixes`` such as ``(".csv",)`` the extension must be one of them)."""
+    return _argparse_type(lambda v: check_output_path("output", v, suffixes), "output file")
+
+
+def figure_file():
+    """argparse ``type`` for ``--plot``: an output file with a figure format Matplotlib writes
+    (:data:`tennislab.plot.save.FIGURE_SUFFIXES`: .png, .pdf, .svg, ...)."""
+    return _argparse_type(lambda v: check_output_path("output", v, FIGURE_SUFFIXES), "figure file")
+
+
+def output_dir():
+    """argparse ``type`` for an output directory (created by the command if missing; its nearest
+    existing ancestor must be a writable directory: :func:`tennislab.io.files.check_output_dir`)."""
+    return _argparse_type(lambda v: check_output_dir("output", v), "output directory")
+
+
+# ------------------------------------------------------------------ flag groups
+def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
     """Add the physics flags to an argparse parser; flags not given keep the values of ``preset``
-    (:data:`tennislab.core.flight.PRESETS`), which :func:`physics_from_args` reads back."""
+    (:data:`tennislab.core.flight.PRESETS`), which :func:`physics_from_args` reads back.
+
+    ``flags``: the dests (of :data:`PHYSICS_DESTS`) to add, for a command that uses only some of
+    them (a flag a command would ignore must not be offered); default all.
+    """
     base = PRESETS[preset]
     default_aero = base.get("aero", DEFAULT_AERO)
-    p.set_defaults(physics_preset=preset)
+    chosen = PHYSICS_DESTS if flags is None else tuple(flags)
+    unknown = set(chosen) - set(PHYSICS_DESTS)
+    if unknown:
+        raise ValueError(f"add_physics_flags: unknown physics flags {sorted(unknown)}")
+    p.set_defaults(physics_preset=preset, **{d: None for d in PHYSICS_DESTS if d not in chosen})
     g = p.add_argument_group("physics")
-    g.add_argument(
-        "--aero",
-        default=None,
-        help=f"aero model: {', '.join(aero_model_names())} (default {default_aero})",
-    )
-    g.add_argument("--cd", type=float, help="drag coefficient for models that take one [-]")
-    g.add_argument("--cl", type=float, help="lift coefficient for models that take one [-]")
-    g.add_argument("--aero-table", metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)")
-    g.add_argument("--mass", type=float, help=f"ball mass [kg] (default {base.get('mass', 0.0577)})")
-    g.add_argument("--radius", type=float, help=f"ball radius [m] (default {base.get('radius', 0.0335)})")
-    g.add_argument("--air-density", type=float, help=f"air density [kg/m^3] (default {base.get('air_density', 1.199)})")
-    g.add_argument("--gravity", type=float, help=f"gravity [m/s^2] (default {base.get('gravity', 9.80665)})")
-    g.add_argument("--wind", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]")
-    g.add_argument("--spin-decay", type=float, help="spin decay rate [1/s] (default 0: off)")
+    specs = {
+        "aero": dict(
+            default=None, metavar="NAME", help=f"aero model: {', '.join(aero_model_names())} (default {default_aero})"
+        ),
+        "cd": dict(type=float, help="drag coefficient for models that take one [-]"),
+        "cl": dict(type=float, help="lift coefficient for models that take one [-]"),
+        "aero_table": dict(metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)"),
+        "mass": dict(type=float, metavar="KG", help=f"ball mass [kg] (default {base.get('mass', 0.0577)})"),
+        "radius": dict(type=float, metavar="M", help=f"ball radius [m] (default {base.get('radius', 0.0335)})"),
+        "air_density": dict(
+            type=float, metavar="KG_M3", help=f"air density [kg/m^3] (default {base.get('air_density', 1.199)})"
+        ),
+        "gravity": dict(type=float, metavar="M_S2", help=f"gravity [m/s^2] (default {base.get('gravity', 9.80665)})"),
+        "wind": dict(type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]"),
+        "spin_decay": dict(type=float, metavar="PER_S", help="spin decay rate [1/s] (default 0: off)"),
+    }
+    for dest in PHYSICS_DESTS:
+        if dest in chosen:
+            g.add_argument("--" + dest.replace("_", "-"), **specs[dest])  # type: ignore[arg-type]
 
 
 def add_machine_flags(p, position: bool = True) -> None:
     """Add the launcher's machine flags (group "machine") to an argparse parser.
 
-    ``--machine-position X Y`` [m] (only with *position*), ``--roller-radius`` [m] and
+    ``--machine NAME`` (a profile of ``tennislab.toml``: it fills the flags below that are not
+    given), ``--machine-position X Y`` [m] (only with *position*), ``--roller-radius`` [m] and
     ``--roller-axis-distance`` [m]; read back by :func:`tennislab.cli.launcher.spec_from_args`.
     """
     g = p.add_argument_group("machine")
+    g.add_argument("--machine", metavar="NAME", help="machine profile [machines.NAME] of tennislab.toml")
     if position:
         g.add_argument(
             "--machine-position",
@@ -59,9 +138,15 @@ def add_machine_flags(p, position: bool = True) -> None:
             metavar=("X", "Y"),
             help="launch point on court [m] (default -12.385 0: 0.5 m behind the near baseline)",
         )
-    g.add_argument("--roller-radius", type=float, help="roller radius r_r [m] (default 0.1, seed 002)")
     g.add_argument(
-        "--roller-axis-distance", type=float, help="distance between roller axes [m] (default 0.25, seed 002)"
+        "--roller-radius",
+        type=float,
+        help="roller radius r_r [m] (default 0.1, Wojcicki, Pucilowski & Kulesza)",
+    )
+    g.add_argument(
+        "--roller-axis-distance",
+        type=float,
+        help="distance between roller axes [m] (default 0.25, Wojcicki, Pucilowski & Kulesza)",
     )
 
 
@@ -71,14 +156,15 @@ def add_output_flags(
     """Add the output flags: ``--csv`` (if *csv*, its help), ``--plot FILE.png`` (if *plot*, its help), ``--json``.
 
     The order is ``--csv``, ``--plot``, ``--json``; with *json_first* ``--json`` comes first (the
-    launcher's sub-commands list it before the files they write).
+    launcher's sub-commands list it before the files they write).  Both paths are checked when the
+    command line is parsed (:func:`output_file`, :func:`figure_file`), before any work.
     """
     if json_first:
         p.add_argument("--json", action="store_true", help="print one JSON object")
     if csv is not None:
-        p.add_argument("--csv", metavar=csv_metavar, help=csv)
+        p.add_argument("--csv", metavar=csv_metavar, type=output_file(), help=csv)
     if plot is not None:
-        p.add_argument("--plot", metavar="FILE.png", help=plot)
+        p.add_argument("--plot", metavar="FILE.png", type=figure_file(), help=plot)
     if not json_first:
         p.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -142,8 +228,6 @@ def speed_from_args(args) -> float | None:
 def parse_spin_axis(values, flag: str = "--spin-axis"):
     """A ``--spin-axis`` value: one token (a name such as ``topspin`` or an angle [deg]) -> ``("angle", g [rad])``;
     three numbers -> ``("vector", (ax, ay, az))`` (any length, right-hand rule)."""
-    from tennislab.core.launch import spin_axis_angle
-
     vals = [values] if isinstance(values, str) else list(values)
     if len(vals) == 1:
         try:
@@ -159,3 +243,50 @@ def parse_spin_axis(values, flag: str = "--spin-axis"):
             ) from None
         return "vector", vec
     raise InputError(f"{flag}: expected a name, an angle [deg] or three numbers, got {len(vals)} values")
+
+
+def add_launch_flags(p, *, velocity_required: bool = False) -> None:
+    """The launch vocabulary of every command that launches a ball from a free state (docs/conventions.md).
+
+    Group "launch": ``--velocity VX VY VZ`` [m/s], or a speed (``--speed-kmh|--speed-ms|--speed-mph``)
+    with ``--elevation-deg`` and ``--heading-deg``.  Group "spin": ``--spin WX WY WZ`` [rad/s], or
+    ``--spin-rpm`` about ``--spin-axis NAME|DEG|AX AY AZ``.  Read back by :func:`launch_from_args`.
+    """
+    g = p.add_argument_group("launch (a velocity vector, or a speed with elevation and heading)")
+    g.add_argument("--velocity", type=float, nargs=3, metavar=("VX", "VY", "VZ"), help="velocity [m/s]")
+    add_speed_flags(g, note="(with --elevation-deg)")
+    g.add_argument("--elevation-deg", type=float, metavar="DEG", help="launch angle above the horizontal [deg]")
+    g.add_argument(
+        "--heading-deg",
+        type=float,
+        metavar="DEG",
+        help="direction from +x, positive toward +y (left) [deg] (default 0: straight down the court)",
+    )
+    s = p.add_argument_group("spin (a spin vector, or a rate about an axis)")
+    s.add_argument("--spin", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="spin vector [rad/s]")
+    s.add_argument("--spin-rpm", type=float, metavar="RPM", help="spin rate [rpm], with --spin-axis")
+    s.add_argument(
+        "--spin-axis",
+        nargs="+",
+        metavar="AXIS",
+        help=f"spin axis: a name ({', '.join(SPIN_AXES_DEG)}), an angle [deg] about the flight "
+        "(0 topspin, 180 backspin, +90 curving left), or a vector AX AY AZ (right-hand rule)",
+    )
+
+
+def launch_from_args(args) -> dict:
+    """The launch flags (:func:`add_launch_flags`) as keywords of :func:`tennislab.trajectory.fly`."""
+    axis = args.spin_axis
+    if axis is not None:
+        kind, value = parse_spin_axis(axis)
+        axis = axis[0] if kind == "angle" else value
+    speeds = {k: getattr(args, k, None) for k in SPEED_UNITS}
+    return dict(
+        velocity=args.velocity,
+        **speeds,
+        elevation_deg=args.elevation_deg,
+        heading_deg=args.heading_deg,
+        spin=args.spin,
+        spin_rpm=args.spin_rpm,
+        spin_axis=axis,
+    )

@@ -1,93 +1,127 @@
-"""``tennislab fly``: one flight from a 3-D state; landing, net and apex."""
+"""``tennislab fly``: one flight from a launch; landing, net, apex, and bounces with ``--bounces N``."""
 
 from __future__ import annotations
 
+import argparse
+import textwrap
+
 import numpy as np
 
-from tennislab.cli.common import add_physics_flags, emit_json, physics_from_args, save_figure
-from tennislab.errors import InputError, check_vector
+from tennislab.cli.common import (
+    add_launch_flags,
+    add_physics_flags,
+    emit_json,
+    figure_file,
+    launch_from_args,
+    physics_from_args,
+    save_figure,
+)
+from tennislab.errors import InputError
+from tennislab.plot.trajectory import plot_trajectories
 from tennislab.trajectory import fly
-from tennislab.units import RPM
+
+#: where a ball starts when --position is not given: a groundstroke from the centre of the near
+#: baseline, 1 m above the ground [m]
+DEFAULT_POSITION = (-11.885, 0.0, 1.0)
+
+EXAMPLES = """examples:
+  tennislab fly --speed-kmh 120 --elevation-deg 6 --spin-rpm 2500 --spin-axis topspin
+  tennislab fly --position -11.885 0.5 2.8 --velocity 49.5 -1.5 -4.5 --json
+  tennislab fly --speed-mph 55 --elevation-deg 8 --heading-deg -3 --spin-rpm 1500 --spin-axis slice \\
+                --bounces 2 --surface clay --plot fly.png
+"""
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "fly",
-        help="integrate one flight from a position, velocity and spin",
-        description="Integrate one ball flight (SI units: m, m/s, rad/s) to its landing.",
+        help="one flight from a launch: landing, net clearance, apex (and bounces)",
+        description=textwrap.fill(
+            "Fly one ball from a launch to its landing (or through N bounces). Give the launch as a "
+            "velocity vector [m/s] or as a speed with elevation and heading [deg], and the spin as a vector "
+            "[rad/s] or as a rate [rpm] about a named axis. Frame: origin at the centre of the net on the "
+            "ground, x toward the far baseline, y to the left, z up (docs/conventions.md).",
+            width=100,
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument(
         "--position",
         type=float,
         nargs=3,
-        required=True,
         metavar=("X", "Y", "Z"),
-        help="ball-centre position [m] (origin: net centre on the ground)",
+        help="ball-centre position at launch [m] (default -11.885 0 1: the centre of the near baseline, 1 m up)",
     )
-    p.add_argument("--velocity", type=float, nargs=3, required=True, metavar=("VX", "VY", "VZ"), help="velocity [m/s]")
-    p.add_argument("--spin", type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="spin vector [rad/s]")
-    p.add_argument("--spin-rpm", type=float, help="spin rate [rpm], with --spin-axis")
-    p.add_argument(
-        "--spin-axis", type=float, nargs=3, metavar=("AX", "AY", "AZ"), help="spin axis (any length; right-hand rule)"
-    )
-    p.add_argument(
-        "--surface", default="hard", help="court surface for --bounces: clay, grass, hard, carpet (default hard)"
-    )
-    p.add_argument(
+    add_launch_flags(p)
+    b = p.add_argument_group("bounces")
+    b.add_argument(
         "--bounces",
         type=int,
         default=0,
-        help="continue through N bounces on --surface (default 0: stop at the first landing)",
+        metavar="N",
+        help="continue through N bounces (default 0: stop at the first landing)",
+    )
+    b.add_argument(
+        "--surface",
+        default=None,
+        metavar="NAME",
+        help="court surface of the bounces: clay, grass, hard, carpet (default hard; only with --bounces)",
     )
     add_physics_flags(p)
-    p.add_argument("--plot", metavar="FILE.png", help="draw side and top views on the court")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    o = p.add_argument_group("output")
+    o.add_argument("--plot", metavar="FILE.png", type=figure_file(), help="draw side and top views on the court")
+    o.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def spin_from_args(args) -> tuple:
-    """Spin vector [rad/s] from ``--spin`` or ``--spin-rpm`` + ``--spin-axis``."""
-    if args.spin is not None and (args.spin_rpm is not None or args.spin_axis is not None):
-        raise InputError("--spin: give either --spin or --spin-rpm with --spin-axis, not both")
-    if args.spin_rpm is not None or args.spin_axis is not None:
-        if args.spin_rpm is None or args.spin_axis is None:
-            raise InputError("--spin-rpm and --spin-axis must be given together")
-        ax = np.array(check_vector("spin-axis", args.spin_axis))
-        n = np.linalg.norm(ax)
-        if n == 0:
-            raise InputError("--spin-axis: must not be the zero vector")
-        return tuple(ax / n * args.spin_rpm * RPM)
-    return tuple(args.spin) if args.spin is not None else (0.0, 0.0, 0.0)
-
-
 def run(args) -> int:
+    from_config = getattr(args, "config_defaults", {})
+    surface_given = args.surface is not None and args.surface != from_config.get("surface")
+    if surface_given and args.bounces == 0:
+        raise InputError("surface: the surface is used only for bounces; add --bounces N (N >= 1)")
     params = physics_from_args(args)
-    spin = spin_from_args(args)
-    res = fly(args.position, args.velocity, spin, params=params, surface=args.surface, bounces=args.bounces)
+    position = DEFAULT_POSITION if args.position is None else args.position
+    res = fly(
+        position,
+        **launch_from_args(args),
+        params=params,
+        surface=args.surface or "hard",
+        bounces=args.bounces,
+    )
     out = res.to_dict()
-    trs = res.segments
     if args.plot:
-        from tennislab.plot.trajectory import plot_trajectories
-
-        fig = plot_trajectories(trs, title="tennislab fly")
-        save_figure(fig, args.plot)
+        save_figure(plot_trajectories([res], title="tennislab fly"), args.plot)
     if args.json:
         emit_json(out)
+        return 0
+    la = out["launch"]
+    axis = "" if la["spin_axis_deg"] is None else f" about {la['spin_axis_deg']:.0f} deg"
+    print(
+        f"launch: {la['speed_kmh']:.1f} km/h ({la['speed_ms']:.2f} m/s), elevation {la['elevation_deg']:.1f} deg, "
+        f"heading {la['heading_deg']:.1f} deg, spin {la['spin_rpm']:.0f} rpm{axis}"
+    )
+    b = out["landing"]
+    areas = ", ".join(b["areas"]) if b["areas"] else "outside the court"
+    print(
+        f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, "
+        f"speed {b['speed']:.2f} m/s ({b['speed_kmh']:.1f} km/h); {areas}"
+    )
+    n = out["net"]
+    if n["result"] == "none":
+        print("net: not reached")
     else:
-        b = out["bounce"]
-        print(f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, speed {b['speed']:.2f} m/s")
-        n = out["net"]
-        if n["result"] == "none":
-            print("net: not reached")
-        else:
-            print(f"net: {n['result']} (centre height {n['z']:.3f} m, clearance {n['clearance']:.3f} m)")
-        print(f"apex: z = {out['apex']['z']:.3f} m at t = {out['apex']['t']:.3f} s")
-        for i, b in enumerate(out.get("bounces", []), 1):
-            print(
-                f"bounce {i} ({out['surface']}, {b['mode']}): x = {b['x']:.3f} m, y = {b['y']:.3f} m, "
-                f"t = {b['t']:.3f} s, out {np.linalg.norm(b['velocity_out']):.2f} m/s; "
-                f"mark {b['mark']['length'] * 1000:.0f} x {b['mark']['width'] * 1000:.0f} mm"
-            )
-        if args.plot:
-            print(f"figure: {args.plot}")
+        verdict = "HITS THE NET" if n["result"] == "net" else "over"
+        print(f"net: {verdict} (centre height {n['z']:.3f} m, clearance {n['clearance']:.3f} m)")
+    print(f"apex: z = {out['apex']['z']:.3f} m at x = {out['apex']['x']:.3f} m, t = {out['apex']['t']:.3f} s")
+    for i, bo in enumerate(out.get("bounces", []), 1):
+        print(
+            f"bounce {i} ({out['surface']}, {bo['mode']}): x = {bo['x']:.3f} m, y = {bo['y']:.3f} m, "
+            f"t = {bo['t']:.3f} s, out {np.linalg.norm(bo['velocity_out']):.2f} m/s; "
+            f"mark {bo['mark']['length'] * 1000:.0f} x {bo['mark']['width'] * 1000:.0f} mm"
+        )
+    for c in out["caveats"]:
+        print(f"note: {c}")
+    if args.plot:
+        print(f"figure: {args.plot}")
     return 0

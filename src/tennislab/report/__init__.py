@@ -1,1 +1,2 @@
-"""The coach-facing HTML report (``tennislab report --out DIR``); see :mod:`tennislab.report.build`."""
+"""The coach-facing report (``tennislab report --out DIR``): one self-contained HTML file with its figures
+embedded; see :mod:`tennislab.report.build`."""

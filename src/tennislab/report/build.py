@@ -1,118 +1,180 @@
-"""``tennislab report --out DIR``: the coach-facing HTML report (``DIR/index.html`` + PNG figures).
+"""``tennislab report --out DIR``: the coach-facing report, one self-contained HTML file.
 
-Sections (registry :data:`SECTIONS`, each a function ``fn(ctx) -> None`` that
-fills a :class:`~tennislab.report.html.Section`):
+Sections (:data:`SECTIONS`, each a function ``fn(ctx) -> None`` that fills a
+:class:`~tennislab.report.html.Section`):
 
-* ``serve-windows`` - serve windows of the three seed-000 players; Table 1
-  side by side with the paper (Grosen, Kousted & Treichel 2021)
-* ``peak-spin`` - speed and spin vs impact angle, the peak-spin angle per
-  player (the paper's Figure 5) and the Monte Carlo margin of error
+* ``serve-windows`` - serve windows of the players; Table 1 side by side with the paper
+  (Grosen, Kousted & Treichel 2021)
+* ``peak-spin`` - speed and spin vs impact angle, the peak-spin angle per player (the paper's
+  Figure 5) and the Monte Carlo margin of error
 * ``optimum-serves`` - the optimum flat and topspin serves drawn on the court
 * ``line-calling`` - a line call from a synthetic track: the mark against the line
 * ``launcher-drill`` - a launcher drill drawn on the court with its settings table
-* ``flight`` - the flight engine's aero models compared (always available)
+* ``flight`` - the flight engine's aero models compared
 
-A section whose module is not installed says "not available"; a section that
-fails is reported as failed (with the error) and the rest of the report is still
-written (``strict=True`` raises instead).  Progress goes to stderr per section.
-Figures are written atomically; ``index.html`` last.
+The page is one file: figures are embedded as PNG data URIs (:meth:`Context.save`), so it can be
+mailed, served or opened offline with nothing beside it.  It is written atomically, last, with the
+user's default permissions (``0644`` with the usual umask).  A section that needs a module that is
+not installed (``ImportError``) says "not available"; a section that fails is reported as failed
+(with the error) and the rest of the report is still written (``strict=True`` raises instead).
+Progress goes to stderr per section.
+
+``players`` (:func:`build_report`): the player profiles the serve sections study (default the
+three players of Grosen, Kousted & Treichel 2021); ``tennislab report --player FILE.toml`` puts
+one's own player first.
 """
 
 from __future__ import annotations
 
-import importlib
 import os
 import sys
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import matplotlib
-
-matplotlib.use("Agg")
-
 from tennislab import __version__
-from tennislab.app.services import Unavailable
-from tennislab.io.files import atomic_write
-from tennislab.plot.save import save_figure
+from tennislab.errors import InputError
+from tennislab.io.files import atomic_write, check_output_dir, check_output_path
+from tennislab.plot.save import figure_data_uri
+from tennislab.report import flight_section, launcher_section, linecall_section, serve_sections
 from tennislab.report import html as H
+from tennislab.serve.players import SEED_PLAYERS, Player, get_player
 
-#: (key, title, "module:function") in report order
-SECTIONS = [
-    ("serve-windows", "Serve windows of the three players (Table 1)", "tennislab.report.serve_sections:windows"),
-    ("peak-spin", "Peak spin and margin of error", "tennislab.report.serve_sections:peak_spin"),
-    ("optimum-serves", "Optimum serves on the court", "tennislab.report.serve_sections:optimum"),
-    ("line-calling", "Line calling: the mark against the line", "tennislab.report.linecall_section:linecall"),
-    ("launcher-drill", "Launcher drill", "tennislab.report.launcher_section:drill"),
-    ("flight", "Flight engine: aerodynamic models compared", "tennislab.report.flight_section:flight"),
+#: (key, title, section function) in report order
+SECTIONS: list[tuple[str, str, Callable]] = [
+    ("serve-windows", "Serve windows of the players (Table 1)", serve_sections.windows),
+    ("peak-spin", "Peak spin and margin of error", serve_sections.peak_spin),
+    ("optimum-serves", "Optimum serves on the court", serve_sections.optimum),
+    ("line-calling", "Line calling: the mark against the line", linecall_section.linecall),
+    ("launcher-drill", "Launcher drill", launcher_section.drill),
+    ("flight", "Flight engine: aerodynamic models compared", flight_section.flight),
 ]
-
+SECTION_KEYS = tuple(k for k, _, _ in SECTIONS)
 
 INTRO = H.para(
     "How to read this report: the serve sections reproduce a published study of which racket angles make a "
-    "serve go in (Grosen, Kousted & Treichel 2021), for a professional, a recreational and a junior player, and "
-    "put our numbers beside the paper's; the line-calling section shows how a Hawk-Eye-style system decides a "
+    "serve go in (Grosen, Kousted & Treichel 2021), for the players below, and put our numbers beside the "
+    "paper's where the paper has them; the line-calling section shows how a Hawk-Eye-style system decides a "
     "close ball and how sure it can be; the launcher section is a ready training drill with the machine "
     "settings to dial. Every number was computed by tennislab when this page was made; angles in degrees, "
-    "speeds in m/s or km/h, spin in rpm.",
+    "speeds in m/s or km/h, spin in rpm. Boxes marked \u201cCaveats\u201d say what a model leaves out, next to "
+    "its numbers.",
     "note",
 )
 
 
 @dataclass
 class Context:
-    """What a section function gets: the output directory, its section, shared results, progress."""
+    """What a section function gets: its section, the players, shared results, progress."""
 
     out: str
     section: H.Section | None = None
     shared: dict = field(default_factory=dict)
-    progress: object = None
+    progress: Callable[[str], None] | None = None
     figures: list = field(default_factory=list)
+    players: tuple = ()
 
     def save(self, fig, name: str) -> str:
-        """Save a Matplotlib figure as ``DIR/name`` (PNG); returns the relative path for the HTML."""
-        import matplotlib.pyplot as plt
+        """Embed a Matplotlib figure: returns a PNG data URI for ``<img src>`` (``name`` labels it in
+        the summary; no file is written) and closes the figure."""
+        import matplotlib.pyplot as plt  # not at the top: 0.5 s of every command's start-up (-X importtime)
 
-        save_figure(fig, os.path.join(self.out, name))
-        plt.close(fig)
+        try:
+            uri = figure_data_uri(fig)
+        finally:
+            plt.close(fig)
         self.figures.append(name)
-        return name
+        return uri
 
     def log(self, msg: str) -> None:
         if self.progress:
             self.progress(f"        {msg}")
+
+    def caveats(self, obj) -> None:
+        """Add the caveats of a result (``obj.to_dict()["caveats"]``), a dict with ``caveats``, or a
+        list of sentences to the current section, next to its numbers."""
+        if self.section is None:
+            return
+        box = H.caveats(caveats_of(obj))
+        if box:
+            self.section.add(box)
+
+
+def caveats_of(obj) -> list[str]:
+    """The caveat sentences of a result object, a dict (key ``caveats``) or a list of sentences."""
+    if obj is None:
+        return []
+    if hasattr(obj, "to_dict"):
+        obj = obj.to_dict()
+    if isinstance(obj, dict):
+        obj = obj.get("caveats") or []
+    if isinstance(obj, str):
+        return [obj]
+    return [str(c) for c in obj if str(c).strip()]
 
 
 def _stderr(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-def _resolve(spec: str):
-    mod, fn = spec.split(":")
-    return getattr(importlib.import_module(mod), fn)
+def index_path(out: str) -> str:
+    """The HTML file written for ``out``: ``out`` itself when it ends in ``.html``, else ``out/index.html``."""
+    return out if out.lower().endswith((".html", ".htm")) else os.path.join(out, "index.html")
 
 
-def build_report(out: str, *, progress=_stderr, strict: bool = False, only: list[str] | None = None) -> dict:
-    """Write the report into directory ``out``; returns a summary dict.
+def _players(players) -> tuple[Player, ...]:
+    chosen = SEED_PLAYERS if players is None else players
+    if isinstance(chosen, (str, Player)):
+        chosen = (chosen,)
+    return tuple(get_player(p) for p in chosen)
 
-    ``progress``: callable taking one line (default: stderr; ``None`` for silence).
-    ``only``: section keys to build (default all).  Returns ``{"index": path,
-    "sections": {key: status}, "figures": [...], "seconds": total}``.
+
+def _player_box(players: tuple[Player, ...]) -> str:
+    rows = [[p.name, H.num(p.impact_height, 2), H.num(p.racket_speed, 1)] for p in players]
+    return "<h3>Players</h3>" + H.table(["player", "impact height [m]", "racket speed [m/s]"], rows)
+
+
+def build_report(
+    out: str,
+    *,
+    progress=_stderr,
+    strict: bool = False,
+    only: list[str] | None = None,
+    players=None,
+) -> dict:
+    """Write the report to ``out`` (a directory -> ``out/index.html``, or a file ending in ``.html``);
+    returns a summary dict.
+
+    ``progress``: callable taking one line (default: stderr; ``None`` for silence).  ``only``: section
+    keys to build (default all).  ``players``: player names or :class:`~tennislab.serve.players.Player`
+    profiles for the serve sections (default the paper's three).  Returns ``{"index": path,
+    "sections": {key: status}, "figures": [...], "seconds": total, "players": [...]}``.
     """
-    os.makedirs(out, exist_ok=True)
+    index = index_path(out)
+    if index == out:
+        check_output_path("out", out)
+    else:
+        check_output_dir("out", out)
+    unknown = [k for k in only or () if k not in SECTION_KEYS]
+    if unknown:
+        raise InputError(f"only: unknown section {unknown[0]!r}; allowed: {', '.join(SECTION_KEYS)}")
+    plist = _players(players)
+    if index != out:
+        os.makedirs(out, exist_ok=True)
     t_all = time.perf_counter()
-    ctx = Context(out=out, progress=progress)
+    ctx = Context(out=os.path.dirname(index) or ".", progress=progress, players=plist)
     chosen = [s for s in SECTIONS if only is None or s[0] in only]
     sections = []
-    for i, (key, title, spec) in enumerate(chosen, 1):
+    for i, (key, title, fn) in enumerate(chosen, 1):
         sec = H.Section(key, title)
         ctx.section = sec
         if progress:
             progress(f"[{i}/{len(chosen)}] {title} ...")
         t0 = time.perf_counter()
         try:
-            _resolve(spec)(ctx)
-        except (Unavailable, ImportError) as exc:
+            fn(ctx)
+        except ImportError as exc:
             sec.status = "unavailable"
             sec.parts = [f'<p class="unavailable">Not available in this installation: {H.esc(exc)}</p>']
         except Exception as exc:
@@ -134,18 +196,19 @@ def build_report(out: str, *, progress=_stderr, strict: bool = False, only: list
     )
     doc = H.page(
         "tennislab report",
-        "Serve windows, spin, line calling and launcher drills - computed by tennislab from the seed papers' models",
+        "Serve windows, spin, line calling and launcher drills - computed by tennislab from published models "
+        "(Grosen, Kousted & Treichel 2021; Deng 2014; Wójcicki, Pucilowski & Kulesza)",
         sections,
         footer,
-        INTRO,
+        INTRO + _player_box(plist),
     )
-    index = os.path.join(out, "index.html")
     atomic_write(index, lambda fh: fh.write(doc))
     if progress:
-        progress(f"report: {index} ({len(ctx.figures)} figures, {total:.1f} s)")
+        progress(f"report: {index} ({len(ctx.figures)} figures embedded, {total:.1f} s)")
     return {
         "index": index,
         "sections": {s.key: s.status for s in sections},
         "figures": list(ctx.figures),
         "seconds": total,
+        "players": [p.name for p in plist],
     }

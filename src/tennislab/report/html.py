@@ -1,7 +1,7 @@
 """HTML pieces of the report: a self-contained page (inline CSS, no scripts, no external links).
 
-Figures are PNG files beside ``index.html`` referenced by relative paths, so the
-directory can be zipped, mailed or opened from a USB stick.
+Figures are embedded as PNG data URIs (:func:`tennislab.plot.save.figure_data_uri`), so the page
+is one file that can be mailed, served or opened from a USB stick with nothing beside it.
 """
 
 from __future__ import annotations
@@ -33,6 +33,9 @@ tr.paper td { color: #555; background: #fafafa; }
 .note { font-size: 0.9em; color: #444; }
 .unavailable { background: #fff8e1; border: 1px solid #e0c060; padding: 0.7em 1em; }
 .failed { background: #fdecea; border: 1px solid #e08080; padding: 0.7em 1em; }
+.caveats { background: #f3f6fb; border-left: 4px solid #6b8fc7; padding: 0.4em 1em; margin: 0.8em 0;
+            font-size: 0.9em; }
+.caveats ul { margin: 0.2em 0 0.2em 1.2em; padding: 0; }
 .kpi { display: inline-block; background: #eef3ee; border-radius: 6px; padding: 0.4em 0.9em;
        margin: 0.2em 0.4em 0.2em 0; }
 .kpi b { font-size: 1.25em; }
@@ -89,6 +92,15 @@ class Raw:
 
 def figure(path: str, caption: str) -> str:
     return f'<figure><img src="{esc(path)}" alt="{esc(caption)}"><figcaption>{esc(caption)}</figcaption></figure>'
+
+
+def caveats(items) -> str:
+    """A "Caveats" box listing what a model leaves out ('' when there is nothing to say)."""
+    lines = [str(c) for c in items or () if str(c).strip()]
+    if not lines:
+        return ""
+    body = "".join(f"<li>{esc(c)}</li>" for c in lines)
+    return f'<div class="caveats"><b>Caveats</b><ul>{body}</ul></div>'
 
 
 def para(text: str, cls: str = "") -> str:

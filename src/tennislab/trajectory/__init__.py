@@ -6,7 +6,12 @@ flight section; its :class:`FlightResult` gives each of them the same numbers (`
 A launch is given either as vectors (``position`` [m], ``velocity`` [m/s], ``spin`` [rad/s]) or in
 the launch vocabulary of :mod:`tennislab.core.launch` (``speed_ms``, ``elevation_deg``,
 ``heading_deg``, ``spin_rpm`` about ``spin_axis``: a name such as ``topspin``, an angle [deg], or a
-vector).
+vector); the speed may be given in km/h or mph instead (``speed_kmh``, ``speed_mph``).
+
+Guard rails: a launch outside what a tennis ball can do is refused with the allowed range
+(:data:`MAX_SPEED_MS`, :data:`MAX_SPIN_RPM`, :data:`MAX_DISTANCE_M`; a ball centre below its radius is
+refused by :func:`tennislab.core.flight.fly`), and a flight whose numbers are not finite is an error,
+never an answer.
 """
 
 from __future__ import annotations
@@ -26,7 +31,20 @@ from tennislab.errors import InputError, check_range, check_vector
 from tennislab.results import Result
 from tennislab.units import DEG, KMH, RPM
 
-__all__ = ["FlightResult", "fly", "launch_vectors"]
+__all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "FlightResult", "fly", "launch_vectors"]
+
+#: Fastest launch accepted [m/s]: the fastest recorded serves are about 263 km/h = 73 m/s (ATP, 2012);
+#: 100 m/s leaves room for studies beyond them and refuses numbers no racket or machine produces.
+MAX_SPEED_MS = 100.0
+#: Highest spin rate accepted [rpm]: the topspin of elite forehands reaches about 5,000 rpm (Kelley et
+#: al. 2008, Sports Eng.; reference-data.md); 10,000 rpm is twice that.
+MAX_SPIN_RPM = 10_000.0
+#: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long;
+#: the same limit as core.flight's guard rail).
+MAX_DISTANCE_M = 1000.0
+
+#: the launch speed's units: parameter -> (m/s per unit, unit label)
+_SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
 
 
 def launch_vectors(
@@ -35,31 +53,57 @@ def launch_vectors(
     *,
     speed_ms=None,
     elevation_deg=None,
-    heading_deg=0.0,
+    heading_deg=None,
     spin_rpm=None,
     spin_axis=None,
+    speed_kmh=None,
+    speed_mph=None,
 ) -> tuple[tuple, tuple]:
-    """(velocity [m/s], spin [rad/s]) from vectors or from the launch vocabulary (module docstring)."""
-    if velocity is not None and (speed_ms is not None or elevation_deg is not None):
-        raise InputError("velocity: give either a velocity vector or speed with elevation, not both")
+    """(velocity [m/s], spin [rad/s]) from vectors or from the launch vocabulary (module docstring).
+
+    The speed is refused above :data:`MAX_SPEED_MS` and the spin above :data:`MAX_SPIN_RPM`, each in
+    the unit it was given in.
+    """
+    speeds = {k: val for k, val in (("speed_ms", speed_ms), ("speed_kmh", speed_kmh), ("speed_mph", speed_mph))}
+    given = [k for k, val in speeds.items() if val is not None]
+    if len(given) > 1:
+        raise InputError(f"{given[0]}: give one speed ({' or '.join(given)}), not {len(given)}")
+    if velocity is not None and (given or elevation_deg is not None or heading_deg is not None):
+        what = given[0] if given else ("elevation_deg" if elevation_deg is not None else "heading_deg")
+        raise InputError(f"{what}: give either a velocity vector or a speed with an elevation, not both")
     if velocity is None:
-        if speed_ms is None or elevation_deg is None:
-            raise InputError("velocity: give a velocity vector, or a speed with an elevation [deg]")
-        check_range("speed_ms", speed_ms, 0.0, None, "m/s")
+        if not given:
+            what = "elevation_deg" if elevation_deg is not None else "velocity"
+            raise InputError(f"{what}: give a velocity vector, or a speed with an elevation [deg]")
+        key = given[0]
+        if elevation_deg is None:
+            raise InputError(f"elevation_deg: give the launch elevation [deg] with {key}")
+        factor, unit = _SPEED_UNITS[key]
+        speed = check_range(key, speeds[key], 0, _nice(MAX_SPEED_MS / factor), unit) * factor
         check_range("elevation_deg", elevation_deg, -90.0, 90.0, "deg")
-        check_range("heading_deg", heading_deg, -180.0, 180.0, "deg")
-        a, b = elevation_deg * DEG, heading_deg * DEG
-        v = tuple(float(c) for c in launch_velocity(speed_ms, a, b))
+        heading = check_range("heading_deg", 0.0 if heading_deg is None else heading_deg, -180.0, 180.0, "deg")
+        a, b = elevation_deg * DEG, heading * DEG
+        v = tuple(float(c) for c in launch_velocity(min(speed, MAX_SPEED_MS), a, b))
     else:
         v = check_vector("velocity", velocity)
+        sp = math.hypot(*v)
+        if sp > MAX_SPEED_MS:
+            raise InputError(f"velocity: |v| = {sp:.4g} m/s is outside the allowed range [0, {MAX_SPEED_MS:g}] m/s")
     if spin is not None and (spin_rpm is not None or spin_axis is not None):
         raise InputError("spin: give either a spin vector or spin_rpm with spin_axis, not both")
     if spin_rpm is None and spin_axis is None:
         w = check_vector("spin", spin) if spin is not None else (0.0, 0.0, 0.0)
+        rate_w = math.hypot(*w)
+        if rate_w > MAX_SPIN_RPM * RPM:
+            raise InputError(
+                f"spin: |omega| = {rate_w:.4g} rad/s ({rate_w / RPM:.0f} rpm) is outside the allowed range "
+                f"[0, {MAX_SPIN_RPM * RPM:.1f}] rad/s ({MAX_SPIN_RPM:g} rpm)"
+            )
         return v, w
     if spin_rpm is None or spin_axis is None:
-        raise InputError("spin_rpm: give spin_rpm and spin_axis together")
-    rate = check_range("spin_rpm", spin_rpm, 0.0, None, "rpm") * RPM
+        missing = "spin_axis" if spin_rpm is not None else "spin_rpm"
+        raise InputError(f"{missing}: give spin_rpm and spin_axis together")
+    rate = check_range("spin_rpm", spin_rpm, 0, _nice(MAX_SPIN_RPM), "rpm") * RPM
     if isinstance(spin_axis, (str, int, float)):
         _, a, b = describe_velocity(v)
         w_arr = launch_spin(rate, a, b, spin_axis_angle(spin_axis))
@@ -70,6 +114,12 @@ def launch_vectors(
             raise InputError("spin_axis: must not be the zero vector")
         w_arr = ax / n * rate
     return v, tuple(float(c) for c in w_arr)
+
+
+def _nice(x: float) -> float:
+    """A bound for a message: rounded to 0.1, shown without ``.0`` when whole."""
+    r = round(x, 1)
+    return int(r) if r.is_integer() else r
 
 
 def _finite(x: float) -> float | None:
@@ -105,6 +155,22 @@ class FlightResult(Result):
             out.extend(np.round(ys[:, 0:3], 4).tolist())
         return out
 
+    @property
+    def caveats(self) -> list[str]:
+        """What the numbers do not model, in plain words (shown next to them by the CLI, app and report)."""
+        out = []
+        net = self.trajectory.net
+        if net.result == "net":
+            # TODO(core net obstacle): stop the ball at the net once core.flight can (issue 17).
+            out.append(
+                f"The ball hits the net (clearance {net.clearance:.3f} m). The flight is not stopped at the net "
+                "yet: the landing shown is where the ball would land if the net were not there."
+            )
+        if self.rally is not None and len(self.rally.segments) <= len(self.rally.bounces):
+            n = len(self.rally.bounces)
+            out.append(f"The ball leaves the ground too slowly to fly after bounce {n}: it rolls from there.")
+        return out
+
     def to_dict(self) -> dict:
         tr = self.trajectory
         land = tr.landing
@@ -125,7 +191,7 @@ class FlightResult(Result):
                 "spin": land.spin,
                 "areas": ITF_COURT.areas_at(land.x, land.y),
             }
-        out = {
+        out: dict[str, object] = {
             "launch": {
                 "position": y0[0:3],
                 "velocity": y0[3:6],
@@ -160,6 +226,7 @@ class FlightResult(Result):
         if self.rally is not None:
             out["surface"] = self.surface
             out["bounces"] = [_bounce_dict(b) for b in self.rally.bounces]
+        out["caveats"] = self.caveats
         return out
 
 
@@ -184,9 +251,11 @@ def fly(
     *,
     speed_ms=None,
     elevation_deg=None,
-    heading_deg=0.0,
+    heading_deg=None,
     spin_rpm=None,
     spin_axis=None,
+    speed_kmh=None,
+    speed_mph=None,
     params: FlightParams | None = None,
     surface="hard",
     bounces: int = 0,
@@ -194,9 +263,19 @@ def fly(
     """Fly one ball from ``position`` [m] to its landing (``bounces=0``) or through ``bounces`` bounces
     on ``surface`` (a registered name or :class:`~tennislab.core.surfaces.Surface`).
 
-    Raises :class:`~tennislab.errors.InputError` when the ball does not land within ``params.t_max``.
+    The launch is ``velocity`` [m/s] or one of ``speed_ms`` / ``speed_kmh`` / ``speed_mph`` with
+    ``elevation_deg`` (and ``heading_deg``, default 0); the spin is ``spin`` [rad/s] or ``spin_rpm``
+    about ``spin_axis`` (module docstring).  Raises :class:`~tennislab.errors.InputError` for a launch
+    outside the guard rails, when the ball does not land within ``params.t_max``, or when the
+    integration gives non-finite numbers.
     """
     params = params or FlightParams()
+    pos = check_vector("position", position)
+    for i, c in enumerate(pos):
+        if abs(c) > MAX_DISTANCE_M:
+            raise InputError(
+                f"position[{i}]: {c:g} m is outside the allowed range [-{MAX_DISTANCE_M:g}, {MAX_DISTANCE_M:g}] m"
+            )
     v, w = launch_vectors(
         velocity,
         spin,
@@ -205,16 +284,21 @@ def fly(
         heading_deg=heading_deg,
         spin_rpm=spin_rpm,
         spin_axis=spin_axis,
+        speed_kmh=speed_kmh,
+        speed_mph=speed_mph,
     )
-    if not isinstance(bounces, int) or isinstance(bounces, bool) or not 0 <= bounces <= 100:
+    if not isinstance(bounces, (int, np.integer)) or isinstance(bounces, bool) or not 0 <= bounces <= 100:
         raise InputError(f"bounces: {bounces} is outside the allowed range [0, 100]")
     surf = get_surface(surface)
     rally = None
     if bounces > 0:
-        rally = fly_bounces(position, v, w, params, surface=surf, bounces=bounces)
+        rally = fly_bounces(pos, v, w, params, surface=surf, bounces=int(bounces))
         tr = rally.first
     else:
-        tr = _fly(position, v, w, params)
+        tr = _fly(pos, v, w, params)
     if tr.landing is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s")
+    for seg in [tr] if rally is None else rally.segments:
+        if not (np.all(np.isfinite(seg.y)) and (seg.landing is None or np.all(np.isfinite(seg.landing.velocity)))):
+            raise InputError("flight: the integration gave non-finite numbers (check the physics options)")
     return FlightResult(tr, rally, surf.name if rally is not None else None)
