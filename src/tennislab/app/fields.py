@@ -168,7 +168,7 @@ PLAYERS = (*player_names(), "custom")
 #: this version (``tennislab serve-window --player professional``: at beta 20 deg the successful
 #: alpha run from 40 to 63 deg, and beta 18-22 deg all succeed at alpha 52 deg).
 #: ``tests/app/test_api.py::test_default_serve_succeeds`` checks that it still succeeds.
-DEFAULT_SERVE = {"player": "professional", "impact_angle": 52.0, "face_angle": 20.0}
+DEFAULT_SERVE = {"player": "professional", "impact_angle": 46.0, "face_angle": 21.0}  # = tennislab.serve.default_serve("professional")
 
 _form(
     "serve",

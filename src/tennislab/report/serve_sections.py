@@ -21,7 +21,6 @@ import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from tennislab.app.services import require  # the app's availability switch (TENNISLAB_APP_DISABLE)
 from tennislab.plot.court import draw_court_side
 from tennislab.report import html as H
 from tennislab.serve import monte_carlo, simulate, window
@@ -46,7 +45,7 @@ def _windows(ctx) -> dict:
     """Serve windows of the players (1 deg step), computed once per report."""
     if "windows" not in ctx.shared:
         ws = {}
-        for p in ctx.shared.get("serve_players", PLAYERS):
+        for p in ctx.players or ctx.shared.get("serve_players", PLAYERS):
             w = window(p, step=1.0)
             ws[w.player.name] = w
             ctx.log(f"serve window {w.player.name}: {w.success.size} serves, {int(w.success.sum())} successful")
@@ -56,8 +55,7 @@ def _windows(ctx) -> dict:
 
 def _caveats(ws: dict):
     """The models' caveats, once each, as a note under the numbers."""
-    seen = list(dict.fromkeys(c for w in ws.values() for c in w.caveats))
-    return H.para("Caveats: " + " ".join(f"({i}) {c}." for i, c in enumerate(seen, 1)), "note") if seen else ""
+    return H.caveats(list(dict.fromkeys(c for w in ws.values() for c in w.caveats)))
 
 
 def _range_cell(r, digits):
@@ -87,7 +85,6 @@ def _paper_n(cat: str) -> int:
 
 def windows(ctx) -> None:
     """Heat maps of the three windows and Table 1 beside the paper."""
-    require("serve")
     sec = ctx.section
     ws = _windows(ctx)
     fig, axes = plt.subplots(1, len(ws), figsize=(13 * len(ws) / 3, 4.6), sharey=True, squeeze=False)
@@ -124,7 +121,8 @@ def windows(ctx) -> None:
     sec.add(
         H.para(
             "Every combination of impact angle α and racket-face angle β from 0 to 90 degrees in 1-degree "
-            "steps is hit with the seed's racket-ball impact model and flown with drag and Magnus lift; a "
+            "steps is hit with the racket-ball impact model of Grosen, Kousted & Treichel (2021) and flown with "
+            "drag and Magnus lift; a "
             "serve succeeds when the ball clears the net and lands in the service box (the paper's 2-D "
             "criteria: ball centre above 0.943 m at the net, landing at most 18.318 m from the impact "
             "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."
@@ -179,7 +177,6 @@ MC_SCATTER_TEXT = f"α, β ±{MC_SCATTER['sd_angle']:g}°, V ±{MC_SCATTER['sd_s
 
 def peak_spin(ctx) -> None:
     """Speed and spin vs alpha per player (paper Fig. 5), the peak-spin alpha, the margin of error."""
-    require("serve")
     sec = ctx.section
     ws = _windows(ctx)
     fig, ax1 = plt.subplots(figsize=(10, 6))
@@ -312,7 +309,6 @@ def _mc_verdict(mc_p: dict) -> str:
 
 def optimum(ctx) -> None:
     """Optimum flat and topspin serves of each player on the court (paper Figs 7-9)."""
-    require("serve")
     sec = ctx.section
     ws = _windows(ctx)
     fig, axes = plt.subplots(len(ws), 1, figsize=(10, 10 * len(ws) / 3), sharex=True, squeeze=False)
