@@ -343,7 +343,7 @@ def sensitivity_serves(
             axis = ServeFit(fitset, params, free=(), values={"speed_scale": vs}, axis=None, aero=model).solve().axis
         pred = predict_bounces(used, params, axis, speed_scale=vs)
         L, W = pred.length, pred.width
-        point = {
+        point: dict = {
             "cd": c_d,
             "cl": c_l,
             "spin_axis": str(ax),
@@ -354,7 +354,7 @@ def sensitivity_serves(
         }
         grid.append(point)
         if progress is not None:
-            h = point["held_out"] if point["held_out"]["n"] else point["fit"]
+            h: dict = point["held_out"] if point["held_out"]["n"] else point["fit"]
             progress(
                 f"[{k}/{len(combos)}] cd {c_d:g} cl {c_l:g} axis {ax} speed x{vs:g}: median miss "
                 f"{h['miss_median_m']:.3f} m, length bias {h['length_median_m']:+.3f} m"

@@ -216,11 +216,11 @@ class ServeFit:
         fam_rows = np.concatenate([self.fam_index, self.fam_index])
         for block in range(2 if nf else 0):
             cols = np.arange(k + block * nf, k + (block + 1) * nf)
-            h = np.where(x[cols] + STEP <= hi[cols], STEP, -STEP)
+            steps = np.where(x[cols] + STEP <= hi[cols], STEP, -STEP)
             xp = x.copy()
-            xp[cols] += h
+            xp[cols] += steps
             d = self._raw(self.predict(xp, remember=False)) - r0
-            for c, hc, f in zip(cols, h, self.families):
+            for c, hc, f in zip(cols.tolist(), steps.tolist(), self.families):
                 jac[:n2, c] = np.where(fam_rows == FAMILIES.index(f), d / hc, 0.0)
         return jac
 

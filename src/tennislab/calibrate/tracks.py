@@ -189,7 +189,7 @@ class _TrackProblem:
                 w = np.zeros(3)
             y0 = np.ascontiguousarray(np.concatenate([st, w]))
             pos = np.empty((len(tr), 3))
-            _sample(y0, np.ascontiguousarray(tr.t), *args, pos)
+            _sample(y0, np.ascontiguousarray(tr.t), *args, pos)  # type: ignore[call-arg]
             out.append(pos)
         return out
 
