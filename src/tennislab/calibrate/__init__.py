@@ -13,6 +13,8 @@ Workflows (plain parameters in, a frozen :class:`~tennislab.results.Result` out)
 * :func:`calibrate_tracks` - the coefficients fitted to time-stamped free-flight tracks
   (:class:`TrackCalibrationResult`).
 
+:func:`synthetic_serves` draws serves flown by a known model (for tests and examples).
+
 The study and its numbers: docs/validation.md.
 """
 
@@ -33,6 +35,7 @@ from tennislab.calibrate.serves import (
     serves_from_columns,
     split_serves,
 )
+from tennislab.calibrate.synth import serves_csv, synthetic_serves
 from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
 from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
 
@@ -58,7 +61,9 @@ __all__ = [
     "predict_bounces",
     "registered_models",
     "sensitivity_serves",
+    "serves_csv",
     "serves_from_columns",
     "split_serves",
+    "synthetic_serves",
     "validate_serves",
 ]

@@ -236,7 +236,7 @@ class _TrackProblem:
 def calibrate_tracks(
     tracks: Sequence[Track],
     *,
-    fit: Sequence[str] | str = ("cd", "cl"),
+    fit: Sequence[str] | str | None = None,
     cd: float | None = None,
     cl: float | None = None,
     cd_s: float | None = None,
@@ -251,14 +251,16 @@ def calibrate_tracks(
     Parameters
     ----------
     tracks : :class:`~tennislab.io.track.Track` segments (each one free flight, >= 10 points)
-    fit : free parameters among ``cd``, ``cl``, ``cd_s`` (default ``cd, cl``; ``cl`` and ``cd_s``
-        need ``spin_rpm``)
+    fit : free parameters among ``cd``, ``cl``, ``cd_s`` (default ``cd, cl`` with ``spin_rpm``, else
+        ``cd``; ``cl`` and ``cd_s`` need ``spin_rpm``)
     cd, cl, cd_s : start (free) or fixed values (defaults 0.6, 0.6, 0)
     spin_rpm : the tracks' spin rate [rpm] (None: no spin)
     spin_axis : axis of that spin relative to each track's initial direction (name or angle [deg])
     baseline : the model of the "before" residuals (default :data:`DEFAULT_AERO`, with the same spin)
     physics : other :meth:`FlightParams.from_options` options
     """
+    if fit is None:
+        fit = ("cd", "cl") if spin_rpm else ("cd",)
     names = tuple(s.strip() for s in (fit.split(",") if isinstance(fit, str) else fit) if s.strip())
     for n in names:
         if n not in ("cd", "cl", "cd_s"):

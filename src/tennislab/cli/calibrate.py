@@ -316,10 +316,9 @@ def run_sensitivity(args) -> int:
 
 def run_tracks(args) -> int:
     tracks = [read_track(f) for f in args.files]
-    fit = args.fit if args.fit is not None else ("cd,cl" if args.spin_rpm else "cd")
     res = calibrate_tracks(
         tracks,
-        fit=fit,
+        fit=args.fit,
         cd=args.cd,
         cl=args.cl,
         cd_s=args.cd_s,
