@@ -38,7 +38,8 @@ from tennislab.io.aero_table import read_aero_table
 
 TRUTH = FlightParams.from_options(aero="cross2014", cd=0.66, cl=0.45)
 AXIS = SpinAxis.by_family(
-    {"flat": (0.5, 0.8), "slice": (0.2, 0.95), "kick": (0.8, 0.5), "other": (0.4, 0.6)}, name="truth"
+    {"flat": (0.5, 0.8), "slice": (0.2, 0.95), "kick": (0.8, 0.5), "pronated": (0.6, 0.6), "other": (0.4, 0.6)},
+    name="truth",
 )
 
 
@@ -221,7 +222,7 @@ def test_splits(serves):
 
 
 def test_spin_axis_parsing():
-    assert SpinAxis.parse("topspin").top == (1.0,) * 4
+    assert SpinAxis.parse("topspin").top == (1.0,) * len(FAMILIES)
     side = SpinAxis.parse("90")
     assert side.side[0] == pytest.approx(1.0) and side.top[0] == pytest.approx(0.0, abs=1e-12)
     assert SpinAxis.parse("none").rate_scale == 0.0

@@ -337,6 +337,8 @@ def sensitivity_serves(
         model = family_model(c_d, c_l, radius=base.ball.radius)
         params = _with_aero(base, model)
         axis = _axis_option(ax)
+        if axis is None and c_l == 0.0:
+            axis = SpinAxis.parse("topspin")  # no lift: the axis does not reach the flight
         if axis is None:
             if not fit_mask.any():
                 raise InputError("split: the fit part is empty; a fitted spin axis needs serves to fit")

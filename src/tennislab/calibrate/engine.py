@@ -6,7 +6,7 @@ Unknowns (any subset free, the others fixed):
   aero model is given (then only nuisances are fitted: the validation study's fitted axis);
 * ``speed_scale``: a common factor on the tracker's speeds (a sensitivity: it trades off against
   ``cd`` almost exactly, so fit it only with ``cd`` fixed);
-* with a *fitted* spin axis, per serve family (flat, slice, kick, other) the fractions
+* with a *fitted* spin axis, per serve family (flat, slice, kick, pronated, other) the fractions
   (f_top, f_side) of the rate about the topspin and sidespin axes (:mod:`~.predict`).  With the
   linear lift law only the products cl f_top and cl f_side reach the flight, so ``cl`` and a fitted
   axis cannot both be free (refused).

@@ -38,7 +38,7 @@ from tennislab.errors import InputError
 class SpinAxis:
     """An assumed spin axis per serve family (fractions of the measured rate; module docstring).
 
-    ``top`` and ``side`` hold one value per family of :data:`FAMILIES` (flat, slice, kick, other);
+    ``top`` and ``side`` hold one value per family of :data:`FAMILIES` (flat, slice, kick, pronated, other);
     ``rate_scale`` multiplies the tracker's rate (0: no spin at all).
     """
 

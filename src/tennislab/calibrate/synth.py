@@ -20,7 +20,7 @@ from tennislab.io.courtvision import SERVE_NUMERIC
 from tennislab.units import KMH, RPM
 
 #: CourtVision serve type written for each family
-TYPE_OF_FAMILY = {"flat": "Flat", "slice": "Slice", "kick": "Pronated", "other": "Unclassified"}
+TYPE_OF_FAMILY = {"flat": "Flat", "slice": "Slice", "kick": "Kick", "pronated": "Pronated", "other": "Unclassified"}
 
 
 def synthetic_serves(
