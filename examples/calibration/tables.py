@@ -55,6 +55,8 @@ def main(out: str) -> None:
     print("| run | values ± sd | before held-out | after fit | after held-out |")
     print("|---|---|---|---|---|")
     for f in sorted(d.glob("serves_*.json")):
+        if f.stat().st_size == 0:  # still being written
+            continue
         c = json.loads(f.read_text())
         vals = ", ".join(
             f"{k} {c['values'][k]:.3f}" + (f" ± {c['sd'][k]:.3f}" if k in c["sd"] else "")

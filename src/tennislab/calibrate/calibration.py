@@ -24,7 +24,7 @@ from tennislab.calibrate.family import CL_MAX, FORMULA, aero_table_csv, family_m
 from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
 from tennislab.calibrate.serves import REASONS, Serves, split_serves
 from tennislab.calibrate.stats import by_group, summarize
-from tennislab.calibrate.validate import _as_serves, _with_aero, physics_summary, usable
+from tennislab.calibrate.validate import as_serves, physics_summary, usable, with_aero
 from tennislab.core.aero import DEFAULT_AERO, get_aero_model
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
@@ -196,7 +196,7 @@ def calibrate_serves(
         if val is not None:
             values[name] = check_range(name, val, -10.0, 10.0)
     base = FlightParams.from_options(**(physics or {}))
-    allset = _as_serves(serves)
+    allset = as_serves(serves)
     used, excluded = usable(allset, base)
     fit_mask, _, split_desc = split_serves(used, split)
     if not fit_mask.any():
@@ -214,7 +214,7 @@ def calibrate_serves(
 
     # before: the baseline model, its own axis fitted on the same part when the axis is fitted
     base_model = get_aero_model(baseline)
-    base_params = _with_aero(base, base_model)
+    base_params = with_aero(base, base_model)
     if axis is None:
         say(f"fitting the spin axis of the baseline {baseline}")
         b_axis = ServeFit(fitset, base_params, free=(), values={}, axis=None, aero=base_model).solve().axis
@@ -325,7 +325,7 @@ def sensitivity_serves(
         if len(seq) == 0 or len(seq) > 50:
             raise InputError(f"{name}: give 1 to 50 values")
     base = FlightParams.from_options(**(physics or {}))
-    used, _ = usable(_as_serves(serves), base)
+    used, _ = usable(as_serves(serves), base)
     fit_mask, _, split_desc = split_serves(used, split)
     fitset = used.subset(fit_mask)
     grid = []
@@ -335,7 +335,7 @@ def sensitivity_serves(
         c_l = check_range("cl", c_l, -1.0, 3.0)
         vs = check_range("speed_scale", vs, 0.5, 1.5)
         model = family_model(c_d, c_l, radius=base.ball.radius)
-        params = _with_aero(base, model)
+        params = with_aero(base, model)
         axis = _axis_option(ax)
         if axis is None and c_l == 0.0:
             axis = SpinAxis.parse("topspin")  # no lift: the axis does not reach the flight

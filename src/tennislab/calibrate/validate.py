@@ -27,7 +27,8 @@ from tennislab.results import Result, jsonable
 GROUPS = ("serve_type", "family", "tour", "tournament", "event")  #: default groupings of the summaries
 
 
-def _as_serves(serves) -> Serves:
+def as_serves(serves) -> Serves:
+    """A :class:`Serves` set as is, or read from a CourtVision serves CSV path."""
     return serves if isinstance(serves, Serves) else load_serves(serves)
 
 
@@ -66,7 +67,8 @@ def _resolve(models, aero_table) -> list[tuple[str, AeroModel]]:
     return out
 
 
-def _with_aero(base: FlightParams, aero: AeroModel) -> FlightParams:
+def with_aero(base: FlightParams, aero: AeroModel) -> FlightParams:
+    """``base`` with another aero model."""
     return FlightParams(
         ball=base.ball,
         atmosphere=base.atmosphere,
@@ -212,7 +214,7 @@ def validate_serves(
     progress : called with a line of text as each model is done
     """
     base = FlightParams.from_options(**(physics or {}))
-    allset = _as_serves(serves)
+    allset = as_serves(serves)
     used, excluded = usable(allset, base)
     fit_mask, _, split_desc = split_serves(used, split)
     fitted = isinstance(spin_axis, str) and spin_axis.strip().lower() == "fitted"
@@ -224,7 +226,7 @@ def validate_serves(
     cluster = used.match
     out = []
     for name, model in _resolve(models, aero_table):
-        params = _with_aero(base, model)
+        params = with_aero(base, model)
         if fitted:
             fit = ServeFit(used.subset(fit_mask), params, free=(), values={}, axis=None, aero=model)
             axis = fit.solve().axis
