@@ -6,7 +6,7 @@ On synthetic CourtVision-like serves (flown by ``cross2014``; :func:`tennislab.c
   ``fly_batch`` call of 3 N flights): serves aimed per second, flights per second;
 * the baseline measured in the same run: the same serves aimed one at a time with SciPy's
   ``solve_ivp`` reference flight (``core.flight.fly``) and ``scipy.optimize.root``;
-* one calibration (cd and the four families' spin axes, fitted on half the serves).
+* one calibration (cd and the serve families' spin axes, fitted on half the serves).
 
     .venv/bin/python benchmarks/bench_calibrate.py [--n 13000] [--baseline 40]
 """
@@ -68,7 +68,7 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     r = calibrate_serves(s, fit="cd", cl=0.45, spin_axis="fitted", split="parity")
     print(
-        f"calibrate_serves (cd + 8 axis fractions, {r.to_dict()['n_fit']} serves): {time.perf_counter() - t0:.1f} s, "
+        f"calibrate_serves (cd + the families' axis fractions, {r.to_dict()['n_fit']} serves): {time.perf_counter() - t0:.1f} s, "
         f"{r.evaluations} evaluations; cd = {r.values['cd']:.4f} (truth 0.62)"
     )
 
