@@ -68,7 +68,8 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     r = calibrate_serves(s, fit="cd", cl=0.45, spin_axis="fitted", split="parity")
     print(
-        f"calibrate_serves (cd + the families' axis fractions, {r.to_dict()['n_fit']} serves): {time.perf_counter() - t0:.1f} s, "
+        f"calibrate_serves (cd + the families' axis fractions, {r.to_dict()['n_fit']} serves): "
+        f"{time.perf_counter() - t0:.1f} s, "
         f"{r.evaluations} evaluations; cd = {r.values['cd']:.4f} (truth 0.62)"
     )
 
