@@ -137,6 +137,7 @@ def test_tracks_command(capsys, tmp_path):
         (("serves", "--serves", "/nonexistent/s.csv"), "No such file"),
         (("sensitivity", "--serves", "{f}", "--cd", "a,b"), "--cd: expected comma-separated numbers"),
         (("tracks", "{bad}"), "missing column"),
+        (("validate", "--serves", "{same}"), "--serves: no serves left after the checks"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, serves_file, tmp_path, args, msg):
@@ -147,7 +148,13 @@ def test_bad_input_exit_2_one_line(capsys, serves_file, tmp_path, args, msg):
     cols = lines[1].split(",")
     cols[3] = "NA"
     nan.write_text("\n".join([lines[0], ",".join(cols)]) + "\n")
-    argv = [a.format(f=serves_file, bad=bad, nan=nan) for a in args]
+    same = tmp_path / "same.csv"
+    cols = lines[1].split(",")
+    head = lines[0].split(",")
+    i = head.index("x_serve_bounce")
+    cols[i] = str(-float(cols[i]))
+    same.write_text("\n".join([lines[0], ",".join(cols)]) + "\n")
+    argv = [a.format(f=serves_file, bad=bad, nan=nan, same=same) for a in args]
     rc, out, err = run(capsys, "calibrate", *argv, "--quiet")
     assert rc == 2
     assert msg in err
