@@ -1,0 +1,69 @@
+"""Calibration and validation against real balls (issue 13, section 3).
+
+Workflows (plain parameters in, a frozen :class:`~tennislab.results.Result` out):
+
+* :func:`validate_serves` - measured serves (Hawk-Eye CourtVision) flown from impact with their
+  speed and spin through their net point by every aero model; bounce misses by model, serve type,
+  tour and tournament (:class:`ValidationResult`).
+* :func:`calibrate_serves` - the aero coefficients (drag, lift against the spin ratio) fitted to
+  the serves of one part of a split, reported on the held-out part; the model as an aero table
+  (:class:`CalibrationResult`).
+* :func:`sensitivity_serves` - the misses over a grid of coefficients and spin-axis assumptions
+  (:class:`SensitivityResult`).
+* :func:`calibrate_tracks` - the coefficients fitted to time-stamped free-flight tracks
+  (:class:`TrackCalibrationResult`).
+
+:func:`synthetic_serves` draws serves flown by a known model (for tests and examples).
+
+The study and its numbers: docs/validation.md.
+"""
+
+from tennislab.calibrate.calibration import (
+    CalibrationResult,
+    SensitivityResult,
+    calibrate_serves,
+    sensitivity_serves,
+)
+from tennislab.calibrate.family import aero_table_csv, family_coefficients, family_model, family_table
+from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
+from tennislab.calibrate.serves import (
+    FAMILIES,
+    REASONS,
+    Serves,
+    check_serves,
+    load_serves,
+    serves_from_columns,
+    split_serves,
+)
+from tennislab.calibrate.synth import serves_csv, synthetic_serves
+from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
+from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
+
+__all__ = [
+    "FAMILIES",
+    "REASONS",
+    "CalibrationResult",
+    "ModelValidation",
+    "Prediction",
+    "SensitivityResult",
+    "Serves",
+    "SpinAxis",
+    "TrackCalibrationResult",
+    "ValidationResult",
+    "aero_table_csv",
+    "calibrate_serves",
+    "calibrate_tracks",
+    "check_serves",
+    "family_coefficients",
+    "family_model",
+    "family_table",
+    "load_serves",
+    "predict_bounces",
+    "registered_models",
+    "sensitivity_serves",
+    "serves_csv",
+    "serves_from_columns",
+    "split_serves",
+    "synthetic_serves",
+    "validate_serves",
+]

@@ -1,0 +1,351 @@
+"""``tennislab calibrate``: validate and calibrate the flight model against real balls.
+
+Sub-commands (workflows of :mod:`tennislab.calibrate`; docs/validation.md):
+
+* ``validate``    measured serves flown by every aero model: median / p90 miss, length and width bias
+* ``serves``      fit the aero coefficients to measured serves; write an ``--aero table`` CSV
+* ``sensitivity`` the misses over a grid of C_D, C_L and spin-axis assumptions
+* ``tracks``      fit the aero coefficients to time-stamped free-flight tracks (t,x,y,z CSVs)
+
+Progress goes to stderr (``--quiet`` silences it); ``--json`` prints the workflow's ``to_dict()``.
+"""
+
+from __future__ import annotations
+
+import csv
+import sys
+
+from tennislab.calibrate import (
+    calibrate_serves,
+    calibrate_tracks,
+    registered_models,
+    sensitivity_serves,
+    validate_serves,
+)
+from tennislab.cli.common import atomic_write, emit_json, save_figure
+from tennislab.core.aero import DEFAULT_AERO
+from tennislab.errors import InputError
+from tennislab.io.aero_table import read_aero_table
+from tennislab.io.track import read_track
+
+
+def _physics_flags(p) -> None:
+    g = p.add_argument_group("ball and air")
+    g.add_argument("--mass", type=float, help="ball mass [kg] (default 0.0577)")
+    g.add_argument("--radius", type=float, help="ball radius [m] (default 0.0335)")
+    g.add_argument("--air-density", type=float, help="air density [kg/m^3] (default 1.199)")
+    g.add_argument("--gravity", type=float, help="gravity [m/s^2] (default 9.80665)")
+    g.add_argument("--spin-decay", type=float, help="spin decay rate [1/s] (default 0: off)")
+
+
+def _physics(args) -> dict:
+    out = {k: getattr(args, k) for k in ("mass", "radius", "air_density", "gravity", "spin_decay")}
+    return {k: v for k, v in out.items() if v is not None}
+
+
+def _common(p, *, serves: bool = True) -> None:
+    if serves:
+        p.add_argument(
+            "--serves",
+            metavar="CSV",
+            required=True,
+            help="CourtVision serves CSV (e.g. ../shared/realdata/courtvision_serves.csv)",
+        )
+        p.add_argument(
+            "--split",
+            default="parity",
+            help="calibration split: parity (odd matches fitted, even held out; default), none, "
+            "tournament:roland_garros, tour:atp, year:2020, event:australian_open_2020",
+        )
+    _physics_flags(p)
+    p.add_argument("--csv", metavar="FILE", help="write one row per serve (or track / grid point) as CSV")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "calibrate",
+        help="validate and calibrate the flight model on real balls (CourtVision serves, tracks)",
+        description="Validation and calibration of the aerodynamic model on real ball data (docs/validation.md).",
+    )
+    sp = p.add_subparsers(dest="calibrate_command", metavar="SUBCOMMAND", parser_class=type(p))
+    sp.required = True
+
+    v = sp.add_parser(
+        "validate",
+        help="fly measured serves through their net points with every aero model",
+        description="Fly each measured serve from its impact point with its speed and spin, aimed through its "
+        "net point, and compare the predicted bounce with the measured one, for every aero model.",
+    )
+    v.add_argument("--models", help=f"comma-separated aero models (default all: {', '.join(registered_models())})")
+    v.add_argument("--aero-table", metavar="CSV", help="also validate this aero table (speed_ms,spin_rpm,cd,cl)")
+    v.add_argument(
+        "--spin-axis",
+        default="topspin",
+        help="spin-axis assumption: topspin (default), none, sidespin, an angle [deg] (0 topspin, 90 sidespin "
+        "curving left), or fitted (per serve family, on the fit part of --split)",
+    )
+    v.add_argument("--plot", metavar="FILE.png", help="histograms of the length and width misses per model")
+    _common(v)
+    v.set_defaults(func=run_validate)
+
+    s = sp.add_parser(
+        "serves",
+        help="fit the aero coefficients to measured serves; write an aero table",
+        description="Fit C_D = cd + cd_s S and C_L = min(cl S, 0.5) to measured serves (S = r w / v); report the "
+        "misses before and after on the fit part and on the held-out part.",
+    )
+    s.add_argument("--fit", default="cd", help="free parameters among cd, cl, cd_s, speed_scale (default cd)")
+    s.add_argument("--cd", type=float, help="drag start / fixed value (default 0.6)")
+    s.add_argument("--cl", type=float, help="lift slope start / fixed value (default 0.6, Cross 2020)")
+    s.add_argument("--cd-s", type=float, help="drag growth with S, start / fixed value (default 0)")
+    s.add_argument("--speed-scale", type=float, help="factor on the tracker's speeds, start / fixed (default 1)")
+    s.add_argument(
+        "--spin-axis",
+        default="fitted",
+        help="fitted (default: per serve family, with cl fixed), topspin, none, sidespin or an angle [deg]",
+    )
+    s.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' figures (default {DEFAULT_AERO})")
+    s.add_argument("--out-table", metavar="CSV", help="write the calibrated model as an --aero table CSV")
+    s.add_argument("--plot", metavar="FILE.png", help="histograms of the misses before and after (held out)")
+    _common(s)
+    s.set_defaults(func=run_serves)
+
+    g = sp.add_parser(
+        "sensitivity",
+        help="misses over a grid of cd, cl and spin-axis assumptions",
+        description="Median and p90 miss and length/width bias over a grid of the calibrated family's cd and cl, "
+        "spin-axis assumptions and speed scales (a fitted axis is fitted on the fit part of --split).",
+    )
+    g.add_argument("--cd", default="0.5,0.6,0.7,0.8,0.9", help="comma-separated C_D values")
+    g.add_argument("--cl", default="0,0.3,0.6,0.9", help="comma-separated lift slopes")
+    g.add_argument("--spin-axes", default="topspin,fitted", help="comma-separated axis assumptions")
+    g.add_argument("--speed-scale", default="1", help="comma-separated factors on the tracker's speeds")
+    _common(g)
+    g.set_defaults(func=run_sensitivity)
+
+    t = sp.add_parser(
+        "tracks",
+        help="fit the aero coefficients to free-flight tracks (t,x,y,z[,sigma] CSVs)",
+        description="Fit the calibrated family to time-stamped tracks, each one free flight (no bounce, no hit).",
+    )
+    t.add_argument("files", nargs="+", metavar="TRACK.csv", help="track CSVs (t,x,y,z[,sigma]; one free flight each)")
+    t.add_argument("--fit", default=None, help="free parameters among cd, cl, cd_s (default cd, cl with a spin)")
+    t.add_argument("--cd", type=float, help="drag start / fixed value (default 0.6)")
+    t.add_argument("--cl", type=float, help="lift slope start / fixed value (default 0.6)")
+    t.add_argument("--cd-s", type=float, help="drag growth with S, start / fixed value (default 0)")
+    t.add_argument("--spin-rpm", type=float, help="the tracks' spin rate [rpm] (default: none)")
+    t.add_argument(
+        "--spin-axis", default="topspin", help="its axis relative to each track's direction (default topspin)"
+    )
+    t.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' residuals (default {DEFAULT_AERO})")
+    t.add_argument("--out-table", metavar="CSV", help="write the calibrated model as an --aero table CSV")
+    _common(t, serves=False)
+    t.set_defaults(func=run_tracks)
+
+
+def _progress(args):
+    if args.quiet:
+        return None
+
+    def say(msg: str) -> None:
+        print(msg, file=sys.stderr, flush=True)
+
+    return say
+
+
+def _floats(text: str, name: str) -> list[float]:
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(f"{name}: expected comma-separated numbers, got {text!r}") from None
+    if not vals:
+        raise InputError(f"{name}: give at least one value")
+    return vals
+
+
+def _write_rows(path: str, rows: list[dict]) -> None:
+    if not rows:
+        raise InputError("csv: nothing to write")
+    cols = list(rows[0])
+
+    def _w(fh):
+        w = csv.DictWriter(fh, fieldnames=cols, lineterminator="\n")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("" if v is None else v) for k, v in r.items()})
+
+    atomic_write(path, _w)
+
+
+def _plot_misses(path: str, series: dict, title: str) -> None:
+    # Matplotlib is imported only when a plot is asked for (it adds ~0.3 s to every command's start)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    bins = np.linspace(-1.5, 1.5, 61)
+    for label, (length, width) in series.items():
+        axes[0].hist(np.clip(length, -1.5, 1.5), bins=bins, histtype="step", label=label)
+        axes[1].hist(np.clip(width, -1.5, 1.5), bins=bins, histtype="step", label=label)
+    axes[0].set_xlabel("length miss [m] (> 0 long)")
+    axes[1].set_xlabel("width miss [m] (> 0 left of the bounce)")
+    for ax in axes:
+        ax.axvline(0.0, color="k", lw=0.6)
+        ax.set_ylabel("serves")
+    axes[0].legend(fontsize=7)
+    fig.suptitle(title)
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def _line(label: str, s: dict) -> str:
+    if not s.get("n"):
+        return f"  {label:<28s} n 0"
+    return (
+        f"  {label:<28s} n {s['n']:5d}  median miss {s['miss_median_m']:.3f} m  p90 {s['miss_p90_m']:.3f} m  "
+        f"length {s['length_median_m']:+.3f} m  width {s['width_median_m']:+.3f} m"
+    )
+
+
+def run_validate(args) -> int:
+    models = [m.strip() for m in args.models.split(",") if m.strip()] if args.models else None
+    table = read_aero_table(args.aero_table) if args.aero_table else None
+    res = validate_serves(
+        args.serves,
+        models=models,
+        aero_table=table,
+        spin_axis=args.spin_axis,
+        split=args.split,
+        physics=_physics(args),
+        progress=_progress(args),
+    )
+    if args.csv:
+        _write_rows(args.csv, res.rows())
+    if args.plot:
+        series = {m.model: (m.prediction.length, m.prediction.width) for m in res.models}
+        _plot_misses(args.plot, series, f"CourtVision serves, spin axis {res.spin_axis}")
+    if args.json:
+        emit_json(res)
+        return 0
+    print(f"{res.n_used} of {res.n_read} serves used; left out: {res.excluded or 'none'}")
+    print(f"spin axis: {res.spin_axis}; split: {res.split}")
+    for m in res.models:
+        print(m.model)
+        print(_line("all", m.overall))
+        if m.held_out["n"]:
+            print(_line("fit part", m.fit))
+            print(_line("held out", m.held_out))
+    for extra in (args.csv, args.plot):
+        if extra:
+            print(f"wrote {extra}")
+    return 0
+
+
+def run_serves(args) -> int:
+    res = calibrate_serves(
+        args.serves,
+        fit=args.fit,
+        cd=args.cd,
+        cl=args.cl,
+        cd_s=args.cd_s,
+        speed_scale=args.speed_scale,
+        spin_axis=args.spin_axis,
+        split=args.split,
+        baseline=args.baseline,
+        physics=_physics(args),
+        progress=_progress(args),
+    )
+    if args.out_table:
+        text = res.table_csv()
+        atomic_write(args.out_table, lambda fh: fh.write(text))
+    if args.csv:
+        _write_rows(args.csv, res.rows())
+    if args.plot:
+        held = ~res.fit_mask
+        series = {
+            f"before ({res.baseline})": (res.pred_before.length[held], res.pred_before.width[held]),
+            "calibrated": (res.pred_after.length[held], res.pred_after.width[held]),
+        }
+        _plot_misses(args.plot, series, "held-out serves")
+    if args.json:
+        emit_json(res)
+        return 0
+    vals = ", ".join(
+        f"{k} = {res.values[k]:.4f}" + (f" +- {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
+        for k in ("cd", "cl", "cd_s", "speed_scale")
+    )
+    print(f"calibrated: {vals}")
+    print(f"spin axis: {res.spin_axis.name}; split: {res.split}")
+    for part in ("fit", "held_out"):
+        print(_line(f"{part}: before ({res.baseline})", res.before[part]))
+        print(_line(f"{part}: after", res.after[part]))
+    for extra in (args.out_table, args.csv, args.plot):
+        if extra:
+            print(f"wrote {extra}")
+    return 0
+
+
+def run_sensitivity(args) -> int:
+    res = sensitivity_serves(
+        args.serves,
+        cd=_floats(args.cd, "cd"),
+        cl=_floats(args.cl, "cl"),
+        spin_axes=[a.strip() for a in args.spin_axes.split(",") if a.strip()],
+        speed_scale=_floats(args.speed_scale, "speed_scale"),
+        split=args.split,
+        physics=_physics(args),
+        progress=_progress(args),
+    )
+    if args.csv:
+        _write_rows(args.csv, res.rows())
+    if args.json:
+        emit_json(res)
+        return 0
+    part = "held_out" if res.n_held_out else "fit"
+    print(f"{part} serves ({res.split})")
+    for g in res.grid:
+        label = f"cd {g['cd']:g} cl {g['cl']:g} {g['spin_axis']} x{g['speed_scale']:g}"
+        print(_line(label, g[part]))
+    return 0
+
+
+def run_tracks(args) -> int:
+    tracks = [read_track(f) for f in args.files]
+    res = calibrate_tracks(
+        tracks,
+        fit=args.fit,
+        cd=args.cd,
+        cl=args.cl,
+        cd_s=args.cd_s,
+        spin_rpm=args.spin_rpm,
+        spin_axis=args.spin_axis,
+        baseline=args.baseline,
+        physics=_physics(args),
+        progress=_progress(args),
+    )
+    if args.out_table:
+        text = res.table_csv()
+        atomic_write(args.out_table, lambda fh: fh.write(text))
+    if args.csv:
+        _write_rows(args.csv, res.rows())
+    if args.json:
+        emit_json(res)
+        return 0
+    vals = ", ".join(
+        f"{k} = {res.values[k]:.4f}" + (f" +- {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
+        for k in ("cd", "cl", "cd_s")
+    )
+    print(f"calibrated on {res.n_tracks} tracks ({res.n_points} points): {vals}")
+    print(
+        f"residual RMS: {res.rms_before_mm:.2f} mm ({res.baseline}) -> {res.rms_after_mm:.2f} mm; "
+        f"chi2/dof {res.chi2_dof:.2f}"
+    )
+    for extra in (args.out_table, args.csv):
+        if extra:
+            print(f"wrote {extra}")
+    return 0
