@@ -101,7 +101,7 @@ def test_look_at_points_the_optical_axis():
 def test_camera_json_roundtrip_and_errors():
     cams = synthetic_rig(4)
     back = parse_cameras(cameras_to_json(cams))
-    assert len(back) == 4 and np.allclose(back[2].R, cams[2].R) and np.allclose(back[2].C, cams[2].C)
+    assert len(back) == 4 and np.allclose(back[2]["R"], cams[2].R) and np.allclose(back[2]["C"], cams[2].C)
     doc = json.loads(cameras_to_json(cams))
     doc["cameras"][1]["R"][0][0] = 5.0
     with pytest.raises(InputError, match="rotation"):

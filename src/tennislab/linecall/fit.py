@@ -71,8 +71,12 @@ MAX_ROUNDS = 3  #: fit / reject rounds
 MIN_PRE_POINTS = 3  #: fewest points before the bounce (fewer than 6: the spin leans on its prior)
 MIN_POST_POINTS = 3  #: fewest points after the bounce to fit the outgoing velocity
 AERO_MODES = ("fixed", "prior", "free")
+POST_MODES = ("auto", "joint", "loose", "off")
+AUTO_GAP = 0.05  #: [s] ``post="auto"``: the approach alone places the bounce when it is sampled this close to it
+POST_DRAG_PRIOR = 0.2  #: sigma of the prior on the post-bounce drag ratio (``post="loose"``)
 STEPS = np.array(
-    [1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6]
+    [1e-6, 1e-6, 1e-7, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3]
+    + [1e-6, 1e-6]
 )
 FREE_STEPS = np.array([1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6])
 ROBUST_SCALE = 2.0  #: soft-L1 scale of the first round [sigma]
@@ -116,6 +120,7 @@ class TrackFit:
     converged: bool = True
     n_pre: int = 0
     n_post: int = 0
+    vout_source: str = "joint"
 
     @property
     def bounce_xy(self) -> np.ndarray:
@@ -437,7 +442,7 @@ def fit_track(
     surface="hard",
     *,
     drag: str = "prior",
-    lift: str = "fixed",
+    lift: str = "prior",
     fit_drag: bool = False,
     mark_params: MarkParams = MarkParams(),
     step: float = 8e-3,
@@ -446,6 +451,7 @@ def fit_track(
     contact_prior: float = 0.0,
     t_hint: float | None = None,
     spin_prior: float = SPIN_PRIOR,
+    post: str = "auto",
 ) -> TrackFit:
     """Fit the flight model through the bounce to a track (see the module docstring).
 
@@ -464,12 +470,23 @@ def fit_track(
     params = params or FlightParams()
     drag = "free" if fit_drag else _check_mode("drag", drag)
     lift = _check_mode("lift", lift)
+    if post not in POST_MODES:
+        raise InputError(f"post: unknown mode {post!r}; allowed: {', '.join(POST_MODES)}")
     s = get_surface(surface)
     t = np.ascontiguousarray(t, dtype=np.float64)
     xyz = np.ascontiguousarray(xyz, dtype=np.float64)
     n = t.size
     tc = mark_params.contact_time
     p, has_post = initial_guess(t, xyz, params, s, tc, t_hint)
+    post_points = has_post
+    if post == "auto":
+        pre_t = t[t < p[M.P_TB]]
+        near = pre_t.size >= 6 and p[M.P_TB] - pre_t.max() <= AUTO_GAP
+        post = "off" if near else "joint"
+    if post == "off" and has_post:
+        has_post = False
+        p[M.P_VOUT] = _bounce_out(p[M.P_VIN], p[M.P_WIN], s, params)
+    loose = has_post and post == "loose"
     p_start = p.copy()
     n_all = n
     rows = np.arange(n)
@@ -494,7 +511,8 @@ def fit_track(
         + ([9, 10, 11] if has_post else [])
         + ([M.P_DRAG] if drag != "fixed" else [])
         + ([M.P_LIFT] if lift != "fixed" else [])
-        + (list(range(13, 18)) if has_post and contact_prior > 0 else [])
+        + (list(range(13, 18)) if has_post and (contact_prior > 0 or loose) else [])
+        + ([M.P_DRAG_POST] if loose and drag != "fixed" else [])
     )
     free = np.array(free_list, dtype=np.int64)
     table: dict[int, tuple[float, float]] = {6: (0.0, spin_prior), 7: (0.0, spin_prior), 8: (0.0, spin_prior)}
@@ -502,11 +520,13 @@ def fit_track(
         table[M.P_DRAG] = (1.0, DRAG_PRIOR)
     if lift == "prior":
         table[M.P_LIFT] = (1.0, LIFT_PRIOR)
-    if has_post and contact_prior > 0:  # travel = T_c x mean horizontal speed: its sigma scales with the speed
+    if has_post and (contact_prior > 0 or loose):  # travel = T_c x mean horizontal speed: sigma scales with it
         vmean = 0.5 * (np.hypot(p[3], p[4]) + np.hypot(p[9], p[10]))
-        ts = max(float(contact_prior) * vmean, MIN_CONTACT_SIGMA)
+        ts = max(float(contact_prior if contact_prior > 0 else CONTACT_PRIOR) * vmean, MIN_CONTACT_SIGMA)
         table.update({13: (0.0, ts), 14: (0.0, ts)})
         table.update({k: (0.0, SPIN_OUT_PRIOR) for k in (15, 16, 17)})
+    if loose:
+        table[M.P_DRAG_POST] = (1.0, POST_DRAG_PRIOR)
     prior = Prior.build(free_list, table)
     spin_idx = np.array([j for j, f in enumerate(free_list) if 6 <= f <= 8], dtype=np.int64)
     pos = np.empty((n, 3))
@@ -600,8 +620,25 @@ def fit_track(
     rms = float(math.sqrt(np.mean(r3n[used] ** 2))) if used.any() else float("nan")
     # bounce-point covariance (marginal over every other parameter, t_b included)
     bc = cov[:2, :2].copy()
-    if not has_post:  # no data after the bounce: the bounce model gives the outgoing velocity
+    vout_source = "joint" if has_post else "bounce-model"
+    if not has_post:  # no data after the bounce used: a flight fitted to them, or the bounce model
         p[M.P_VOUT] = _bounce_out(p[M.P_VIN], p[M.P_WIN], s, params)
+        if post_points and np.all(np.isfinite(p)):
+            t_out = p[M.P_TB] + tc
+            later = (t > t_out + 0.002) & (t <= t_out + (0.3 if window is None else window[1]))
+            if np.count_nonzero(later) >= MIN_POST_POINTS:
+                try:
+                    ff = fit_free_flight(t[later], xyz[later], params, t0=float(t_out), drag=drag)
+                except InputError:  # pragma: no cover - guarded by the count
+                    ff = None
+                if ff is not None and np.all(np.isfinite(ff.q[M.F_VEL])) and ff.q[5] > 0:
+                    p[M.P_VOUT] = ff.q[M.F_VEL]
+                    vout_source = "post-flight"
+                    rows_post = np.nonzero(later)[0]
+                    seg[rows_post[~ff.outlier]] = M.SEG_POST
+                    outlier[rows_post[ff.outlier]] = True
+                    has_post = True
+                    n_post = int(np.count_nonzero(seg == M.SEG_POST))
     y_out = np.empty(9)
     M.post_start(p, consts, y_out)
     spin_out = y_out[6:9].copy()
@@ -636,6 +673,7 @@ def fit_track(
         converged,
         n_pre,
         n_post,
+        vout_source,
     )
 
 
@@ -654,6 +692,7 @@ class FreeFit:
     noise: float
     params: FlightParams = field(repr=False)
     consts: np.ndarray = field(repr=False)
+    outlier: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool), repr=False)
 
     def positions(self, t) -> np.ndarray:
         """Positions (N, 3) at times t (any order)."""
@@ -703,6 +742,7 @@ def fit_free_flight(
     kern, ap = params.aero.kernel, params.aero.params
     w = np.full(n, 1.0 / 3e-3)
     noise = float("nan")
+    out = np.zeros(n, dtype=bool)
 
     def run(w, robust):
         qq = q.copy()
@@ -750,4 +790,4 @@ def fit_free_flight(
     r3n = np.linalg.norm(r3, axis=1)
     used = w > 0
     rms = float(math.sqrt(np.mean(r3n[used] ** 2))) if used.any() else float("nan")
-    return FreeFit(q.copy(), t0, free, cov, r3n, rms, noise, params, consts)
+    return FreeFit(q.copy(), t0, free, cov, r3n, rms, noise, params, consts, out)

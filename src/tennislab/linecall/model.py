@@ -11,6 +11,11 @@ the named indices and slices below (``P_XB`` ... ``P_LIFT``):
     13-14 contact offset     added to the modelled travel of the centre during the contact   P_DXY
     15-17 spin-out offset    added to the outgoing spin implied by the impulse        P_DWOUT
     18    lift scale s_L     multiplies C_L (1 = the aero model as given)             P_LIFT
+    19    post drag ratio    the drag scale after the bounce is s_D times this        P_DRAG_POST
+
+The flight after the bounce gets a drag scale of its own (s_D x ratio): the ball leaves the ground
+with a spin and speed the aero model may describe less well than the approach's (a C_D(S) of the
+wrong shape), and a shared scale would let the post-bounce points bend the approach.
 
 Before the bounce the flight is integrated *backward* from (x_b, y_b, r, v_in,
 w_in) at t_b, after it forward from (x_b + d, y_b + d', r, v_out, w_out) at
@@ -47,7 +52,7 @@ from numba import types
 from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 from tennislab.core.mark import contact_displacement
 
-NPARAM = 19
+NPARAM = 20
 P_XB, P_YB, P_TB = 0, 1, 2
 P_XY = slice(0, 2)
 P_VIN = slice(3, 6)
@@ -57,6 +62,7 @@ P_DRAG = 12
 P_DXY = slice(13, 15)
 P_DWOUT = slice(15, 18)
 P_LIFT = 18
+P_DRAG_POST = 19
 #: parameters that move the pre-bounce segment (the rest act after the bounce only)
 PRE_DEPENDENT = (P_XB, P_YB, P_TB, 3, 4, 5, 6, 7, 8, P_DRAG, P_LIFT)
 
@@ -266,7 +272,7 @@ def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
                 idx[j] = i
                 j += 1
         t0 = post_start(p, consts, y0)
-        _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[P_DRAG], p[P_LIFT], out)
+        _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[P_DRAG] * p[P_DRAG_POST], p[P_LIFT], out)
 
 
 @nb.njit(_RES_SIG, cache=True)
@@ -379,10 +385,11 @@ def make_consts(params, surface, contact_time: float, step: float = 2e-3) -> np.
 
 
 def default_params() -> np.ndarray:
-    """A parameter vector (NPARAM,) of zeros with both aero scales at 1."""
+    """A parameter vector (NPARAM,) of zeros with the aero scales and the post-bounce drag ratio at 1."""
     p = np.zeros(NPARAM)
     p[P_DRAG] = 1.0
     p[P_LIFT] = 1.0
+    p[P_DRAG_POST] = 1.0
     return p
 
 
