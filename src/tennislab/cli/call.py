@@ -207,8 +207,9 @@ def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None
         tr = s["tracker"]["call"] or "-"
         ag = s["agreement"]["call_agrees"]
         note = s["reason"] or ("DISAGREES" if ag is False else "")
+        name = os.path.basename(str(s["point"]))[-24:]
         print(
-            f"{str(s['point'])[-24:]:>24s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
+            f"{name:>24s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
             f"{_fmt(s['p_in'], '6.3f'):>6s} {_fmt(s['distance_mm'], '+8.1f'):>8s} {tr:8s} {note}"
         )
     sm = res.summary
@@ -239,7 +240,7 @@ def run(args) -> int:
         if args.target:
             raise InputError("--target: not with --rally (serves go to their box, rally shots to the court)")
         points = read_points(args.rally)
-        res = call_rally(
+        rally = call_rally(
             points,
             params=params,
             surface=args.surface,
@@ -248,7 +249,7 @@ def run(args) -> int:
             **_fit_options(args),
         )
         if args.csv:
-            rows = res.rows()
+            rows = rally.rows()
 
             def write(fh):
                 w = csv.DictWriter(fh, fieldnames=list(rows[0]) if rows else ["point"])
@@ -257,11 +258,11 @@ def run(args) -> int:
 
             atomic_write(args.csv, write)
         if args.plot:
-            save_figure(plot_rally(res, params.court), args.plot)
+            save_figure(plot_rally(rally, params.court), args.plot)
         if args.json:
-            emit_json(res)
+            emit_json(rally)
         else:
-            _print_rally(res, args.csv, args.plot)
+            _print_rally(rally, args.csv, args.plot)
         return 0
     res = _single(args, params)
     if args.plot and res.mark_result is not None and res.decision is not None:

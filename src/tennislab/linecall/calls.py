@@ -214,7 +214,9 @@ def _check_track(t, xyz, sigma):
     return t, xyz, sigma
 
 
-def _review_result(reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None):
+def review_call(reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None):
+    """A ``review`` answer without a bounce (the reasons say why)."""
+    surface = get_surface(surface)
     return TrackCall(
         method=method,
         call="review",
@@ -354,7 +356,7 @@ def call_track(
         msg = f"track: too few points ({t.size}); need at least {MIN_TRACK_POINTS}"
         if strict:
             raise InputError(msg)
-        return _review_result([msg], params, surf, n_points=int(t.size), track=(t, xyz))
+        return review_call([msg], params, surf, n_points=int(t.size), track=(t, xyz))
     n_all = t.size
     noise = float(np.median(sigma)) if sigma is not None else noise_from_differences(t, xyz)
     direction = travel_direction(t, xyz)
@@ -415,7 +417,7 @@ def call_track(
     except InputError as exc:
         if strict:
             raise
-        return _review_result([str(exc)], params, surf, net=net_d, n_points=int(n_all), track=(t, xyz))
+        return review_call([str(exc)], params, surf, net=net_d, n_points=int(n_all), track=(t, xyz))
     reasons = quality_reasons(fit, ts, noise) + extra_reasons
     mark = None
     decision = None

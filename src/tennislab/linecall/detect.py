@@ -1,11 +1,14 @@
 """What a raw ball track shows before any fit: hits, bounces, direction of travel and noise.
 
-* :func:`find_hits` - racket contacts: a jump of the velocity between consecutive frame pairs far
-  above what gravity and drag change in one frame (|dv| > :data:`HIT_DV` and > 6x the track's median),
-  with the ball in the air (z > :data:`BOUNCE_Z`), away from the net (|x| > :data:`NET_ZONE`), and the
-  ball turned back along the court or sped up (a serve out of the toss).
+* :func:`find_hits` - racket contacts: a jump of the velocity (taken over about :data:`BASELINE` on
+  each side of a sample) far above what gravity and drag change in that time (|dv| > :data:`HIT_DV`
+  and > 6x the track's median),
+  with the ball in the air (z > :data:`BOUNCE_Z`), away from the net (|x| > :data:`NET_ZONE`), the
+  flight on either side of the sample changed (not a single outlier), and the ball turned back along
+  the court or sped up (a serve out of the toss).
 * :func:`find_bounces` - ground contacts: a local minimum of z below :data:`BOUNCE_Z` where the ball
-  comes down and goes up again (by at least 2 cm within 0.15 s on each side).
+  comes down and goes up again (by at least 2 cm within 0.15 s on each side), not lying below the
+  lines through its neighbours on both sides (an outlier does).
 * :func:`noise_from_differences` - the per-axis noise of the track without any model: third
   differences of equally spaced samples cancel a quadratic (drag changes the acceleration by
   ~100 m/s^3, i.e. < 1 mm at 50 Hz), and Var(p_i+3 - 3 p_i+2 + 3 p_i+1 - p_i) = 20 sigma^2 for white
@@ -22,23 +25,36 @@ BOUNCE_Z = 0.3  #: [m] a ground contact has its lowest sample below this height 
 NET_ZONE = 1.0  #: [m] velocity jumps this close to the net plane are net contacts, not hits
 MAX_GAP = 0.12  #: [s] frame pairs further apart than this are not used to detect a jump
 MERGE = 0.06  #: [s] jumps closer than this are one event
+BASELINE = 0.015  #: [s] velocities for the jumps are taken over about this long
 
 
-def _velocities(t, xyz):
-    dt = np.diff(t)
-    v = np.diff(xyz, axis=0) / dt[:, None]
-    return dt, v
+def stride(t) -> int:
+    """Samples spanning about :data:`BASELINE` [s] (1 at 50 Hz, 5 at 340 Hz): velocities over this
+    baseline keep the noise of high frame rates out of the jumps."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 3:
+        return 1
+    dt = float(np.median(np.diff(t)))
+    return max(1, int(round(BASELINE / dt))) if dt > 0 else 1
 
 
-def velocity_jumps(t, xyz) -> np.ndarray:
-    """|v_after - v_before| at each interior sample (0 at the ends and across gaps) [m/s]."""
+def velocity_jumps(t, xyz, s: int | None = None) -> np.ndarray:
+    """|v_after - v_before| at each sample, the velocities over ``s`` samples (:func:`stride`) on
+    each side [m/s] (0 near the ends and across gaps)."""
+    t = np.asarray(t, dtype=float)
+    xyz = np.asarray(xyz, dtype=float)
     n = t.size
+    s = stride(t) if s is None else s
     out = np.zeros(n)
-    if n < 3:
+    if n < 2 * s + 1:
         return out
-    dt, v = _velocities(t, xyz)
-    ok = (dt[:-1] <= MAX_GAP) & (dt[1:] <= MAX_GAP)
-    out[1:-1] = np.where(ok, np.linalg.norm(v[1:] - v[:-1], axis=1), 0.0)
+    i = np.arange(s, n - s)
+    db = t[i] - t[i - s]
+    da = t[i + s] - t[i]
+    ok = (db > 0) & (da > 0) & (db <= MAX_GAP * s) & (da <= MAX_GAP * s)
+    vb = (xyz[i] - xyz[i - s]) / np.where(ok, db, 1.0)[:, None]
+    va = (xyz[i + s] - xyz[i]) / np.where(ok, da, 1.0)[:, None]
+    out[i] = np.where(ok, np.linalg.norm(va - vb, axis=1), 0.0)
     return out
 
 
@@ -54,26 +70,45 @@ def _merge(idx: np.ndarray, t: np.ndarray, score: np.ndarray) -> list[int]:
     return out
 
 
+def _side_velocity(t, xyz, i: int, side: int, s: int):
+    """Velocity over ``s`` samples just before (side -1) or after (side +1) sample i, excluding i."""
+    a, b = (i - 1 - s, i - 1) if side < 0 else (i + 1, i + 1 + s)
+    if a < 0 or b >= t.size or not 0 < t[b] - t[a] <= MAX_GAP * s:
+        return None
+    return (xyz[b] - xyz[a]) / (t[b] - t[a])
+
+
 def find_hits(t, xyz) -> list[int]:
-    """Sample indices where a racket hit starts a new shot (see the module docstring)."""
+    """Sample indices where a racket hit starts a new shot (see the module docstring).
+
+    A candidate (a velocity jump at sample i) must also show the jump between the velocities of the
+    two samples before i and the two after it, sample i left out: a single outlier makes two large
+    jumps at i but leaves the flight on both sides of it unchanged.
+    """
     t = np.asarray(t, dtype=float)
     xyz = np.asarray(xyz, dtype=float)
     n = t.size
-    if n < 4:
+    s = stride(t)
+    if n < 2 * s + 3:
         return []
-    jump = velocity_jumps(t, xyz)
-    thr = max(HIT_DV, 6.0 * float(np.median(jump[1:-1])))
+    jump = velocity_jumps(t, xyz, s)
+    thr = max(HIT_DV, 6.0 * float(np.median(jump[s:-s])))
     cand = np.nonzero(jump > thr)[0]
-    dt, v = _velocities(t, xyz)
     hits = []
     for i in _merge(cand, t, jump):
-        if not 1 <= i <= n - 2:
+        if not s <= i <= n - s - 2:  # a hit needs samples after it to be told from an outlier
             continue
-        vb, vf = v[i - 1], v[i]
         if xyz[i, 2] < BOUNCE_Z or abs(xyz[i, 0]) < NET_ZONE:
             continue
-        turned = np.sign(vb[0]) != np.sign(vf[0]) and abs(vf[0]) > 2.0
-        faster = np.linalg.norm(vf) > np.linalg.norm(vb) + HIT_DV
+        vb = _side_velocity(t, xyz, i, -1, s)
+        va = _side_velocity(t, xyz, i, +1, s)
+        if vb is None or va is None:
+            vb = (xyz[i] - xyz[i - s]) / (t[i] - t[i - s]) if vb is None else vb
+            va = (xyz[i + s] - xyz[i]) / (t[i + s] - t[i]) if va is None else va
+        elif np.linalg.norm(va - vb) < thr:
+            continue  # an outlier at i, not a hit
+        turned = np.sign(vb[0]) != np.sign(va[0]) and abs(va[0]) > 2.0
+        faster = np.linalg.norm(va) > np.linalg.norm(vb) + HIT_DV
         if turned or faster:
             hits.append(i)
     return hits
@@ -94,12 +129,24 @@ def find_bounces(t, xyz, rise: float = 0.02, span: float = 0.15) -> list[int]:
             continue
         if z[before].max() - z[i] < rise or z[after].max() - z[i] < rise:
             continue
+        if _below_both_sides(t, z, i):
+            continue  # an outlier below the flight, not a bounce
         if out and t[i] - t[out[-1]] < MERGE:
             if z[i] < z[out[-1]]:
                 out[-1] = i
             continue
         out.append(i)
     return out
+
+
+def _below_both_sides(t, z, i: int, tol: float = 0.05) -> bool:
+    """Sample i lies more than ``tol`` [m] below the straight lines through the two samples on each
+    side of it: a bounce's lowest sample never does (both lines run into the ground), an outlier does."""
+    if i < 2 or i > t.size - 3:
+        return False
+    zl = z[i - 1] + (z[i - 1] - z[i - 2]) * (t[i] - t[i - 1]) / (t[i - 1] - t[i - 2])
+    zr = z[i + 1] + (z[i + 1] - z[i + 2]) * (t[i + 1] - t[i]) / (t[i + 2] - t[i + 1])
+    return bool(z[i] < min(zl, zr) - tol)
 
 
 def bounce_estimate(t, xyz, i: int, radius: float = 0.033) -> tuple[float, float, float]:

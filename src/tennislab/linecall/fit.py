@@ -57,6 +57,7 @@ from tennislab.core.mark import MarkParams
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
 from tennislab.linecall import model as M
+from tennislab.linecall.detect import find_bounces
 
 SPIN_PRIOR = 500.0  #: [rad/s] sigma of the weak zero-mean prior on each spin component
 DRAG_PRIOR = 0.15  #: sigma of the prior on the drag scale s_D around 1 (default ``drag="prior"``)
@@ -200,14 +201,17 @@ def _running_median(z, w=5):
     return np.median(np.lib.stride_tricks.sliding_window_view(pad, w), axis=1)
 
 
-def _robust_poly(t, y, deg=2):
-    """Least-squares polynomial with one round of 5-MAD outlier removal (degree lowered to fit the points)."""
+def _robust_poly(t, y, deg=2, rounds: int = 3):
+    """Least-squares polynomial with up to ``rounds`` rounds of 5-MAD outlier removal (degree lowered
+    to fit the points); each round judges every point afresh against the fit of the previous one."""
     deg = min(deg, t.size - 1)
     c = np.polyfit(t, y, deg)
-    r = y - np.polyval(c, t)
-    mad = 1.4826 * np.median(np.abs(r - np.median(r))) + 1e-9
-    keep = np.abs(r) < 5 * mad + 1e-6
-    if keep.sum() > deg + 2 and not keep.all():
+    for _ in range(rounds):
+        r = y - np.polyval(c, t)
+        mad = 1.4826 * np.median(np.abs(r - np.median(r))) + 1e-9
+        keep = np.abs(r) < 5 * mad + 1e-6
+        if keep.sum() <= deg + 2 or keep.all():
+            break
         c = np.polyfit(t[keep], y[keep], deg)
     return c
 
@@ -236,11 +240,15 @@ def _bounce_out(vin, win, surface, params: FlightParams) -> np.ndarray:
 def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float, t_hint: float | None = None):
     """Starting parameters (NPARAM,) and whether there are usable post-bounce points.
 
-    ``t_hint`` [s]: time of the first bounce found in the data (the split point); default the lowest
-    point of the running median of z.
+    ``t_hint`` [s]: time of the first bounce found in the data (the split point); default the first
+    bounce :func:`~tennislab.linecall.detect.find_bounces` finds, else the lowest point of the running
+    median of z (a track that ends before its bounce).
     """
     r = params.ball.radius
     n = t.size
+    if t_hint is None:
+        found = find_bounces(t, xyz)
+        t_hint = float(t[found[0]]) if found else None
     if t_hint is not None and np.isfinite(t_hint):
         i_min = int(np.argmin(np.abs(t - t_hint)))
         if t[i_min] > t_hint and i_min > 0:
@@ -378,7 +386,8 @@ def levenberg_marquardt(
             break
         d = np.maximum(np.diag(A).copy(), 1e-30)
         improved = False
-        cn, r2n, xn, step = cost, r2, x, np.zeros(npar)
+        cn, r2n, xn = cost, r2, x
+        step: np.ndarray = np.zeros(npar)
         for _ in range(12):
             try:
                 step = -np.linalg.solve(A + lam * np.diag(d), g)
@@ -605,8 +614,8 @@ def fit_track(
     for j, sj in zip(prior.index, prior.sigma):
         A[j, j] += 1.0 / sj**2
     used = seg != M.SEG_OFF
-    nres = 3 * np.count_nonzero(used)
-    dof = max(nres - (free.size - prior.index.size), 1)
+    nres = 3 * int(np.count_nonzero(used))
+    dof = max(nres - int(free.size - prior.index.size), 1)
     chi2 = float(np.sum(res**2)) / dof
     infl = max(1.0, chi2) * ((1.0 + 4.0 / dof) if est_sigma else 1.0)
     if np.all(np.isfinite(A)):

@@ -8,8 +8,8 @@ the ball's surface clears it by
 
     clearance = z_n - h(y_n) - r.
 
-The samples after that time are compared with the same flight continued: their median deviation
-``deviation``.  Contact is declared when
+The samples from :data:`AFTER_START` to :data:`AFTER_SPAN` after that time are compared with the same
+flight continued: their median deviation ``deviation``.  Contact is declared when
 
 * the flight passes within :data:`CORD_ZONE` of the tape (clearance < CORD_ZONE) **and** the samples
   after it leave the free flight (deviation > max(:data:`DEV_SIGMA` x noise, :data:`DEV_MIN`)), or
@@ -18,8 +18,9 @@ The samples after that time are compared with the same flight continued: their m
 
 A ball that leaves its flight far above the tape was touched by something else (a volley the hit
 detection missed): not a net contact.  After a contact the ball ``crossed`` when a later sample is
-more than :data:`CROSS_MARGIN` past the net plane; ``resume`` is the first sample of the flight after
-the contact (for the bounce fit).  Balls crossing beyond the net posts (|y| > y_post) never touch it.
+more than :data:`CROSS_MARGIN` past the net plane (two samples: one could be an outlier); ``resume`` is
+the first sample of the flight after the contact (for the bounce fit).  Balls crossing beyond the net
+posts (|y| > y_post) never touch it.
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ CORD_ZONE = 0.15  #: [m] clearance below which a deflection is put down to the n
 BELOW_TOL = 0.02  #: [m] a flight this far below the tape cannot have passed untouched
 DEV_SIGMA = 8.0  #: deviation threshold in units of the fit's noise
 DEV_MIN = 0.04  #: [m] smallest deviation taken as a deflection
-AFTER_SPAN = 0.15  #: [s] samples after the net plane compared with the flight
+AFTER_START = 0.01  #: [s] samples from this long after the net plane...
+AFTER_SPAN = 0.15  #: [s] ...to this long after it are compared with the flight
 CROSS_MARGIN = 0.3  #: [m] past the net plane: the ball went over
 BELOW_GROUND = 0.05  #: [m] samples lower than this (rolling balls) are not compared with the flight
 
@@ -124,12 +126,12 @@ def check_net(t, xyz, params: FlightParams, direction: float) -> NetCheck:
     yn, zn = float(yn), float(zn)
     h = float(court.net_height(yn))
     clearance = zn - h - r if h > 0 else float("inf")
-    after = np.nonzero((t > t[pre[-1]]) & (t <= tn + AFTER_SPAN))[0]
+    after = np.nonzero((t > max(t[pre[-1]], tn + AFTER_START)) & (t <= tn + AFTER_SPAN))[0]
     after = after[xyz[after, 2] > BELOW_GROUND] if after.size else after
     dev = float("nan")
     if after.size:
         d = np.linalg.norm(ff.positions(t[after]) - xyz[after], axis=1)
-        dev = float(np.median(d[: min(5, d.size)]))
+        dev = float(np.median(d))
     tol = max(DEV_SIGMA * (ff.noise if np.isfinite(ff.noise) else 0.0), DEV_MIN)
     deflected = np.isfinite(dev) and dev > tol
     contact = (clearance < CORD_ZONE and deflected) or (clearance < -BELOW_TOL and after.size == 0)
@@ -137,6 +139,6 @@ def check_net(t, xyz, params: FlightParams, direction: float) -> NetCheck:
     resume = -1
     if contact:
         later = np.nonzero(t > tn + 0.01)[0]
-        crossed = bool(np.any(direction * xyz[later, 0] > CROSS_MARGIN))
+        crossed = bool(np.count_nonzero(direction * xyz[later, 0] > CROSS_MARGIN) >= 2)
         resume = int(later[0]) if later.size else -1
     return NetCheck(True, True, bool(contact), crossed, tn, yn, zn, float(clearance), dev, resume)

@@ -5,7 +5,8 @@ cut into shots, hit to next hit: at the samples flagged ``hit`` when the tracker
 the tracker's shot times, else at the hits found in the track (:func:`~tennislab.linecall.detect.find_hits`).
 Each shot is called by :func:`~tennislab.linecall.calls.call_track` (net check, first bounce, robust
 fit, mark, decision, quality gate; never refused: a shot that cannot be fitted is ``review`` with the
-reason) against the area it must land in:
+reason) against the area it must land in (a shot hit again before it comes near the ground, a volley,
+has nothing to call: ``review`` with that reason):
 
 * a serve (the tracker's ``stroke`` says so, or, without shot records, the first hit of a point struck
   above 1.8 m behind the service line): the service box diagonally opposite the server, the server's
@@ -32,12 +33,13 @@ import numpy as np
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
 from tennislab.io.hawkeye import Point, ShotInfo
-from tennislab.linecall.calls import CALLS, call_track
-from tennislab.linecall.detect import find_hits, travel_direction
+from tennislab.linecall.calls import CALLS, call_track, review_call
+from tennislab.linecall.detect import BOUNCE_Z, find_bounces, find_hits, travel_direction
 from tennislab.results import Result, jsonable
 
 SERVE_HEIGHT = 1.8  #: [m] a first hit above this, behind the service line, is a serve (no shot records)
 MATCH_TOL = 0.15  #: [s] a tracker's shot belongs to the hit within this time
+VOLLEY = "no bounce: the ball was hit again before it landed (volley); nothing to call"
 
 
 @dataclass(frozen=True)
@@ -166,19 +168,25 @@ def call_point(point: Point, *, params: FlightParams | None = None, doubles: boo
     """Every shot of one point called (dicts: :class:`TrackCall` keys + the shot's keys)."""
     params = params or FlightParams()
     out = []
-    for k, seg in enumerate(split_point(point, doubles)):
+    segs = split_point(point, doubles)
+    for k, seg in enumerate(segs):
         t, xyz = point.t[seg.start : seg.stop], point.xyz[seg.start : seg.stop]
         rec = seg.shot
-        res = call_track(
-            t,
-            xyz,
-            params=params,
-            target=seg.target,
-            serve=seg.serve,
-            strict=False,
-            tracker_spin_rpm=None if rec is None else rec.spin_rpm,
-            **kwargs,
-        ).to_dict()
+        volley = k + 1 < len(segs) and t.size > 0 and not find_bounces(t, xyz) and xyz[-1, 2] > BOUNCE_Z
+        if volley:
+            res = review_call([VOLLEY], params, kwargs.get("surface", "hard"), n_points=int(t.size)).to_dict()
+        else:
+            res = call_track(
+                t,
+                xyz,
+                params=params,
+                target=seg.target,
+                serve=seg.serve,
+                strict=False,
+                tracker_spin_rpm=None if rec is None else rec.spin_rpm,
+                **kwargs,
+            ).to_dict()
+        res["target"] = seg.target
         t_end = point.t[seg.stop] if seg.stop < point.t.size else math.inf
         tb = _tracker_bounce(point, float(t[0]), float(t_end), rec)
         d = {
@@ -276,6 +284,7 @@ def call_rally(
     workers = int(check_range("workers", workers, 1, 64))
     kwargs = dict(surface=surface, drag=drag, lift=lift, fit_drag=fit_drag, contact_sigma=contact_sigma, window=window)
     t0 = time.perf_counter()
+    per_point: list[list[dict]]
     if workers == 1 or len(pts) == 1:
         per_point = [call_point(p, params=params, doubles=doubles, **kwargs) for p in pts]
     else:
@@ -284,8 +293,8 @@ def call_rally(
             parts = list(ex.map(_call_points, [(c, params, doubles, kwargs) for c in chunks]))
         per_point = [[] for _ in pts]
         for w, part in enumerate(parts):
-            for j, shots in enumerate(part):
-                per_point[w + j * workers] = shots
+            for j, called in enumerate(part):
+                per_point[w + j * workers] = called
     seconds = time.perf_counter() - t0
     shots = tuple(s for lst in per_point for s in lst)
     info = tuple(

@@ -10,8 +10,9 @@ racket hides the ball) and a gross outlier or two.  Synthetic truth proves the c
 Shots are flown by the reference integrator (:func:`tennislab.core.flight.fly`, DOP853) and chained
 through the bounce model (:func:`tennislab.core.rally.bounce_at`).  The net is an obstacle here: a ball
 whose centre reaches the net plane below the tape + r touches it (:func:`tennislab.core.flight.fly`'s
-net crossing); a glancing touch (clearance > -0.6 r) is a net cord that goes over with 60 % of its
-speed along the court and a pop up, a deeper one is stopped and drops on the hitter's side.
+net crossing); a glancing touch (clearance > -0.6 r) is a net cord that goes over with 45-80 % of its
+speed along the court and 20-80 % of its vertical speed plus a kick of -0.5 to 1.5 m/s, a deeper one
+is stopped and drops on the hitter's side with a tenth of its speed.
 
 :func:`synthetic_point` returns a point in the tracker JSON format read by
 :func:`tennislab.io.hawkeye.parse_points` and the truth of each shot; :func:`synthetic_match` many.
@@ -21,11 +22,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly, fly_batch
 from tennislab.core.launch import describe_velocity, direction, launch_velocity, spin_basis
 from tennislab.core.mark import MarkParams
 from tennislab.core.rally import bounce_at
@@ -33,7 +34,11 @@ from tennislab.core.surfaces import get_surface
 from tennislab.linecall.decide import call_mark
 from tennislab.units import RPM
 
-TRUTH_AERO = {"aero": "cross2014", "cd": 0.6, "cl": 0.6}  #: the truth's aero model (not the fit's default)
+TRUTH_AERO: dict[str, Any] = {
+    "aero": "cross2014",
+    "cd": 0.6,
+    "cl": 0.6,
+}  #: the truth's aero model (not the fit's default)
 TRUTH_CONTACT = MarkParams(contact_time=4.0e-3)  #: the truth's contact time [s] (the fit assumes 4.5 ms)
 
 
@@ -96,6 +101,7 @@ def simulate_shot(
     mark_params: MarkParams = TRUTH_CONTACT,
     t_stop: float | None = None,
     max_bounces: int = 3,
+    rng: np.random.Generator | None = None,
 ) -> ShotTruth:
     """Fly a shot from (position, velocity, spin) at t0 through the net (as an obstacle) and up to
     ``max_bounces`` bounces, until ``t_stop`` [s] (default: 1.5 s after the first bounce)."""
@@ -110,17 +116,23 @@ def simulate_shot(
         t_land = tr.landing.t if tr.landing is not None else t + params.t_max
         if st.net is None and not st.bounces and tr.net.result == "net" and tr.net.t < t_land:
             tn = tr.net.t
-            y = tr.sol(tn)
+            y = tr.sol(tn)  # type: ignore[operator]
             st.pieces.append((t, tn, tr.sol))
             clear = float(tr.net.clearance)
             over = clear > -0.6 * r
             st.net = {"t": float(tn), "y": float(y[1]), "z": float(y[2]), "clearance": clear, "crossed": over}
-            if over:  # net cord: slowed along the court, popped up
-                vel = np.array([0.6 * y[3], 0.9 * y[4], 0.35 * abs(y[5]) + 1.2])
+            if over:  # net cord: slowed along the court, deflected up or down
+                keep, fz, kick = (
+                    (0.6, 0.5, 0.5)
+                    if rng is None
+                    else (rng.uniform(0.45, 0.8), rng.uniform(0.2, 0.8), rng.uniform(-0.5, 1.5))
+                )
+                vel = np.array([keep * y[3], 0.9 * y[4], fz * y[5] + kick])
                 pos = np.array([d * 0.002, y[1], max(y[2], r)])
-            else:  # stopped by the mesh: drops on the hitter's side
-                vel = np.array([-0.12 * y[3], 0.2 * y[4], min(y[5], 0.0) - 0.3])
+            else:  # stopped by the mesh: drops on the hitter's side, most of its energy gone
+                vel = np.array([-0.1 * y[3], 0.1 * y[4], -0.2 * abs(y[5]) - 0.3])
                 pos = np.array([-d * (r + 0.01), y[1], max(y[2], r)])
+                stop = min(stop, tn + 1.2)
             w = 0.5 * y[6:9]
             st.pieces.append((tn, tn + 1e-3, (y[:3].copy(), pos.copy())))
             t = tn + 1e-3
@@ -147,48 +159,61 @@ def simulate_shot(
 def aim(position, speed: float, spin_rpm, target_xy, params: FlightParams, *, clearance: float | None = None):
     """(velocity, spin) of a shot from ``position`` at ``speed`` [m/s] with spin components
     (topspin, sidespin, along-path) [rpm] that lands at ``target_xy`` [m] (or, with ``clearance`` [m],
-    crosses the net plane with that clearance over the tape, heading for ``target_xy``)."""
+    crosses the net plane with that clearance over the tape, heading for ``target_xy``).
+
+    Elevation by scanning the compiled batch flight (:func:`tennislab.core.flight.fly_batch`) over a
+    grid and then a finer grid around the crossing; heading corrected twice for the sideways curve.
+    """
     p0 = np.asarray(position, float)
     tx, ty = target_xy
-    heading = math.atan2(ty - p0[1], tx - p0[0])
     dist = math.hypot(tx - p0[0], ty - p0[1])
+    heading = math.atan2(ty - p0[1], tx - p0[0])
 
-    def shot(el):
-        v = launch_velocity(speed, el, heading)
-        return v, _spin_vector(v, *spin_rpm)
-
-    def miss(el):
-        v, w = shot(el)
-        tr = fly(p0, v, w, params, rtol=1e-7, atol=1e-9)
+    def scan(els, hd):
+        v = launch_velocity(speed, els, hd)
+        w = np.array([_spin_vector(vi, *spin_rpm) for vi in v])
+        states = np.column_stack([np.tile(p0, (els.size, 1)), v, w])
+        tab = fly_batch(states, params, parallel=False)
         if clearance is not None:
-            return tr.net.clearance - clearance if np.isfinite(tr.net.clearance) else -1.0
-        if tr.landing is None:
-            return 50.0
-        return math.hypot(tr.landing.x - p0[0], tr.landing.y - p0[1]) - dist
+            miss = tab.clearance - clearance
+        else:
+            miss = np.hypot(tab["land_x"] - p0[0], tab["land_y"] - p0[1]) - dist
+        return np.where(tab.ok & np.isfinite(miss), miss, np.nan), tab
 
+    el = 0.0
     for _ in range(3):
-        grid = np.radians(np.linspace(-20.0, 35.0, 23))
-        vals = np.array([miss(g) for g in grid])
-        el = float(grid[np.argmin(np.abs(vals))])
-        for i in range(grid.size - 1):
-            if vals[i] * vals[i + 1] < 0:
-                el = brentq(miss, grid[i], grid[i + 1], xtol=1e-7)
-                break
-        v, w = shot(el)
-        tr = fly(p0, v, w, params, rtol=1e-7, atol=1e-9)
-        if tr.landing is None or clearance is not None:
+        grid = np.radians(np.linspace(-20.0, 35.0, 56))
+        miss, _ = scan(grid, heading)
+        el = _root(grid, miss)
+        fine = np.linspace(el - np.radians(1.0), el + np.radians(1.0), 41)
+        miss, tab = scan(fine, heading)
+        el = _root(fine, miss)
+        if clearance is not None:
             break
-        lat = math.atan2(tr.landing.y - p0[1], tr.landing.x - p0[0]) - math.atan2(ty - p0[1], tx - p0[0])
+        k = int(np.nanargmin(np.abs(miss))) if np.any(np.isfinite(miss)) else 0
+        lat = math.atan2(tab["land_y"][k] - p0[1], tab["land_x"][k] - p0[0]) - math.atan2(ty - p0[1], tx - p0[0])
         heading -= lat
         if abs(lat) < 1e-5:
             break
-    return shot(el)
+    v = launch_velocity(speed, el, heading)
+    return v, _spin_vector(v, *spin_rpm)
+
+
+def _root(grid, miss) -> float:
+    """The grid value where ``miss`` crosses zero first (linear interpolation), else its smallest |miss|."""
+    for i in range(grid.size - 1):
+        a, b = miss[i], miss[i + 1]
+        if np.isfinite(a) and np.isfinite(b) and a * b <= 0 and a != b:
+            return float(grid[i] - a * (grid[i + 1] - grid[i]) / (b - a))
+    if not np.any(np.isfinite(miss)):
+        return 0.0
+    return float(grid[int(np.nanargmin(np.abs(miss)))])
 
 
 MIN_CLEARANCE = 0.05  #: [m] a shot meant to clear the net is slowed until it clears it by this much
 
 
-def _aim_clear(p0, speed, spin, tgt, params, clearance):
+def aim_clear(p0, speed, spin, tgt, params, clearance):
     """:func:`aim`; a shot meant to clear the net (``clearance`` None) is slowed by 3 m/s at a time
     (at most 6 times) until it clears the tape by :data:`MIN_CLEARANCE`."""
     v, w = aim(p0, speed, spin, tgt, params, clearance=clearance)
@@ -254,10 +279,10 @@ def synthetic_point(
         clearance = rng.uniform(-0.015, -0.004)
     elif kind == "net-fault":
         clearance = rng.uniform(-0.25, -0.06)
-    v, w = _aim_clear(p0, speed, serve_spin, tgt, params, clearance)
+    v, w = aim_clear(p0, speed, serve_spin, tgt, params, clearance)
     shots = []
     t = 0.0
-    st = simulate_shot(p0, v, w, t, params)
+    st = simulate_shot(p0, v, w, t, params, rng=rng)
     st.serve, st.target = True, _serve_target_box(p0[0], p0[1])
     shots.append(st)
     hitter = -s  # the receiver hits next
@@ -287,6 +312,8 @@ def synthetic_point(
         # trim the previous shot at the hit
         prev.pieces = [(a, min(b, t_hit), sol) for a, b, sol in prev.pieces if a < t_hit]
         prev.bounces = [b for b in prev.bounces if b.t < t_hit]
+        if not prev.bounces:  # volleyed: nothing to call
+            prev.call = "none"
         opp = -hitter  # the ball goes to this half
         area = court.area_bounds("singles" if opp > 0 else "near-singles")
         tgt = (rng.uniform(area[0] + 1.0, area[1] - 0.3), rng.uniform(area[2] + 0.3, area[3] - 0.3))
@@ -295,8 +322,8 @@ def synthetic_point(
         spin = (rng.uniform(-2500, 3500), rng.uniform(-800, 800), rng.uniform(-600, 600))
         speed = rng.uniform(18.0, 36.0) if not volley else rng.uniform(12.0, 25.0)
         clr = rng.uniform(-0.02, -0.005) if (kind == "net-cord" and k == 0) else None
-        v, w = _aim_clear(hp, speed, spin, tgt, params, clr)
-        st = simulate_shot(hp, v, w, t_hit, params)
+        v, w = aim_clear(hp, speed, spin, tgt, params, clr)
+        st = simulate_shot(hp, v, w, t_hit, params, rng=rng)
         st.target = "singles" if opp > 0 else "near-singles"
         shots.append(st)
         hitter = opp
@@ -342,12 +369,12 @@ def sample_point(
         if cand.size:
             j = int(rng.choice(cand))
             noisy[j] += rng.normal(0.0, 0.4, 3)
-    samples = [
+    samples: list[dict[str, Any]] = [
         {"time": round(float(t[i]) + t_offset, 5), "ball": {"pos": dict(zip("xyz", np.round(noisy[i], 4).tolist()))}}
         for i in np.nonzero(keep)[0]
     ]
     if events:
-        for k, st in enumerate(shots):
+        for st in shots:
             samples.append(
                 {
                     "time": round(st.t_hit + t_offset, 5),
@@ -364,7 +391,7 @@ def sample_point(
                         "event": "bounce",
                     }
                 )
-        samples.sort(key=lambda s: s["time"])
+        samples.sort(key=lambda smp: float(smp["time"]))
     recs = []
     if shot_records:
         for k, st in enumerate(shots):
