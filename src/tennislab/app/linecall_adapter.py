@@ -60,8 +60,9 @@ def call(v: dict, text: str) -> dict:
     out["mark"]["discs"] = [] if mark is None else np.round(mark.discs, 5).tolist()
     out["mark"]["direction"] = [] if mark is None else [float(d) for d in mark.direction]
     fit = res.fit_result
-    if fit is not None:
-        t_fit = np.linspace(track.t[0], track.t[-1] if fit.has_post else fit.t_bounce, 200)
+    if fit is not None and res.track is not None:
+        ts = res.track[0]  # the call's relative clock
+        t_fit = np.linspace(ts[0], ts[-1] if fit.has_post else fit.t_bounce, 200)
         pts = fit.positions(t_fit)
         out["fitted"] = np.round(pts[np.all(np.isfinite(pts), axis=1)], 4).tolist()
     else:

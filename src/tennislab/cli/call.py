@@ -66,14 +66,19 @@ def register(sub) -> None:
     )
     d = p.add_mutually_exclusive_group()
     d.add_argument(
-        "--fit-drag", action="store_true", help="fit the drag scale freely (no prior); lift unchanged (C_L scale 1)"
+        "--fit-drag",
+        action="store_true",
+        help="fit the drag scale (C_D) freely; default: fitted with a prior sigma 0.15 around 1. Lift separate",
     )
     d.add_argument("--fixed-drag", action="store_true", help="keep C_D as the aero model gives it (drag scale 1)")
-    p.add_argument(
+    lg = p.add_mutually_exclusive_group()
+    lg.add_argument(
         "--fit-lift",
         action="store_true",
-        help="also fit a lift scale (C_L); degenerate with the spin rate unless the data pin the spin down",
+        help="fit the lift scale (C_L) freely; default: fitted with a prior sigma 0.3 around 1 "
+        "(degenerate with the spin rate unless the data pin the spin down)",
     )
+    lg.add_argument("--fixed-lift", action="store_true", help="keep C_L as the aero model gives it (lift scale 1)")
     p.add_argument(
         "--contact-sigma",
         type=float,
@@ -114,7 +119,7 @@ def _check_out(flag: str, path: str | None, exts: tuple[str, ...]) -> None:
 def _fit_options(args) -> dict:
     return dict(
         drag="free" if args.fit_drag else ("fixed" if args.fixed_drag else "prior"),
-        lift="free" if args.fit_lift else "fixed",
+        lift="free" if args.fit_lift else ("fixed" if args.fixed_lift else "prior"),
         contact_sigma=args.contact_sigma,
         window=tuple(args.window),
     )

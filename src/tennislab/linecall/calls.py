@@ -77,7 +77,8 @@ class TrackCall(Result):
     ``call`` is one of :data:`CALLS`; ``provisional_call`` the in/out of the numbers when the call is
     ``review``; ``decision`` the output of :func:`~tennislab.linecall.decide.call_mark` (``p_in``,
     ``distance_mm``, ``target``/``line``, ``lines``).  ``fit_result``, ``mark_result`` and ``track``
-    are the objects behind it (for plots; not in the JSON).
+    are the objects behind it (for plots; not in the JSON); their times are relative to
+    ``time_offset`` [s] (the first sample), the JSON's are absolute.
     """
 
     method: str
@@ -97,6 +98,7 @@ class TrackCall(Result):
     fit_result: TrackFit | None = field(default=None, repr=False, compare=False)
     mark_result: BallMark | None = field(default=None, repr=False, compare=False)
     track: tuple | None = field(default=None, repr=False, compare=False)
+    time_offset: float = field(default=0.0, repr=False, compare=False)
 
     @property
     def p_in(self) -> float | None:
@@ -286,12 +288,12 @@ def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float) -> dic
     }
 
 
-def _bounce_dict(fit: TrackFit) -> dict:
+def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:
     sb = np.sqrt(np.clip(np.diag(fit.cov)[:3], 0, None))
     return {
         "x": float(fit.p[M.P_XB]),
         "y": float(fit.p[M.P_YB]),
-        "t": fit.t_bounce,
+        "t": fit.t_bounce + t_ref,
         "sigma_mm": fit.sigma_bounce * 1000.0,
         "sigma_x_mm": sb[0] * 1000,
         "sigma_y_mm": sb[1] * 1000,
@@ -352,6 +354,8 @@ def call_track(
     surf = get_surface(surface)
     t, xyz, sigma = _check_track(t, xyz, sigma)
     w, cs = _options(window, contact_sigma)
+    t_ref = float(t[0]) if t.size else 0.0
+    t = t - t_ref  # times relative to the first sample inside (absolute clocks lose precision)
     if t.size < MIN_TRACK_POINTS:
         msg = f"track: too few points ({t.size}); need at least {MIN_TRACK_POINTS}"
         if strict:
@@ -361,7 +365,7 @@ def call_track(
     noise = float(np.median(sigma)) if sigma is not None else noise_from_differences(t, xyz)
     direction = travel_direction(t, xyz)
     net: NetCheck | None = check_net(t, xyz, params, direction) if net_check else None
-    net_d = None if net is None else net.to_dict()
+    net_d = None if net is None else net.to_dict(t_ref)
     extra_reasons: list[str] = []
     if net is not None and net.contact and not net.crossed:
         return TrackCall(
@@ -392,7 +396,7 @@ def call_track(
         if len(bidx) > 1:
             for i in bidx[1:]:
                 tb, xb, yb = bounce_estimate(ts, xs, i, params.ball.radius)
-                later.append({"t": tb, "x": xb, "y": yb})
+                later.append({"t": tb + t_ref, "x": xb, "y": yb})
             cut = ts < ts[bidx[1]] - SECOND_BOUNCE_GAP
             cut &= np.arange(ts.size) <= bidx[1] - 2
             sel = sel[cut]
@@ -442,7 +446,7 @@ def call_track(
         provisional_call=provisional,
         review_reasons=tuple(reasons),
         decision=decision,
-        bounce=_bounce_dict(fit),
+        bounce=_bounce_dict(fit, t_ref),
         mark=None if mark is None else mark_dict(mark),
         fit=_fit_dict(fit, n_all, elapsed, noise),
         spin=spin,
@@ -453,6 +457,7 @@ def call_track(
         fit_result=fit,
         mark_result=mark,
         track=(ts, xs),
+        time_offset=t_ref,
     )
 
 

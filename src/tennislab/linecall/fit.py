@@ -121,7 +121,7 @@ class TrackFit:
     converged: bool = True
     n_pre: int = 0
     n_post: int = 0
-    vout_source: str = "joint"
+    vout_source: str = "joint"  #: v_out from the joint fit, a fit of the samples after the bounce, or the bounce model
 
     @property
     def bounce_xy(self) -> np.ndarray:
@@ -308,6 +308,25 @@ def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float, t_
     return p, has_post
 
 
+POST_SPAN = 0.25  #: [s] samples after the bounce used for the outgoing velocity when the approach alone is fitted
+
+
+def _post_velocity(tau: np.ndarray, xyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Velocity at tau = 0 (the ball leaving the ground) from robust quadratics (lines for < 6 samples)
+    of the samples after the bounce, and the samples they reject.  Drag bends the path by about
+    k C_D v^2 ~ 10 m/s^2 at 20 m/s, which a quadratic over 0.25 s absorbs to ~0.1 m/s."""
+    deg = 2 if tau.size >= 6 else 1
+    v = np.empty(3)
+    bad = np.zeros(tau.size, dtype=bool)
+    for c in range(3):
+        cc = _robust_poly(tau, xyz[:, c], deg)
+        v[c] = np.polyval(np.polyder(cc), 0.0)
+        r = xyz[:, c] - np.polyval(cc, tau)
+        mad = 1.4826 * np.median(np.abs(r - np.median(r))) + 1e-9
+        bad |= np.abs(r) > max(5.0 * mad, 5 * NOISE_FLOOR)
+    return v, bad
+
+
 def _segments(t, tb, tc, has_post, outlier):
     seg = np.where(t < tb, M.SEG_PRE, np.where(t > tb + tc, M.SEG_POST, M.SEG_OFF))
     if not has_post:
@@ -454,7 +473,7 @@ def fit_track(
     lift: str = "prior",
     fit_drag: bool = False,
     mark_params: MarkParams = MarkParams(),
-    step: float = 8e-3,
+    step: float = 16e-3,
     max_rounds: int = MAX_ROUNDS,
     window: tuple | None = (0.6, 0.3),
     contact_prior: float = 0.0,
@@ -633,19 +652,15 @@ def fit_track(
     if not has_post:  # no data after the bounce used: a flight fitted to them, or the bounce model
         p[M.P_VOUT] = _bounce_out(p[M.P_VIN], p[M.P_WIN], s, params)
         if post_points and np.all(np.isfinite(p)):
-            t_out = p[M.P_TB] + tc
-            later = (t > t_out + 0.002) & (t <= t_out + (0.3 if window is None else window[1]))
-            if np.count_nonzero(later) >= MIN_POST_POINTS:
-                try:
-                    ff = fit_free_flight(t[later], xyz[later], params, t0=float(t_out), drag=drag)
-                except InputError:  # pragma: no cover - guarded by the count
-                    ff = None
-                if ff is not None and np.all(np.isfinite(ff.q[M.F_VEL])) and ff.q[5] > 0:
-                    p[M.P_VOUT] = ff.q[M.F_VEL]
-                    vout_source = "post-flight"
-                    rows_post = np.nonzero(later)[0]
-                    seg[rows_post[~ff.outlier]] = M.SEG_POST
-                    outlier[rows_post[ff.outlier]] = True
+            t_out = float(p[M.P_TB] + tc)
+            later = np.nonzero((t > t_out + 0.002) & (t <= t_out + POST_SPAN))[0]
+            if later.size >= MIN_POST_POINTS:
+                v_out, bad = _post_velocity(t[later] - t_out, xyz[later])
+                if np.all(np.isfinite(v_out)) and v_out[2] > 0:
+                    p[M.P_VOUT] = v_out
+                    vout_source = "post-fit"
+                    seg[later[~bad]] = M.SEG_POST
+                    outlier[later[bad]] = True
                     has_post = True
                     n_post = int(np.count_nonzero(seg == M.SEG_POST))
     y_out = np.empty(9)
@@ -718,7 +733,7 @@ class FreeFit:
 
 
 def fit_free_flight(
-    t, xyz, params: FlightParams | None = None, *, t0: float | None = None, step: float = 4e-3, drag: str = "prior"
+    t, xyz, params: FlightParams | None = None, *, t0: float | None = None, step: float = 16e-3, drag: str = "prior"
 ) -> FreeFit:
     """Fit a free flight (no bounce, no contact) to points ``t`` (sorted), ``xyz`` (N >= 3).
 

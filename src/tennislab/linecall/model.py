@@ -34,10 +34,11 @@ C_D -> s_D C_D and C_L -> s_L C_L (the fit's handles on an aero model that is no
 ball's; s_D = s_L = 1 reproduces the shared right-hand side exactly, tested against
 :func:`tennislab.core.flight.fly`).
 
-Integration: classical RK4 with a fixed step (8 ms in the fit), fixed so that the residuals are
+Integration: classical RK4 with a fixed step (16 ms in the fit), fixed so that the residuals are
 smooth functions of the parameters (an adaptive step would make them jump when the step sequence
 changes), positions at the sample times by cubic Hermite interpolation on each step from the
-positions and velocities at its ends (error below 0.01 um for the shot library at 8 ms;
+positions and velocities at its ends (error below 0.13 um for the shot library at 16 ms, 0.01 um
+at 8 ms;
 tests/linecall/test_linecall.py checks against :func:`tennislab.core.flight.fly`).
 """
 

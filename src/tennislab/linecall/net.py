@@ -1,10 +1,11 @@
 """Did the ball touch the net?  A track that cannot be a free flight over the net plane.
 
-The ball's free flight before the net (the samples more than :data:`PRE_MARGIN` short of the net
-plane, before any bounce) is fitted with the physical model (:func:`~tennislab.linecall.fit.fit_free_flight`)
-and flown on to the net plane (x = 0).  There the ball centre passes at height z_n and lateral
-position y_n; the tape is at h(y_n) (:meth:`tennislab.core.court.Court.net_height`, ITF rule 1), so
-the ball's surface clears it by
+A ball whose samples cross the net plane more than :data:`CORD_ZONE` + :data:`QUICK_MARGIN` above the
+tape (+ r) cleared it; otherwise the ball's free flight before the net (the samples more than
+:data:`PRE_MARGIN` short of the net plane, before any bounce) is fitted with the physical model
+(:func:`~tennislab.linecall.fit.fit_free_flight`) and flown on to the net plane (x = 0).  There the
+ball centre passes at height z_n and lateral position y_n; the tape is at h(y_n)
+(:meth:`tennislab.core.court.Court.net_height`, ITF rule 1), so the ball's surface clears it by
 
     clearance = z_n - h(y_n) - r.
 
@@ -37,6 +38,7 @@ from tennislab.linecall.fit import fit_free_flight
 PRE_MARGIN = 0.15  #: [m] samples closer than this to the net plane are not used for the flight before it
 PRE_SPAN = 0.4  #: [s] the flight before the net is fitted over at most this long
 CORD_ZONE = 0.15  #: [m] clearance below which a deflection is put down to the net
+QUICK_MARGIN = 0.15  #: [m] a crossing this far above CORD_ZONE in the samples themselves needs no flight fit
 BELOW_TOL = 0.02  #: [m] a flight this far below the tape cannot have passed untouched
 DEV_SIGMA = 8.0  #: deviation threshold in units of the fit's noise
 DEV_MIN = 0.04  #: [m] smallest deviation taken as a deflection
@@ -70,18 +72,39 @@ class NetCheck:
     resume: int = -1
     note: str = ""
 
-    def to_dict(self) -> dict:
+    def to_dict(self, t_offset: float = 0.0) -> dict:
+        """JSON keys; ``t_offset`` [s] is added to the time (tracks called on a relative clock)."""
         return {
             "checked": self.checked,
             "contact": self.contact,
             "crossed": self.crossed,
-            "t": self.t,
+            "t": self.t + t_offset,
             "y": self.y,
             "z": self.z,
             "clearance_m": self.clearance,
             "deviation_m": self.deviation,
             "note": self.note,
         }
+
+
+def _high_crossing(t, xyz, s, court, r) -> NetCheck | None:
+    """A check from the samples alone when the ball crosses the net plane far above the tape
+    (clearance by linear interpolation between the two samples around the plane above
+    :data:`CORD_ZONE` + :data:`QUICK_MARGIN`): no flight fit needed.  None otherwise."""
+    k = np.nonzero((s[:-1] < 0) & (s[1:] >= 0))[0]
+    if k.size == 0:
+        return None
+    i = int(k[0])
+    if t[i + 1] - t[i] > 0.1:
+        return None
+    f = -s[i] / (s[i + 1] - s[i])
+    tn = float(t[i] + f * (t[i + 1] - t[i]))
+    yn, zn = (1 - f) * xyz[i, 1:] + f * xyz[i + 1, 1:]
+    h = float(court.net_height(yn))
+    clearance = float(zn - h - r) if h > 0 else float("inf")
+    if clearance <= CORD_ZONE + QUICK_MARGIN:
+        return None
+    return NetCheck(True, True, False, True, tn, float(yn), float(zn), clearance, note="clears the tape (samples)")
 
 
 def check_net(t, xyz, params: FlightParams, direction: float) -> NetCheck:
@@ -98,6 +121,9 @@ def check_net(t, xyz, params: FlightParams, direction: float) -> NetCheck:
     stop = int(np.argmax(s >= -PRE_MARGIN)) if np.any(s >= -PRE_MARGIN) else t.size
     if first_b < stop:  # it lands before the net: nothing to check
         return NetCheck(True, reaches_net=False, note="lands before the net")
+    quick = _high_crossing(t, xyz, s, court, r)
+    if quick is not None:
+        return quick
     pre = np.arange(stop)
     pre = pre[t[pre] >= t[pre[-1]] - PRE_SPAN]
     if pre.size < 3:

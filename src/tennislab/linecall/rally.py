@@ -9,10 +9,14 @@ reason) against the area it must land in (a shot hit again before it comes near 
 has nothing to call: ``review`` with that reason):
 
 * a serve (the tracker's ``stroke`` says so, or, without shot records, the first hit of a point struck
-  above 1.8 m behind the service line): the service box diagonally opposite the server, the server's
-  half and side read from the ball at the hit (the deuce court is on the server's right);
-* any other shot: the opponent's singles court (``doubles=True``: the doubles court), the opponent
-  being on the side the ball travels to.
+  from behind the service line): the service box diagonally opposite the server, the server's half and
+  side read from the ball at the hit (the deuce court is on the server's right);
+* any other shot: the opponent's singles court (the doubles court with ``doubles=True``, or when the
+  match record lists four players), the opponent being on the side the ball travels to.
+
+Samples before the first hit the track shows (without hit events) that barely move along the court are
+a serve's toss and are left out.  A clock in milliseconds (median sample spacing above 1 s: no tracker
+samples that slowly) is read as such.
 
 Beside each call: the tracker's call, distance, spin and bounce (the sample flagged ``bounce`` in the
 shot, or the shot's ``bounce``) and the agreement: ``call_agrees`` (both in/out and equal),
@@ -21,6 +25,7 @@ shot, or the shot's ``bounce``) and the agreement: ``call_agrees`` (both in/out 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections import Counter
@@ -37,8 +42,9 @@ from tennislab.linecall.calls import CALLS, call_track, review_call
 from tennislab.linecall.detect import BOUNCE_Z, find_bounces, find_hits, travel_direction
 from tennislab.results import Result, jsonable
 
-SERVE_HEIGHT = 1.8  #: [m] a first hit above this, behind the service line, is a serve (no shot records)
+SERVICE_LINE = 6.4  #: [m] the first hit of a point from behind this (|x|) is its serve (without shot records)
 MATCH_TOL = 0.15  #: [s] a tracker's shot belongs to the hit within this time
+TOSS_SPEED = 3.0  #: [m/s] samples before the first hit moving slower than this along the court: the toss
 VOLLEY = "no bounce: the ball was hit again before it landed (volley); nothing to call"
 
 
@@ -104,7 +110,9 @@ def split_point(point: Point, doubles: bool = False) -> list[Segment]:
         idx = sorted({_index_at(t, s.time) for s in shots if s.time is not None})
     else:
         idx = find_hits(t, xyz)
-        if not idx or idx[0] > 0:
+        if not idx:
+            idx = [0]
+        elif idx[0] > 0 and not _toss(t[: idx[0] + 1], xyz[: idx[0] + 1]):
             idx = [0] + idx
     idx = [i for i in idx if i < n - 1] or [0]
     bounds = idx + [n]
@@ -117,13 +125,41 @@ def split_point(point: Point, doubles: bool = False) -> list[Segment]:
         x0, y0, z0 = xyz[a]
         if rec is not None and rec.stroke is not None:
             serve = "serve" in rec.stroke
-        else:
-            serve = k == 0 and z0 > SERVE_HEIGHT and abs(x0) > 6.4
+        else:  # the first shot of a point, struck from behind the service line
+            serve = k == 0 and abs(x0) > SERVICE_LINE
         seg_t, seg_x = t[a:b], xyz[a:b]
         d = travel_direction(seg_t, seg_x) if b - a >= 2 else -math.copysign(1.0, x0)
         target = serve_target(x0, y0) if serve else rally_target(d, doubles)
         out.append(Segment(a, b, rec, serve, target))
     return out
+
+
+def in_seconds(point: Point) -> Point:
+    """The point with its clock in seconds: a median sample spacing above 1 s means milliseconds."""
+    if point.t.size < 3 or float(np.median(np.diff(point.t))) <= 1.0:
+        return point
+    k = 1e-3
+    shots = tuple(dataclasses.replace(s, time=None if s.time is None else s.time * k) for s in point.shots)
+    return dataclasses.replace(
+        point,
+        t=point.t * k,
+        events=tuple((te * k, kind) for te, kind in point.events),
+        event_positions=tuple((te * k, kind, x, y, z) for te, kind, x, y, z in point.event_positions),
+        shots=shots,
+    )
+
+
+def four_players(match: dict) -> bool:
+    """A doubles match: the match record lists four players."""
+    players = match.get("players") if isinstance(match, dict) else None
+    return isinstance(players, list) and len(players) >= 4
+
+
+def _toss(t: np.ndarray, xyz: np.ndarray) -> bool:
+    """The samples before the first hit found are a serve's toss (the ball barely moves along the court)."""
+    if t.size < 2 or t[-1] <= t[0]:
+        return True
+    return bool(abs(xyz[-1, 0] - xyz[0, 0]) / (t[-1] - t[0]) < TOSS_SPEED)
 
 
 def _match_shot(shots: Sequence[ShotInfo], t_hit: float, k: int, n_hits: int, used: set[int]):
@@ -149,9 +185,12 @@ def _tracker_bounce(point: Point, t0: float, t1: float, rec: ShotInfo | None):
 
 def _agreement(res: dict, rec: ShotInfo | None, tb) -> dict:
     out: dict = {"call_agrees": None, "bounce_distance_mm": None, "along_path_mm": None, "across_mm": None}
-    if rec is not None and rec.call in ("in", "out") and res["call"] in ("in", "out", "let"):
-        ours = "in" if res["call"] == "let" else res["call"]
-        out["call_agrees"] = ours == rec.call
+    theirs = None if rec is None else rec.call
+    if theirs in ("in", "out") and res["call"] in ("in", "out", "let"):
+        ours = "in" if res["call"] == "let" else res["call"]  # a let lands in: the tracker may say "in"
+        out["call_agrees"] = ours == theirs
+    elif theirs in ("net", "let") and res["call"] in CALLS:
+        out["call_agrees"] = res["call"] == theirs
     b = res["bounce"]
     if tb is not None and b.get("x") is not None:
         dx, dy = b["x"] - tb[0], b["y"] - tb[1]
@@ -167,6 +206,8 @@ def _agreement(res: dict, rec: ShotInfo | None, tb) -> dict:
 def call_point(point: Point, *, params: FlightParams | None = None, doubles: bool = False, **kwargs) -> list[dict]:
     """Every shot of one point called (dicts: :class:`TrackCall` keys + the shot's keys)."""
     params = params or FlightParams()
+    point = in_seconds(point)
+    doubles = doubles or four_players(point.match)
     out = []
     segs = split_point(point, doubles)
     for k, seg in enumerate(segs):

@@ -73,8 +73,8 @@ def linecall(ctx) -> None:
     ax.legend(loc="lower right", fontsize=8)
     draw_court_side(ax2)
     ax2.plot(tr.xyz[:, 0], tr.xyz[:, 2], ".", ms=2, color="#777", label="track (3 mm noise)")
-    tt = np.linspace(tr.t[0], tr.t[-1], 400)
-    pts = fit.positions(tt)
+    ts = res.track[0] if res.track is not None else tr.t - tr.t[0]  # the call's relative clock
+    pts = fit.positions(np.linspace(ts[0], ts[-1], 400))
     ax2.plot(pts[:, 0], pts[:, 2], "-", color="#d62828", lw=1.5, label="fitted flight and bounce")
     ax2.set_xlim(-8, 11)
     ax2.set_ylim(0, 3)
