@@ -153,7 +153,7 @@ def part_shots(n, seed, sigma):
     for rate in (50.0, 340.0):
         print(f"-- {rate:.0f} Hz, noise {sigma * 1000:.1f} mm per axis, sigma estimated")
         for name, opts in CONFIGS.items():
-            err, along, ok, far, rev, cpu = [], [], [], [], 0, []
+            err, along, ok, far, rev, cpu, cde = [], [], [], [], 0, [], []
             for _kind, st, target, true_mm, ph, sd in shots:
                 t, x = sample(st, rate, sigma, ph, sd)
                 c0 = time.process_time()
@@ -163,6 +163,7 @@ def part_shots(n, seed, sigma):
                 if res.bounce is None:
                     rev += 1
                     continue
+                cde.append(res.fit.get("cd_effective") or np.nan)
                 dx, dy = res.bounce["x"] - b.x, res.bounce["y"] - b.y
                 h = b.velocity_in[:2] / np.hypot(*b.velocity_in[:2])
                 err.append(1000 * np.hypot(dx, dy))
@@ -176,7 +177,8 @@ def part_shots(n, seed, sigma):
             print(
                 f"   {name:24s} bounce error median {np.median(e):5.2f} mm, p90 {np.percentile(e, 90):5.2f}, "
                 f"max {e.max():5.1f}, bias along the path {np.median(along):+5.2f} mm; wrong calls beyond 5 mm "
-                f"{wrong}/{len(far)}; review {rev}; {np.median(cpu):.0f} ms CPU per call"
+                f"{wrong}/{len(far)}; review {rev}; {np.median(cpu):.0f} ms CPU per call; effective C_D at the "
+                f"bounce median {np.nanmedian(cde):.3f} (truth 0.6)"
             )
         pe = []
         for _kind, st, _target, _true, ph, sd in shots:

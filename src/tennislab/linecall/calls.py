@@ -38,13 +38,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce
 from tennislab.core.flight import FlightParams, fly
 from tennislab.core.launch import describe_velocity, direction, spin_basis
 from tennislab.core.mark import BallMark, MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
-from tennislab.linecall import model as M
 from tennislab.linecall.cameras import cameras_from_records, triangulate_detections
 from tennislab.linecall.closed_form import closed_form_from_physics
 from tennislab.linecall.decide import N_SAMPLES, call_mark
@@ -280,12 +280,25 @@ def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float) -> dic
         "drag_scale_sigma": fit.param_sigma(M.P_DRAG),
         "lift_scale": fit.lift_scale,
         "lift_scale_sigma": fit.param_sigma(M.P_LIFT),
+        **_effective_aero(fit),
         "contact_offset_mm": fit.contact_offset * 1000,
         "rejection_capped": fit.rejection_capped,
         "converged": fit.converged,
         "evaluations": fit.n_iter,
         "elapsed_ms": elapsed * 1000,
     }
+
+
+def _effective_aero(fit: TrackFit) -> dict:
+    """C_D and C_L the fitted flight used at the bounce: the aero model's at the incoming speed and spin,
+    times the fitted scales (``cd_effective``, ``cl_effective``)."""
+    v = float(np.linalg.norm(fit.velocity_in))
+    w = float(np.linalg.norm(fit.spin_in))
+    if not (np.isfinite(v) and np.isfinite(w)):
+        return {"cd_effective": None, "cl_effective": None}
+    aero = fit.params.aero
+    cd, cl = aero.kernel(v, w, fit.params.ball.radius, aero.params)
+    return {"cd_effective": float(cd) * fit.drag_scale, "cl_effective": float(cl) * fit.lift_scale}
 
 
 def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:

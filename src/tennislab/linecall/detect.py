@@ -7,8 +7,8 @@
   flight on either side of the sample changed (not a single outlier), and the ball turned back along
   the court or sped up (a serve out of the toss).
 * :func:`find_bounces` - ground contacts: a local minimum of z below :data:`BOUNCE_Z` where the ball
-  comes down and goes up again (by at least 2 cm within 0.15 s on each side), not lying below the
-  lines through its neighbours on both sides (an outlier does).
+  comes down and goes up again (by at least 2 cm within 0.15 s on each side), outliers (below the
+  ground, or below the lines through their neighbours on both sides) set aside first.
 * :func:`noise_from_differences` - the per-axis noise of the track without any model: third
   differences of equally spaced samples cancel a quadratic (drag changes the acceleration by
   ~100 m/s^3, i.e. < 1 mm at 50 Hz), and Var(p_i+3 - 3 p_i+2 + 3 p_i+1 - p_i) = 20 sigma^2 for white
@@ -26,6 +26,7 @@ NET_ZONE = 1.0  #: [m] velocity jumps this close to the net plane are net contac
 MAX_GAP = 0.12  #: [s] frame pairs further apart than this are not used to detect a jump
 MERGE = 0.06  #: [s] jumps closer than this are one event
 BASELINE = 0.015  #: [s] velocities for the jumps are taken over about this long
+BELOW_GROUND = -0.03  #: [m] a ball centre lower than this is an outlier (r minus a flattened ball and noise)
 
 
 def stride(t) -> int:
@@ -115,9 +116,17 @@ def find_hits(t, xyz) -> list[int]:
 
 
 def find_bounces(t, xyz, rise: float = 0.02, span: float = 0.15) -> list[int]:
-    """Sample indices of ground contacts (lowest sample of each), in time order."""
+    """Sample indices of ground contacts (lowest sample of each), in time order.
+
+    Samples below the ground (z < :data:`BELOW_GROUND`) or below the lines through their neighbours on
+    both sides are outliers and are set aside first, so that one next to a bounce does not hide it.
+    """
     t = np.asarray(t, dtype=float)
-    z = np.asarray(xyz, dtype=float)[:, 2]
+    z_all = np.asarray(xyz, dtype=float)[:, 2]
+    keep = z_all >= BELOW_GROUND
+    keep &= ~np.array([_below_both_sides(t, z_all, i) for i in range(t.size)], dtype=bool)
+    rows = np.nonzero(keep)[0]
+    t, z = t[rows], z_all[rows]
     n = t.size
     out: list[int] = []
     for i in range(1, n - 1):
@@ -129,14 +138,12 @@ def find_bounces(t, xyz, rise: float = 0.02, span: float = 0.15) -> list[int]:
             continue
         if z[before].max() - z[i] < rise or z[after].max() - z[i] < rise:
             continue
-        if _below_both_sides(t, z, i):
-            continue  # an outlier below the flight, not a bounce
         if out and t[i] - t[out[-1]] < MERGE:
             if z[i] < z[out[-1]]:
                 out[-1] = i
             continue
         out.append(i)
-    return out
+    return [int(rows[i]) for i in out]
 
 
 def _below_both_sides(t, z, i: int, tol: float = 0.05) -> bool:
@@ -187,13 +194,18 @@ def noise_from_differences(t, xyz, tol: float = 0.1) -> float:
 
 
 def travel_direction(t, xyz) -> float:
-    """+1 when the ball travels toward +x over its first samples (up to 0.1 s), else -1."""
+    """+1 when the ball travels toward +x over its first samples, else -1: the sign of the median
+    x-velocity of the first (up to five, within 0.12 s) pairs of consecutive samples (robust to a
+    stray sample; short, so that a ball the net sends back does not count)."""
     t = np.asarray(t, dtype=float)
     x = np.asarray(xyz, dtype=float)[:, 0]
-    sel = np.nonzero(t <= t[0] + 0.1)[0]
-    if sel.size < 2:
-        sel = np.arange(min(2, t.size))
-    dx = x[sel[-1]] - x[sel[0]]
-    if dx == 0 and t.size > 1:
-        dx = x[-1] - x[0]
-    return 1.0 if dx >= 0 else -1.0
+    if t.size < 2:
+        return 1.0
+    sel = np.nonzero(t <= t[0] + 0.12)[0][:6]  # the first five pairs: the flight off the racket
+    if sel.size < 3:
+        sel = np.arange(min(3, t.size))
+    vx = np.diff(x[sel]) / np.maximum(np.diff(t[sel]), 1e-9)
+    m = float(np.median(vx))
+    if m == 0.0:
+        m = float(x[-1] - x[0])
+    return 1.0 if m >= 0 else -1.0

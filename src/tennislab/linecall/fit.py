@@ -51,12 +51,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce_kernel
 from tennislab.core.flight import FlightParams
 from tennislab.core.mark import MarkParams
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
-from tennislab.linecall import model as M
 from tennislab.linecall.detect import find_bounces
 
 SPIN_PRIOR = 500.0  #: [rad/s] sigma of the weak zero-mean prior on each spin component

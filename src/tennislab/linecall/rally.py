@@ -5,8 +5,9 @@ cut into shots, hit to next hit: at the samples flagged ``hit`` when the tracker
 the tracker's shot times, else at the hits found in the track (:func:`~tennislab.linecall.detect.find_hits`).
 Each shot is called by :func:`~tennislab.linecall.calls.call_track` (net check, first bounce, robust
 fit, mark, decision, quality gate; never refused: a shot that cannot be fitted is ``review`` with the
-reason) against the area it must land in (a shot hit again before it comes near the ground, a volley,
-has nothing to call: ``review`` with that reason):
+reason) against the area it must land in (a shot hit again before it comes near the ground, a volley:
+no bounce found and at most one sample, an outlier, below 0.3 m, has nothing to call: ``review`` with
+that reason):
 
 * a serve (the tracker's ``stroke`` says so, or, without shot records, the first hit of a point struck
   from behind the service line): the service box diagonally opposite the server, the server's half and
@@ -91,8 +92,9 @@ def rally_target(direction: float, doubles: bool = False) -> str:
 
 
 def _index_at(t: np.ndarray, time_s: float) -> int:
-    """First sample at or after ``time_s`` (the nearest within 10 ms before it counts too)."""
-    i = int(np.searchsorted(t, time_s - 0.01))
+    """First sample at or after ``time_s`` (0.1 ms of rounding allowed): samples before a hit belong to
+    the flight before it."""
+    i = int(np.searchsorted(t, time_s - 1e-4))
     return min(i, t.size - 1)
 
 
@@ -213,7 +215,8 @@ def call_point(point: Point, *, params: FlightParams | None = None, doubles: boo
     for k, seg in enumerate(segs):
         t, xyz = point.t[seg.start : seg.stop], point.xyz[seg.start : seg.stop]
         rec = seg.shot
-        volley = k + 1 < len(segs) and t.size > 0 and not find_bounces(t, xyz) and xyz[-1, 2] > BOUNCE_Z
+        low = int(np.count_nonzero(xyz[:, 2] < BOUNCE_Z)) if t.size else 0
+        volley = k + 1 < len(segs) and t.size > 0 and low < 2 and not find_bounces(t, xyz)
         if volley:
             res = review_call([VOLLEY], params, kwargs.get("surface", "hard"), n_points=int(t.size)).to_dict()
         else:

@@ -133,7 +133,7 @@ def simulate_shot(
                 vel = np.array([-0.1 * y[3], 0.1 * y[4], -0.2 * abs(y[5]) - 0.3])
                 pos = np.array([-d * (r + 0.01), y[1], max(y[2], r)])
                 stop = min(stop, tn + 1.2)
-            w = 0.5 * y[6:9]
+            w = 0.5 * y[6:9] if over else np.zeros(3)  # the mesh takes the spin of a stopped ball
             st.pieces.append((tn, tn + 1e-3, (y[:3].copy(), pos.copy())))
             t = tn + 1e-3
             continue
