@@ -20,7 +20,7 @@ HERE = Path(__file__).parent
 
 
 def main():
-    rng = np.random.default_rng(2026)
+    rng = np.random.default_rng(99)
     docs, notes = [], []
     for i, (kind, rally) in enumerate((("normal", 4), ("let", 0), ("net-fault", 0))):
         shots = synthetic_point(rng, server_near=True, deuce=i % 2 == 0, rally_len=rally, kind=kind)

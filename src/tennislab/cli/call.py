@@ -207,14 +207,14 @@ def _fmt(v, spec: str) -> str:
 
 
 def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None:
-    print(f"{'point':>24s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'dist mm':>8s} {'tracker':8s} note")
+    print(f"{'point':>28s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'dist mm':>8s} {'tracker':8s} note")
     for s in res.shots:
         tr = s["tracker"]["call"] or "-"
         ag = s["agreement"]["call_agrees"]
         note = s["reason"] or ("DISAGREES" if ag is False else "")
-        name = os.path.basename(str(s["point"]))[-24:]
+        name = os.path.basename(str(s["point"]))[-28:]
         print(
-            f"{name:>24s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
+            f"{name:>28s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
             f"{_fmt(s['p_in'], '6.3f'):>6s} {_fmt(s['distance_mm'], '+8.1f'):>8s} {tr:8s} {note}"
         )
     sm = res.summary

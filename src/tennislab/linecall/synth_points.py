@@ -272,7 +272,7 @@ def synthetic_point(
     tgt = (rng.uniform(box[0] + 0.6, box[1] - 0.2), rng.uniform(box[2] + 0.3, box[3] - 0.3))
     if rng.random() < out_prob:  # a fault long or wide, or a close call
         tgt = (tgt[0] + (-s) * rng.uniform(-0.5, 1.0), tgt[1]) if rng.random() < 0.5 else tgt
-    serve_spin = (rng.uniform(-500, 2500), rng.uniform(-2500, 2500), rng.uniform(-1500, 1500))
+    serve_spin = (rng.uniform(300, 2500), rng.uniform(-2000, 2000), rng.uniform(-1500, 1500))
     speed = rng.uniform(38.0, 58.0)
     clearance = None
     if kind == "let":
