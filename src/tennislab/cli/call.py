@@ -112,6 +112,8 @@ def _check_out(flag: str, path: str | None, exts: tuple[str, ...]) -> None:
         raise InputError(f"{flag}: folder {folder!r} does not exist")
     if os.path.isdir(path):
         raise InputError(f"{flag}: {path!r} is a folder")
+    if len(os.path.basename(path).encode()) > 200:
+        raise InputError(f"{flag}: the file name is longer than 200 bytes")
     if not path.lower().endswith(exts):
         raise InputError(f"{flag}: {path!r} must end in {' or '.join(exts)}")
 
