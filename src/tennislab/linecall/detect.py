@@ -2,9 +2,8 @@
 
 * :func:`find_hits` - racket contacts: a jump of the velocity (taken over about :data:`BASELINE` on
   each side of a sample) far above what gravity and drag change in that time (|dv| > :data:`HIT_DV`
-  and > 6x the track's median),
-  with the ball in the air (z > :data:`BOUNCE_Z`), away from the net (|x| > :data:`NET_ZONE`), the
-  flight on either side of the sample changed (not a single outlier), and the ball turned back along
+  and > 6x the track's median), single-sample outliers set aside first, with the ball in the air
+  (z > :data:`BOUNCE_Z`), away from the net (|x| > :data:`NET_ZONE`), and the ball turned back along
   the court or sped up (a serve out of the toss).
 * :func:`find_bounces` - ground contacts: a local minimum of z below :data:`BOUNCE_Z` where the ball
   comes down and goes up again (by at least 2 cm within 0.15 s on each side), outliers (below the
@@ -24,7 +23,7 @@ HIT_DV = 8.0  #: [m/s] smallest velocity jump taken as a hit
 BOUNCE_Z = 0.3  #: [m] a ground contact has its lowest sample below this height (ball centre)
 NET_ZONE = 1.0  #: [m] velocity jumps this close to the net plane are net contacts, not hits
 MAX_GAP = 0.12  #: [s] frame pairs further apart than this are not used to detect a jump
-MERGE = 0.06  #: [s] jumps closer than this are one event
+MERGE = 0.15  #: [s] jumps closer than this are one event (no two hits of a rally come this close)
 BASELINE = 0.015  #: [s] velocities for the jumps are taken over about this long
 BELOW_GROUND = -0.03  #: [m] a ball centre lower than this is an outlier (r minus a flattened ball and noise)
 
@@ -40,22 +39,30 @@ def stride(t) -> int:
 
 
 def velocity_jumps(t, xyz, s: int | None = None) -> np.ndarray:
-    """|v_after - v_before| at each sample, the velocities over ``s`` samples (:func:`stride`) on
-    each side [m/s] (0 near the ends and across gaps)."""
+    """The velocity jump at each sample [m/s] (0 near the ends and across gaps): the larger of
+    |v(i, i+s) - v(i-s, i)| (a hit at sample i) and |v(i, i+s) - v(i-1-s, i-1)| (a hit between
+    samples i-1 and i, which splits the first measure over two samples), velocities over ``s``
+    samples (:func:`stride`)."""
     t = np.asarray(t, dtype=float)
     xyz = np.asarray(xyz, dtype=float)
     n = t.size
     s = stride(t) if s is None else s
     out = np.zeros(n)
-    if n < 2 * s + 1:
+    if n < 2 * s + 2:
         return out
-    i = np.arange(s, n - s)
-    db = t[i] - t[i - s]
-    da = t[i + s] - t[i]
-    ok = (db > 0) & (da > 0) & (db <= MAX_GAP * s) & (da <= MAX_GAP * s)
-    vb = (xyz[i] - xyz[i - s]) / np.where(ok, db, 1.0)[:, None]
-    va = (xyz[i + s] - xyz[i]) / np.where(ok, da, 1.0)[:, None]
-    out[i] = np.where(ok, np.linalg.norm(va - vb, axis=1), 0.0)
+
+    def vel(a, b):
+        dt = t[b] - t[a]
+        ok = (dt > 0) & (dt <= MAX_GAP * s)
+        return (xyz[b] - xyz[a]) / np.where(ok, dt, 1.0)[:, None], ok
+
+    i = np.arange(s + 1, n - s)
+    va, oka = vel(i, i + s)
+    vb, okb = vel(i - s, i)
+    vg, okg = vel(i - 1 - s, i - 1)
+    j1 = np.where(oka & okb, np.linalg.norm(va - vb, axis=1), 0.0)
+    j2 = np.where(oka & okg, np.linalg.norm(va - vg, axis=1), 0.0)
+    out[i] = np.maximum(j1, j2)
     return out
 
 
@@ -79,12 +86,47 @@ def _side_velocity(t, xyz, i: int, side: int, s: int):
     return (xyz[b] - xyz[a]) / (t[b] - t[a])
 
 
+def single_outliers(t, xyz, tol: float | None = None) -> np.ndarray:
+    """Samples that leave the flight for one frame: the quadratic through the three samples before
+    (or after) sample i misses it by more than max(2 ``tol``, 15 cm) but meets the sample beyond it
+    within ``tol`` [m] (a hit or a bounce changes the flight for good and meets neither).  ``tol``
+    defaults to max(5 cm, 30 x the track's per-axis noise): extrapolating a quadratic two frames
+    multiplies the noise by sqrt(3^2 + 8^2 + 6^2) = 10.4 per axis, 18 in 3-D."""
+    t = np.asarray(t, dtype=float)
+    xyz = np.asarray(xyz, dtype=float)
+    n = t.size
+    out = np.zeros(n, dtype=bool)
+    if tol is None:
+        noise = noise_from_differences(t, xyz)
+        tol = max(0.05, 30.0 * noise) if np.isfinite(noise) else 0.05
+
+    def miss(idx, at) -> float:
+        t0 = t[idx[-1]]
+        if np.ptp(t[idx]) <= 0 or abs(t[at] - t0) > 0.2:
+            return float("inf")
+        c = np.polyfit(t[idx] - t0, xyz[idx], 2)  # (3 coefficients, 3 axes)
+        tau = t[at] - t0
+        return float(np.linalg.norm(c[0] * tau * tau + c[1] * tau + c[2] - xyz[at]))
+
+    for i in range(n):
+        for side in (-1, 1):
+            if side < 0 and 3 <= i < n - 1:
+                idx, beyond = np.array([i - 3, i - 2, i - 1]), i + 1
+            elif side > 0 and 1 <= i < n - 3:
+                idx, beyond = np.array([i + 3, i + 2, i + 1]), i - 1
+            else:
+                continue
+            if miss(idx, i) > max(2 * tol, 0.15) and miss(idx, beyond) < tol:
+                out[i] = True
+                break
+    return out
+
+
 def find_hits(t, xyz) -> list[int]:
     """Sample indices where a racket hit starts a new shot (see the module docstring).
 
-    A candidate (a velocity jump at sample i) must also show the jump between the velocities of the
-    two samples before i and the two after it, sample i left out: a single outlier makes two large
-    jumps at i but leaves the flight on both sides of it unchanged.
+    Single-sample outliers (:func:`single_outliers`) are set aside first, so that an outlier next to a
+    hit can neither make a hit nor hide one.
     """
     t = np.asarray(t, dtype=float)
     xyz = np.asarray(xyz, dtype=float)
@@ -94,25 +136,25 @@ def find_hits(t, xyz) -> list[int]:
         return []
     jump = velocity_jumps(t, xyz, s)
     thr = max(HIT_DV, 6.0 * float(np.median(jump[s:-s])))
-    cand = np.nonzero(jump > thr)[0]
+    rows = np.nonzero(~single_outliers(t, xyz))[0]
+    tc, xc = t[rows], xyz[rows]
+    nc = tc.size
+    if nc < 2 * s + 3:
+        return []
+    jump = velocity_jumps(tc, xc, s)
     hits = []
-    for i in _merge(cand, t, jump):
-        if not s <= i <= n - s - 2:  # a hit needs samples after it to be told from an outlier
+    for i in np.nonzero(jump > thr)[0]:
+        if not s + 1 <= i <= nc - s - 2:  # a hit needs samples after it
             continue
-        if xyz[i, 2] < BOUNCE_Z or abs(xyz[i, 0]) < NET_ZONE:
+        if xc[i, 2] < BOUNCE_Z or abs(xc[i, 0]) < NET_ZONE:
             continue
-        vb = _side_velocity(t, xyz, i, -1, s)
-        va = _side_velocity(t, xyz, i, +1, s)
-        if vb is None or va is None:
-            vb = (xyz[i] - xyz[i - s]) / (t[i] - t[i - s]) if vb is None else vb
-            va = (xyz[i + s] - xyz[i]) / (t[i + s] - t[i]) if va is None else va
-        elif np.linalg.norm(va - vb) < thr:
-            continue  # an outlier at i, not a hit
+        vb = (xc[i - 1] - xc[i - 1 - s]) / (tc[i - 1] - tc[i - 1 - s])
+        va = (xc[i + s] - xc[i]) / (tc[i + s] - tc[i])
         turned = np.sign(vb[0]) != np.sign(va[0]) and abs(va[0]) > 2.0
         faster = np.linalg.norm(va) > np.linalg.norm(vb) + HIT_DV
         if turned or faster:
-            hits.append(i)
-    return hits
+            hits.append(int(i))
+    return [int(rows[i]) for i in _merge(np.asarray(hits, dtype=int), tc, jump)]
 
 
 def find_bounces(t, xyz, rise: float = 0.02, span: float = 0.15) -> list[int]:

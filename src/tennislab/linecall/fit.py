@@ -300,8 +300,8 @@ def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float, t_
         tt = p[M.P_TB] + contact_time
         for c in range(3):
             cc = _robust_poly(t[selp] - tt, xyz[selp, c], deg)
-            p[9 + c] = np.polyval(np.polyder(cc), 0.0)
-        if p[11] <= 0:
+            p[M.indices(M.P_VOUT)[c]] = np.polyval(np.polyder(cc), 0.0)
+        if p[M.P_VOUT][2] <= 0:
             has_post = False
     if not has_post:
         p[M.P_VOUT] = _bounce_out(p[M.P_VIN], p[M.P_WIN], surface, params)
@@ -535,28 +535,28 @@ def fit_track(
     kern, ap = params.aero.kernel, params.aero.params
     outlier = np.zeros(n, dtype=bool)
     free_list = (
-        [M.P_XB, M.P_YB, M.P_TB, 3, 4, 5, 6, 7, 8]
-        + ([9, 10, 11] if has_post else [])
+        [M.P_XB, M.P_YB, M.P_TB, *M.indices(M.P_VIN), *M.indices(M.P_WIN)]
+        + (M.indices(M.P_VOUT) if has_post else [])
         + ([M.P_DRAG] if drag != "fixed" else [])
         + ([M.P_LIFT] if lift != "fixed" else [])
-        + (list(range(13, 18)) if has_post and (contact_prior > 0 or loose) else [])
+        + (M.indices(M.P_DXY) + M.indices(M.P_DWOUT) if has_post and (contact_prior > 0 or loose) else [])
         + ([M.P_DRAG_POST] if loose and drag != "fixed" else [])
     )
     free = np.array(free_list, dtype=np.int64)
-    table: dict[int, tuple[float, float]] = {6: (0.0, spin_prior), 7: (0.0, spin_prior), 8: (0.0, spin_prior)}
+    table: dict[int, tuple[float, float]] = {k: (0.0, spin_prior) for k in M.indices(M.P_WIN)}
     if drag == "prior":
         table[M.P_DRAG] = (1.0, DRAG_PRIOR)
     if lift == "prior":
         table[M.P_LIFT] = (1.0, LIFT_PRIOR)
     if has_post and (contact_prior > 0 or loose):  # travel = T_c x mean horizontal speed: sigma scales with it
-        vmean = 0.5 * (np.hypot(p[3], p[4]) + np.hypot(p[9], p[10]))
+        vmean = 0.5 * (np.hypot(*p[M.P_VIN][:2]) + np.hypot(*p[M.P_VOUT][:2]))
         ts = max(float(contact_prior if contact_prior > 0 else CONTACT_PRIOR) * vmean, MIN_CONTACT_SIGMA)
-        table.update({13: (0.0, ts), 14: (0.0, ts)})
-        table.update({k: (0.0, SPIN_OUT_PRIOR) for k in (15, 16, 17)})
+        table.update({k: (0.0, ts) for k in M.indices(M.P_DXY)})
+        table.update({k: (0.0, SPIN_OUT_PRIOR) for k in M.indices(M.P_DWOUT)})
     if loose:
         table[M.P_DRAG_POST] = (1.0, POST_DRAG_PRIOR)
     prior = Prior.build(free_list, table)
-    spin_idx = np.array([j for j, f in enumerate(free_list) if 6 <= f <= 8], dtype=np.int64)
+    spin_idx = np.array([j for j, f in enumerate(free_list) if f in M.indices(M.P_WIN)], dtype=np.int64)
     pos = np.empty((n, 3))
 
     def solve(x0, seg, w, robust):
@@ -756,9 +756,9 @@ def fit_free_flight(
         q[3 + c] = np.polyval(np.polyder(cc), 0.0)
     q[M.F_DRAG] = 1.0
     q[M.F_LIFT] = 1.0
-    free_list = list(range(9)) + ([M.F_DRAG] if drag != "fixed" else [])
+    free_list = M.indices(M.F_STATE) + ([M.F_DRAG] if drag != "fixed" else [])
     free = np.array(free_list, dtype=np.int64)
-    table = {6: (0.0, SPIN_PRIOR), 7: (0.0, SPIN_PRIOR), 8: (0.0, SPIN_PRIOR)}
+    table = {k: (0.0, SPIN_PRIOR) for k in M.indices(M.F_SPIN)}
     if drag == "prior":
         table[M.F_DRAG] = (1.0, DRAG_PRIOR)
     prior = Prior.build(free_list, table)

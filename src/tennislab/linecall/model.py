@@ -64,8 +64,15 @@ P_DXY = slice(13, 15)
 P_DWOUT = slice(15, 18)
 P_LIFT = 18
 P_DRAG_POST = 19
+
+
+def indices(sl: slice) -> list[int]:
+    """The parameter indices of a named slice (``indices(P_WIN) == [6, 7, 8]``)."""
+    return list(range(sl.start, sl.stop))
+
+
 #: parameters that move the pre-bounce segment (the rest act after the bounce only)
-PRE_DEPENDENT = (P_XB, P_YB, P_TB, 3, 4, 5, 6, 7, 8, P_DRAG, P_LIFT)
+PRE_DEPENDENT = (P_XB, P_YB, P_TB, *indices(P_VIN), *indices(P_WIN), P_DRAG, P_LIFT)
 
 NFREE = 11
 F_POS = slice(0, 3)
@@ -73,6 +80,7 @@ F_VEL = slice(3, 6)
 F_SPIN = slice(6, 9)
 F_DRAG = 9
 F_LIFT = 10
+F_STATE = slice(0, 9)
 
 # consts layout
 C_K, C_G, C_R, C_WX, C_WY, C_WZ, C_DECAY, C_ALPHA, C_E, C_MU, C_EX, C_TC, C_H = range(13)
@@ -299,7 +307,7 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
         j = free[jj]
         q = p.copy()
         q[j] += steps[j]
-        pre_dep = j < 9 or j == P_DRAG or j == P_LIFT
+        pre_dep = j < 9 or j == P_DRAG or j == P_LIFT  # PRE_DEPENDENT (a tuple test is not compiled)
         if not pre_dep:
             # v_out and the contact offsets do not move the pre-bounce segment: reuse the base residuals
             model_positions(q, t, seg, aero, ap, consts, pos, False, True)
