@@ -3,7 +3,7 @@
 A ball whose samples cross the net plane more than :data:`CORD_ZONE` + :data:`QUICK_MARGIN` above the
 tape (+ r) cleared it; otherwise the ball's free flight before the net (the samples more than
 :data:`PRE_MARGIN` short of the net plane, before any bounce) is fitted with the physical model
-(:func:`~tennislab.linecall.fit.fit_free_flight`) and flown on to the net plane (x = 0).  There the
+(:func:`~tennislab.linecall.free_flight.fit_free_flight`) and flown on to the net plane (x = 0).  There the
 ball centre passes at height z_n and lateral position y_n; the tape is at h(y_n)
 (:meth:`tennislab.core.court.Court.net_height`, ITF rule 1), so the ball's surface clears it by
 
@@ -33,7 +33,7 @@ import numpy as np
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
 from tennislab.linecall.detect import find_bounces
-from tennislab.linecall.fit import fit_free_flight
+from tennislab.linecall.free_flight import fit_free_flight
 
 PRE_MARGIN = 0.15  #: [m] samples closer than this to the net plane are not used for the flight before it
 PRE_SPAN = 0.4  #: [s] the flight before the net is fitted over at most this long
