@@ -11,7 +11,7 @@ Workflows (each returns a :class:`~tennislab.results.Result`; ``to_dict()`` is t
 * :func:`call_detections` - 2-D detections of calibrated cameras, triangulated then called
   (``tennislab call --cameras``).
 
-Pieces: :mod:`.model` (compiled track models), :mod:`.fit` (robust fits), :mod:`.net` (net contact),
+Pieces: :mod:`.model` (compiled track models), :mod:`.fit` (robust fits), :mod:`.free_flight`, :mod:`.net`,
 :mod:`.detect` (hits, bounces, noise), :mod:`.decide` (a mark against lines and areas),
 :mod:`.cameras`, :mod:`.closed_form` (seed 001), :mod:`.synth` (synthetic tracks and points).
 """
