@@ -101,7 +101,7 @@ def test_look_at_points_the_optical_axis():
 def test_camera_json_roundtrip_and_errors():
     cams = synthetic_rig(4)
     back = parse_cameras(cameras_to_json(cams))
-    assert len(back) == 4 and np.allclose(back[2].R, cams[2].R) and np.allclose(back[2].C, cams[2].C)
+    assert len(back) == 4 and np.allclose(back[2]["R"], cams[2].R) and np.allclose(back[2]["C"], cams[2].C)
     doc = json.loads(cameras_to_json(cams))
     doc["cameras"][1]["R"][0][0] = 5.0
     with pytest.raises(InputError, match="rotation"):
@@ -131,3 +131,68 @@ def test_camera_rig_track_fit(tmp_path, capsys):
     assert rc == 0 and d["cameras"]["n_cameras"] == 8 and abs(d["bounce"]["x"] - tr.bounce.x) < 0.006
     rc = main(["call", "--cameras", str(cj)])
     assert rc == 2 and "--detections" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- camera files fuzzed
+@pytest.mark.parametrize(
+    "text, msg",
+    [
+        ('{"cameras": 3}', "at least 2"),
+        ('{"cameras": [1, 2]}', "not an object"),
+        ('{"cameras": [{"fx": null}, {}]}', "fx: expected a number, got null"),
+        ('{"cameras": [{"fx": [1]}, {}]}', "fx: expected a number, got list"),
+        ('{"cameras": [{"fx": 1, "fy": 1, "cx": 1, "cy": 1, "R": 5}, {}]}', "R must be a 3x3"),
+        ('{"cameras": [{"fx": 1, "fy": 1, "cx": 1, "cy": 1, "R": [[1,0,0],[0,1,0],3]}, {}]}', "R[2]"),
+        ('{"cameras": [{"fx": ' + "9" * 5000 + "}]}", "not valid JSON"),
+        ('{"cameras": ' + "[" * 10_000 + "]" * 10_000 + "}", "nested deeper"),
+    ],
+)
+def test_camera_file_errors(text, msg):
+    with pytest.raises(InputError) as e:
+        parse_cameras(text, "cams.json")
+    assert msg in str(e.value) and "\n" not in str(e.value)
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=4),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=4), children, max_size=4),
+    max_leaves=25,
+)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.data())
+def test_fuzz_camera_json(data):
+    """A valid calibration with one value replaced by arbitrary JSON: cameras or one InputError."""
+    doc = json.loads(cameras_to_json(synthetic_rig(2)))
+    cam = doc["cameras"][data.draw(st.integers(0, 1))]
+    key = data.draw(st.sampled_from(sorted(cam)))
+    cam[key] = data.draw(json_values)
+    try:
+        cams = parse_cameras(json.dumps(doc))
+    except InputError as e:
+        assert "\n" not in str(e)
+        return
+    assert len(cams) == 2 and all(np.all(np.isfinite(c["R"])) for c in cams)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.lists(cell, max_size=6), max_size=8))
+def test_fuzz_detections(rows):
+    cams = synthetic_rig(2)
+    text = "t,camera,u,v,sigma_px\n" + "\n".join(",".join(r) for r in rows)
+    try:
+        det = parse_detections(text, cams)
+    except InputError:
+        return
+    assert np.all(np.isfinite(det["t"])) and np.all((det["cam"] >= 0) & (det["cam"] < 2))
+
+
+def test_track_file_size_limit(tmp_path, monkeypatch):
+    import tennislab.io.track as T
+
+    monkeypatch.setattr(T, "MAX_BYTES", 100)
+    f = tmp_path / "big.csv"
+    f.write_text("t,x,y,z\n" + "0,0,0,1\n" * 30)
+    with pytest.raises(InputError, match="larger than"):
+        T.read_track(str(f))

@@ -1,37 +1,46 @@
 """``tennislab call``: where did the ball bounce, and was it in?
 
-Three inputs (one of):
+Inputs (one of):
 
-* ``--track FILE.csv``: a 3-D track (t,x,y,z[,sigma]); the physical model is
-  fitted through the bounce (:mod:`tennislab.linecall.fit`).
-* ``--position X Y Z --velocity VX VY VZ [--spin ...]``: a state; the drop
-  point from the numerical model or seed 001's closed form.
-* ``--cameras CAMS.json --detections FILE.csv``: 2-D detections from
-  calibrated cameras, triangulated, then fitted as a track.
+* ``--track FILE.csv``: a 3-D track (t,x,y,z[,sigma]) of one shot (:func:`tennislab.linecall.call_track`);
+* ``--rally FILE.json|DIR``: tracker point JSON (one point, a list, a directory of files): every shot
+  called (:func:`tennislab.linecall.call_rally`); ``--csv OUT`` writes one row per shot;
+* ``--position X Y Z --velocity VX VY VZ [--spin ...]``: a state (:func:`tennislab.linecall.call_state`);
+* ``--cameras CAMS.json --detections FILE.csv``: 2-D detections from calibrated cameras
+  (:func:`tennislab.linecall.call_detections`).
 
-Then the mark (:mod:`tennislab.core.mark`) is called against ``--line`` or
-``--target`` (default: the singles court of the half it lands in).
+This module parses flags, calls the workflow and prints its ``to_dict()`` (``--json``) or a summary.
 """
 
 from __future__ import annotations
 
-import time
+import csv
+import os
 
-import numpy as np
-
-from tennislab.cli.common import add_physics_flags, emit_json, physics_from_args, save_figure
+from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, physics_from_args, save_figure
 from tennislab.errors import InputError
+from tennislab.io.cameras import read_cameras, read_detections
+from tennislab.io.hawkeye import read_points
+from tennislab.io.track import read_track
+from tennislab.linecall import RallyCall, TrackCall, call_detections, call_rally, call_state, call_track
+from tennislab.plot.linecall import plot_call, plot_rally
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "call",
-        help="bounce point, ball mark and line call from a track or a state",
-        description="Line calling: fit a ball track (or fly a state) to its bounce, "
-        "compute the mark and call it in or out. SI units.",
+        help="bounce point, ball mark and line call from a track, a rally of tracker output or a state",
+        description="Line calling: fit a ball track (or fly a state) to its bounce, compute the mark and call "
+        "it in, out, net, let or review. SI units.",
     )
     src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--track", metavar="FILE.csv", help="3-D track: columns t,x,y,z[,sigma] [s, m]")
+    src.add_argument("--track", metavar="FILE.csv", help="3-D track of one shot: columns t,x,y,z[,sigma] [s, m]")
+    src.add_argument(
+        "--rally",
+        metavar="FILE.json",
+        help="tracker point JSON (one point, a list of points, {'points': [...]}, or a directory of point files): "
+        "every shot called",
+    )
     src.add_argument(
         "--position", type=float, nargs=3, metavar=("X", "Y", "Z"), help="ball-centre position [m] (with --velocity)"
     )
@@ -49,12 +58,27 @@ def register(sub) -> None:
     g = p.add_mutually_exclusive_group()
     g.add_argument("--line", help="call against one line (baseline, service, singles-left, ... near-...)")
     g.add_argument("--target", help="area the shot must land in (singles, doubles, deuce-box, ad-box, near-...)")
+    p.add_argument("--doubles", action="store_true", help="--rally: rally shots must land in the doubles court")
     p.add_argument(
         "--sigma",
         type=float,
         help="per-axis track noise [m] if the CSV has no sigma column (default: estimated from the residuals)",
     )
-    p.add_argument("--fit-drag", action="store_true", help="also fit a drag scale factor")
+    d = p.add_mutually_exclusive_group()
+    d.add_argument(
+        "--fit-drag",
+        action="store_true",
+        help="fit the drag scale (C_D) freely; default: fitted with a prior sigma 0.15 around 1. Lift separate",
+    )
+    d.add_argument("--fixed-drag", action="store_true", help="keep C_D as the aero model gives it (drag scale 1)")
+    lg = p.add_mutually_exclusive_group()
+    lg.add_argument(
+        "--fit-lift",
+        action="store_true",
+        help="fit the lift scale (C_L) freely; default: fitted with a prior sigma 0.3 around 1 "
+        "(degenerate with the spin rate unless the data pin the spin down)",
+    )
+    lg.add_argument("--fixed-lift", action="store_true", help="keep C_L as the aero model gives it (lift scale 1)")
     p.add_argument(
         "--contact-sigma",
         type=float,
@@ -71,196 +95,197 @@ def register(sub) -> None:
         metavar=("BEFORE", "AFTER"),
         help="fit only points this long before/after the bounce [s] (default 0.6 0.3)",
     )
+    p.add_argument("--workers", type=int, default=1, help="--rally: processes calling points in parallel (default 1)")
     add_physics_flags(p)
-    p.add_argument("--plot", metavar="FILE.png", help="draw the mark on the lines and the fit")
+    p.add_argument("--csv", metavar="OUT.csv", help="--rally: write one row per shot")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the mark on the lines and the fit (--rally: the bounces)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def _mark_json(mark) -> dict:
-    return {
-        "length": mark.length,
-        "width": mark.width,
-        "x": float(mark.center[0]),
-        "y": float(mark.center[1]),
-        "start_x": float(mark.start[0]),
-        "start_y": float(mark.start[1]),
-        "skid": mark.skid,
-        "compression": mark.compression,
-        "contact_time": mark.contact_time,
-        "direction": mark.direction,
-    }
+def _check_out(flag: str, path: str | None, exts: tuple[str, ...]) -> None:
+    """Refuse an output path before any work: a missing folder, a folder, a wrong extension."""
+    if path is None:
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(f"{flag}: folder {folder!r} does not exist")
+    if os.path.isdir(path):
+        raise InputError(f"{flag}: {path!r} is a folder")
+    if len(os.path.basename(path).encode()) > 200:
+        raise InputError(f"{flag}: the file name is longer than 200 bytes")
+    if not path.lower().endswith(exts):
+        raise InputError(f"{flag}: {path!r} must end in {' or '.join(exts)}")
 
 
-def _from_state(args, params, surface):
-    from tennislab.core.bounce import bounce
-    from tennislab.core.flight import fly
-    from tennislab.core.mark import ball_mark
-
-    if args.velocity is None:
-        raise InputError("--position needs --velocity VX VY VZ")
-    spin = tuple(args.spin) if args.spin is not None else (0.0, 0.0, 0.0)
-    tr = fly(args.position, args.velocity, spin, params)
-    if tr.landing is None:
-        raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s (no bounce in range)")
-    land = tr.landing
-    out = {"method": args.method}
-    if args.method == "closed-form":
-        from tennislab.linecall.closed_form import closed_form_from_physics
-
-        dp = closed_form_from_physics(args.position, args.velocity, spin, params)
-        pos = np.array([dp.x, dp.y])
-        t = dp.t
-        out["closed_form"] = dp.as_dict()
-        out["numeric"] = {"x": land.x, "y": land.y, "t": land.t}
-        out["closed_form_error_mm"] = float(np.hypot(dp.x - land.x, dp.y - land.y) * 1000)
-    else:
-        pos = land.position[:2]
-        t = land.t
-    b = bounce(land.velocity, land.spin, surface, params.ball)
-    mark = ball_mark(pos, land.velocity, b.velocity_out, land.spin, surface, params.ball)
-    out["bounce"] = {
-        "x": float(pos[0]),
-        "y": float(pos[1]),
-        "t": float(t),
-        "sigma_mm": 0.0,
-        "velocity_in": land.velocity,
-        "spin_in": land.spin,
-        "velocity_out": b.velocity_out,
-        "spin_out": b.spin_out,
-        "mode": b.mode,
-    }
-    out["fit"] = {"rms_mm": None, "outliers": 0, "n_points": 0}
-    return out, mark, None, None
-
-
-def _from_track(args, params, surface, t, xyz, sigma):
-    from tennislab.core.mark import ball_mark
-    from tennislab.linecall.fit import fit_track
-
-    if sigma is None and args.sigma is not None:
-        if not (0 < args.sigma <= 1):
-            raise InputError(f"--sigma: {args.sigma:g} m is outside the allowed range (0, 1] m")
-        sigma = np.full(t.size, args.sigma)
-    w = args.window
-    if not (0 < w[0] <= 100 and 0 <= w[1] <= 100):
-        raise InputError(f"--window: ({w[0]:g}, {w[1]:g}) s is outside the allowed range (0, 100] x [0, 100] s")
-    if not (0 <= args.contact_sigma <= 10):
-        raise InputError(f"--contact-sigma: {args.contact_sigma:g} ms is outside the allowed range [0, 10] ms")
-    t0 = time.perf_counter()
-    fit = fit_track(
-        t,
-        xyz,
-        sigma,
-        params,
-        surface,
-        fit_drag=args.fit_drag,
-        window=tuple(w),
-        contact_prior=args.contact_sigma / 1000.0,
+def _fit_options(args) -> dict:
+    return dict(
+        drag="free" if args.fit_drag else ("fixed" if args.fixed_drag else "prior"),
+        lift="free" if args.fit_lift else ("fixed" if args.fixed_lift else "prior"),
+        contact_sigma=args.contact_sigma,
+        window=tuple(args.window),
     )
-    mark = ball_mark(fit.bounce_xy, fit.velocity_in, fit.velocity_out, fit.spin_in, surface, params.ball)
-    elapsed = time.perf_counter() - t0
-    sb = np.sqrt(np.clip(np.diag(fit.cov), 0, None))
-    out = {"method": "track-fit"}
-    out["bounce"] = {
-        "x": float(fit.p[0]),
-        "y": float(fit.p[1]),
-        "t": fit.t_bounce,
-        "sigma_mm": fit.sigma_bounce * 1000.0,
-        "sigma_x_mm": sb[0] * 1000,
-        "sigma_y_mm": sb[1] * 1000,
-        "sigma_t_ms": sb[2] * 1000,
-        "cov_xy_m2": fit.bounce_cov,
-        "velocity_in": fit.velocity_in,
-        "spin_in": fit.spin_in,
-        "velocity_out": fit.velocity_out,
-        "spin_out": fit.spin_out,
-    }
-    out["fit"] = {
-        "rms_mm": fit.rms * 1000.0,
-        "outliers": int(fit.outlier.sum()),
-        "outlier_rows": np.nonzero(fit.outlier)[0],
-        "n_points": int(t.size),
-        "n_used": int(np.count_nonzero(fit.segment >= 0)),
-        "has_post_bounce": fit.has_post,
-        "chi2_dof": fit.chi2_dof,
-        "sigma_mm": float(np.nanmedian(fit.sigma) * 1000),
-        "drag_scale": fit.drag_scale,
-        "contact_offset_mm": fit.contact_offset * 1000,
-        "evaluations": fit.n_iter,
-        "elapsed_ms": elapsed * 1000,
-    }
-    return out, mark, fit, (t, xyz)
 
 
-def run(args) -> int:
-    from tennislab.core.surfaces import get_surface
-    from tennislab.linecall.decide import call_mark
-
-    params = physics_from_args(args)
-    surface = get_surface(args.surface)
-    fit = None
-    track = None
+def _single(args, params) -> TrackCall:
     if args.position is not None:
-        out, mark, fit, track = _from_state(args, params, surface)
-    elif args.track is not None:
-        from tennislab.io.track import read_track
-
+        if args.velocity is None:
+            raise InputError("--position needs --velocity VX VY VZ")
+        spin = tuple(args.spin) if args.spin is not None else (0.0, 0.0, 0.0)
+        return call_state(
+            args.position,
+            args.velocity,
+            spin,
+            params=params,
+            surface=args.surface,
+            line=args.line,
+            target=args.target,
+            method=args.method,
+        )
+    opts = dict(params=params, surface=args.surface, line=args.line, target=args.target, **_fit_options(args))
+    if args.track is not None:
         tk = read_track(args.track)
-        out, mark, fit, track = _from_track(args, params, surface, tk.t, tk.xyz, tk.sigma)
-    else:
-        if not args.detections:
-            raise InputError("--cameras needs --detections FILE.csv")
-        from tennislab.io.cameras import read_cameras, read_detections
-        from tennislab.linecall.cameras import triangulate_detections
+        sigma = tk.sigma if tk.sigma is not None else args.sigma
+        return call_track(tk.t, tk.xyz, sigma, **opts)
+    if not args.detections:
+        raise InputError("--cameras needs --detections FILE.csv")
+    cams = read_cameras(args.cameras)
+    det = read_detections(args.detections, cams)
+    return call_detections(cams, det, **opts)
 
-        cams = read_cameras(args.cameras)
-        det = read_detections(args.detections, cams)
-        t, xyz, sig = triangulate_detections(cams, det)
-        out, mark, fit, track = _from_track(args, params, surface, t, xyz, sig)
-        out["cameras"] = {"n_cameras": len(cams), "n_triangulated": int(t.size)}
-    cov = fit.bounce_cov if fit is not None else None
-    dec = call_mark(mark, court=params.court, target=args.target, line=args.line, bounce_cov=cov)
-    out["mark"] = _mark_json(mark)
-    out.update(dec)
-    out["surface"] = surface.name
-    out["physics"] = {
-        "aero": params.aero.name,
-        "mass": params.ball.mass,
-        "radius": params.ball.radius,
-        "air_density": params.atmosphere.density,
-        "gravity": params.atmosphere.gravity,
-        "wind": params.atmosphere.wind,
-    }
-    if args.plot:
-        from tennislab.plot.linecall import plot_call
 
-        fig = plot_call(mark, dec, params.court, fit=fit, track=track, bounce_cov=cov)
-        save_figure(fig, args.plot)
-    if args.json:
-        emit_json(out)
-    else:
-        b = out["bounce"]
-        what = f"line {dec['line']}" if "line" in dec else f"target {dec['target']}"
+def _print_single(res: TrackCall, plot: str | None) -> None:
+    out = res.to_dict()
+    b = out["bounce"]
+    if b.get("x") is not None:
         print(
             f"bounce: x = {b['x']:.4f} m, y = {b['y']:.4f} m at t = {b['t']:.4f} s"
             + (f" (+- {b['sigma_mm']:.1f} mm)" if b.get("sigma_mm") else "")
         )
+    if out["mark"]:
         print(f"mark: {out['mark']['length'] * 1000:.0f} x {out['mark']['width'] * 1000:.0f} mm")
+    net = out.get("net") or {}
+    if net.get("contact"):
         print(
-            f"call: {dec['call'].upper()} ({what}): mark reaches {dec['distance_mm']:+.1f} mm "
-            f"{'inside' if dec['distance_mm'] >= 0 else 'short of'} the line, p_in = {dec['p_in']:.3f}"
+            f"net: touched at y = {net['y']:.2f} m, z = {net['z']:.3f} m "
+            f"({'went over' if net['crossed'] else 'stopped'})"
         )
-        for name, r in dec.get("lines", {}).items():
-            if "line" not in dec:
+    what = f"line {out['line']}" if "line" in out else f"target {out.get('target')}"
+    if out["p_in"] is not None:
+        print(
+            f"call: {out['call'].upper()} ({what}): mark reaches {out['distance_mm']:+.1f} mm "
+            f"{'inside' if out['distance_mm'] >= 0 else 'short of'} the line, p_in = {out['p_in']:.3f}"
+        )
+        if "line" not in out:
+            for name, r in out.get("lines", {}).items():
                 print(f"  {name:16s} {r['call']:3s} {r['distance_mm']:+9.1f} mm  p_in {r['p_in']:.3f}")
-        if out["fit"]["rms_mm"] is not None:
-            print(
-                f"fit: rms {out['fit']['rms_mm']:.2f} mm, {out['fit']['outliers']} outlier(s), "
-                f"{out['fit']['elapsed_ms']:.0f} ms"
-            )
-        if "closed_form_error_mm" in out:
-            print(f"closed form vs numeric: {out['closed_form_error_mm']:.1f} mm")
+    else:
+        print(f"call: {out['call'].upper()}")
+    if out["reason"]:
+        print(f"review: {out['reason']}")
+    f = out["fit"]
+    if f.get("rms_mm") is not None:
+        print(
+            f"fit: rms {f['rms_mm']:.2f} mm, {f['outliers']} outlier(s), drag scale {f['drag_scale']:.3f}, "
+            f"{f['elapsed_ms']:.0f} ms"
+        )
+    sp = out.get("spin")
+    if sp and out["method"] == "track-fit":
+        print(
+            f"spin: {sp['rpm']:.0f} rpm (topspin {sp['topspin_rpm']:+.0f} +- {sp.get('topspin_sigma_rpm', 0):.0f}, "
+            f"sidespin {sp['sidespin_rpm']:+.0f} +- {sp.get('sidespin_sigma_rpm', 0):.0f}, "
+            f"along the path {sp['along_path_rpm']:+.0f} +- {sp.get('along_path_sigma_rpm', 0):.0f})"
+        )
+    for lb in out.get("bounces", []):
+        print(f"later bounce (not called): x = {lb['x']:.3f} m, y = {lb['y']:.3f} m at t = {lb['t']:.3f} s")
+    if "closed_form_error_mm" in out:
+        print(f"closed form vs numeric: {out['closed_form_error_mm']:.1f} mm")
+    if plot:
+        print(f"figure: {plot}")
+
+
+def _fmt(v, spec: str) -> str:
+    return "-" if v is None else format(v, spec)
+
+
+def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None:
+    print(f"{'point':>28s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'dist mm':>8s} {'tracker':8s} note")
+    for s in res.shots:
+        tr = s["tracker"]["call"] or "-"
+        ag = s["agreement"]["call_agrees"]
+        note = s["reason"] or ("DISAGREES" if ag is False else "")
+        name = os.path.basename(str(s["point"]))[-28:]
+        print(
+            f"{name:>28s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
+            f"{_fmt(s['p_in'], '6.3f'):>6s} {_fmt(s['distance_mm'], '+8.1f'):>8s} {tr:8s} {note}"
+        )
+    sm = res.summary
+    print(
+        f"{sm['n_shots']} shots: "
+        + ", ".join(f"{k} {v}" for k, v in sm["calls"].items() if v)
+        + f"; agree with the tracker {sm['tracker_calls_agree']}/{sm['tracker_calls_compared']}"
+    )
+    bd = sm["bounce_distance_mm_all"]
+    if bd["n"]:
+        print(f"bounce vs tracker: median {bd['median']:.1f} mm, p90 {bd['p90']:.1f} mm over {bd['n']} shots")
+    print(f"{sm['calls_per_second']:.1f} calls per second")
+    if csv_path:
+        print(f"csv: {csv_path}")
+    if plot:
+        print(f"figure: {plot}")
+
+
+def run(args) -> int:
+    _check_out("--csv", args.csv, (".csv",))
+    _check_out("--plot", args.plot, (".png", ".svg", ".pdf"))
+    if args.csv and args.rally is None:
+        raise InputError("--csv: only with --rally (one row per shot)")
+    params = physics_from_args(args)
+    if args.rally is not None:
+        if args.line:
+            raise InputError("--line: not with --rally (each shot is called against its own area)")
+        if args.target:
+            raise InputError("--target: not with --rally (serves go to their box, rally shots to the court)")
+        points = read_points(args.rally)
+        rally = call_rally(
+            points,
+            params=params,
+            surface=args.surface,
+            doubles=args.doubles,
+            workers=args.workers,
+            **_fit_options(args),
+        )
+        if args.csv:
+            rows = rally.rows()
+
+            def write(fh):
+                w = csv.DictWriter(fh, fieldnames=list(rows[0]) if rows else ["point"])
+                w.writeheader()
+                w.writerows(rows)
+
+            atomic_write(args.csv, write)
         if args.plot:
-            print(f"figure: {args.plot}")
+            save_figure(plot_rally(rally, params.court), args.plot)
+        if args.json:
+            emit_json(rally)
+        else:
+            _print_rally(rally, args.csv, args.plot)
+        return 0
+    res = _single(args, params)
+    if args.plot and res.mark_result is not None and res.decision is not None:
+        fig = plot_call(
+            res.mark_result,
+            res.decision,
+            params.court,
+            fit=res.fit_result,
+            track=res.track if res.fit_result is not None else None,
+            bounce_cov=None if res.fit_result is None else res.fit_result.bounce_cov,
+        )
+        save_figure(fig, args.plot)
+    elif args.plot:
+        raise InputError(f"--plot: nothing to draw: the call is {res.call} without a bounce")
+    if args.json:
+        emit_json(res)
+    else:
+        _print_single(res, args.plot)
     return 0

@@ -28,7 +28,8 @@ import numpy as np
 from tennislab.errors import InputError
 
 MIN_POINTS = 10  #: fewest rows of a track
-MAX_ROWS = 2_000_000  #: largest track read
+MAX_ROWS = 2_000_000  #: largest track read [rows]
+MAX_BYTES = 200_000_000  #: largest track file read [bytes]
 REQUIRED = ("t", "x", "y", "z")
 
 
@@ -120,7 +121,9 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
 def read_track(path: str) -> Track:
     """Read a track CSV file (see the module docstring)."""
     with open(path, "rb") as fh:
-        data = fh.read(200_000_000)
+        data = fh.read(MAX_BYTES + 1)
+    if len(data) > MAX_BYTES:
+        raise InputError(f"{path}: larger than {MAX_BYTES // 1_000_000} MB")
     return parse_track(data, name=str(path))
 
 

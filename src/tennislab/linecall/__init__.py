@@ -1,1 +1,31 @@
-"""Line calling: seed 001's closed-form drop point, track fitting, ball-mark calls, cameras."""
+"""Line calling: where did the ball bounce, and was it in?
+
+Workflows (each returns a :class:`~tennislab.results.Result`; ``to_dict()`` is the ``--json`` output):
+
+* :func:`call_track` - one shot's 3-D track: net check, robust fit through the first bounce, the ball
+  mark, the call (in / out / net / let / review) with its probability (``tennislab call --track``);
+* :func:`call_rally` - every shot of tracker points (Hawk-Eye-style point JSON read by
+  :func:`tennislab.io.hawkeye.read_points`), cut hit to hit and called against the right area
+  (``tennislab call --rally``);
+* :func:`call_state` - a state flown to its landing (``tennislab call --position``);
+* :func:`call_detections` - 2-D detections of calibrated cameras, triangulated then called
+  (``tennislab call --cameras``).
+
+Pieces: :mod:`.model` (compiled track models), :mod:`.fit` (robust fits), :mod:`.free_flight`, :mod:`.net`,
+:mod:`.detect` (hits, bounces, noise), :mod:`.decide` (a mark against lines and areas),
+:mod:`.cameras`, :mod:`.closed_form` (seed 001), :mod:`.synth` (synthetic tracks and points).
+"""
+
+from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
+from tennislab.linecall.rally import RallyCall, call_rally, split_point
+
+__all__ = [
+    "CALLS",
+    "RallyCall",
+    "TrackCall",
+    "call_detections",
+    "call_rally",
+    "call_state",
+    "call_track",
+    "split_point",
+]

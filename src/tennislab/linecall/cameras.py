@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError
 
 
@@ -54,6 +55,30 @@ class Camera:
         return K @ np.hstack([self.R, (-self.R @ self.C)[:, None]])
 
 
+def cameras_from_records(records) -> list[Camera]:
+    """Cameras from the plain records of :func:`tennislab.io.cameras.parse_cameras` (dicts with
+    ``name, fx, fy, cx, cy, R, C, width, height``); :class:`Camera` objects pass through."""
+    out = []
+    for c in records:
+        if isinstance(c, Camera):
+            out.append(c)
+            continue
+        out.append(
+            Camera(
+                str(c["name"]),
+                float(c["fx"]),
+                float(c["fy"]),
+                float(c["cx"]),
+                float(c["cy"]),
+                np.asarray(c["R"], dtype=float),
+                np.asarray(c["C"], dtype=float),
+                int(c.get("width", 1920)),
+                int(c.get("height", 1080)),
+            )
+        )
+    return out
+
+
 def look_at(name: str, centre, target, f: float = 2000.0, width: int = 1920, height: int = 1080) -> Camera:
     """A camera at ``centre`` [m] looking at ``target`` [m] with image rows horizontal."""
     C = np.asarray(centre, dtype=float)
@@ -70,8 +95,6 @@ def look_at(name: str, centre, target, f: float = 2000.0, width: int = 1920, hei
 def synthetic_rig(n: int = 8, court=None, f: float = 2500.0) -> list[Camera]:
     """``n`` cameras around the court (as broadcast line-calling rigs are: high in the stands,
     each aimed at a line region), 1920x1080 px."""
-    from tennislab.core.court import ITF_COURT
-
     court = court or ITF_COURT
     L, d = court.half_length, court.doubles_width / 2
     cams = []
@@ -86,20 +109,20 @@ def synthetic_rig(n: int = 8, court=None, f: float = 2500.0) -> list[Camera]:
 
 def triangulate(cams: list[Camera], uv: np.ndarray, sigma_px: np.ndarray, iters: int = 3):
     """One point from its pixels uv (k, 2) in cameras ``cams`` (k >= 2): (X (3,), cov (3, 3))."""
-    A = []
+    rows = []
     for cam, (u, v) in zip(cams, uv):
         P = cam.P
-        A.append(u * P[2] - P[0])
-        A.append(v * P[2] - P[1])
-    A = np.asarray(A)
-    _, _, vt = np.linalg.svd(A)
+        rows.append(u * P[2] - P[0])
+        rows.append(v * P[2] - P[1])
+    _, _, vt = np.linalg.svd(np.asarray(rows))
     Xh = vt[-1]
     if abs(Xh[3]) < 1e-12:
         raise InputError("detections: triangulation failed (point at infinity)")
     X = Xh[:3] / Xh[3]
-    J = None
+    J = np.zeros((2 * len(cams), 3))
     for _ in range(iters):
-        res, J = [], []
+        res_l: list[float] = []
+        jac_l: list[np.ndarray] = []
         for cam, (u, v), s in zip(cams, uv, sigma_px):
             Xc = cam.R @ (X - cam.C)
             z = Xc[2]
@@ -107,11 +130,10 @@ def triangulate(cams: list[Camera], uv: np.ndarray, sigma_px: np.ndarray, iters:
             pv = cam.fy * Xc[1] / z + cam.cy
             du = cam.fx * (cam.R[0] / z - Xc[0] * cam.R[2] / z**2)
             dv = cam.fy * (cam.R[1] / z - Xc[1] * cam.R[2] / z**2)
-            res += [(pu - u) / s, (pv - v) / s]
-            J += [du / s, dv / s]
-        J = np.asarray(J)
-        res = np.asarray(res)
-        step = np.linalg.lstsq(J, -res, rcond=None)[0]
+            res_l += [(pu - u) / s, (pv - v) / s]
+            jac_l += [du / s, dv / s]
+        J = np.asarray(jac_l)
+        step = np.linalg.lstsq(J, -np.asarray(res_l), rcond=None)[0]
         X = X + step
         if np.linalg.norm(step) < 1e-9:
             break

@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.special import sici
@@ -207,7 +208,7 @@ def closed_form_from_physics(position, velocity, spin, params, z_land: float | N
 #: arctan 0.0439 -> v0z = 0.0439 sqrt(m g / k); 0.4417 = sqrt(g k / m) with g = 9.8;
 #: launch at (0, 0, 1) toward (p, q) = (2, 16) (its cos a = 2/sqrt 260, and its
 #: drop points lie on y/x = 8); spin example: G/m = 0.3495 /s, v0 = 15.75 m/s.
-SEED001_EXAMPLE = {
+SEED001_EXAMPLE: dict[str, Any] = {
     "m_over_k": 50.226,
     "g": 9.8,
     "h": 1.0,

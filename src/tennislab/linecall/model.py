@@ -1,14 +1,21 @@
-"""The compiled track model: ball-centre positions at given times from bounce parameters.
+"""The compiled track models: ball-centre positions at given times.
 
-Parameter vector (NPARAM = 18), all SI:
+**Bounce model** (the line-calling fit). Parameter vector (:data:`NPARAM` = 19), all SI, addressed by
+the named indices and slices below (``P_XB`` ... ``P_LIFT``):
 
-    0-2   x_b, y_b, t_b      first-contact point (ball centre at z = r) and time
-    3-5   v_in               velocity at contact
-    6-8   w_in               spin at contact
-    9-11  v_out              velocity leaving the ground (time t_b + T_c)
-    12    drag scale         multiplies the drag constant k (1 = nominal)
-    13-14 contact offset     added to the modelled travel of the centre during the contact
-    15-17 spin-out offset    added to the outgoing spin implied by the impulse
+    0-2   x_b, y_b, t_b      first-contact point (ball centre at z = r) and time     P_XB, P_YB, P_TB
+    3-5   v_in               velocity at contact                                      P_VIN
+    6-8   w_in               spin at contact                                          P_WIN
+    9-11  v_out              velocity leaving the ground (time t_b + T_c)             P_VOUT
+    12    drag scale s_D     multiplies C_D (1 = the aero model as given)             P_DRAG
+    13-14 contact offset     added to the modelled travel of the centre during the contact   P_DXY
+    15-17 spin-out offset    added to the outgoing spin implied by the impulse        P_DWOUT
+    18    lift scale s_L     multiplies C_L (1 = the aero model as given)             P_LIFT
+    19    post drag ratio    the drag scale after the bounce is s_D times this        P_DRAG_POST
+
+The flight after the bounce gets a drag scale of its own (s_D x ratio): the ball leaves the ground
+with a spin and speed the aero model may describe less well than the approach's (a C_D(S) of the
+wrong shape), and a shared scale would let the post-bounce points bend the approach.
 
 Before the bounce the flight is integrated *backward* from (x_b, y_b, r, v_in,
 w_in) at t_b, after it forward from (x_b + d, y_b + d', r, v_out, w_out) at
@@ -17,13 +24,22 @@ of the bounce model and (d, d') is the centre's travel during the contact
 (:func:`contact_displacement`).
 Parametrising by the bounce itself makes its covariance a block of the fit's.
 
-Integration: classical RK4 with a fixed step (8 ms in the fit;
-:func:`tennislab.core.integrators.rk4_step` on the shared right-hand side),
-fixed so that the residuals are smooth functions of the parameters (an
-adaptive step would make them jump when the step sequence changes), positions at the sample times by
-cubic Hermite interpolation on each step from the positions and velocities at
-its ends (error below 0.01 um for the shot library at 8 ms; tests/test_linecall.py
-checks against :func:`tennislab.core.flight.fly`).
+**Free-flight model** (the net check): :data:`NFREE` = 11 parameters, position (3), velocity (3) and
+spin (3) at a reference time t0, then the drag and lift scales (``F_POS``, ``F_VEL``, ``F_SPIN``,
+``F_DRAG``, ``F_LIFT``); integrated backward and forward from t0.
+
+Right-hand side: that of :func:`tennislab.core.dynamics.derivative` (seed 000 eqs 1-2, seed 002
+eqs 1, 3) with the drag and lift coefficients of the aero model multiplied by separate scales,
+C_D -> s_D C_D and C_L -> s_L C_L (the fit's handles on an aero model that is not exactly the
+ball's; s_D = s_L = 1 reproduces the shared right-hand side exactly, tested against
+:func:`tennislab.core.flight.fly`).
+
+Integration: classical RK4 with a fixed step (16 ms in the fit), fixed so that the residuals are
+smooth functions of the parameters (an adaptive step would make them jump when the step sequence
+changes), positions at the sample times by cubic Hermite interpolation on each step from the
+positions and velocities at its ends (error below 0.13 um for the shot library at 16 ms, 0.01 um
+at 8 ms;
+tests/linecall/test_linecall.py checks against :func:`tennislab.core.flight.fly`).
 """
 
 from __future__ import annotations
@@ -34,18 +50,37 @@ import numba as nb
 import numpy as np
 from numba import types
 
-from tennislab.core.aero import AERO_FUNCTION_TYPE
-from tennislab.core.integrators import rk4_step
+from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 from tennislab.core.mark import contact_displacement
 
-NPARAM = 18
+NPARAM = 20
 P_XB, P_YB, P_TB = 0, 1, 2
+P_XY = slice(0, 2)
 P_VIN = slice(3, 6)
 P_WIN = slice(6, 9)
 P_VOUT = slice(9, 12)
 P_DRAG = 12
 P_DXY = slice(13, 15)
 P_DWOUT = slice(15, 18)
+P_LIFT = 18
+P_DRAG_POST = 19
+
+
+def indices(sl: slice) -> list[int]:
+    """The parameter indices of a named slice (``indices(P_WIN) == [6, 7, 8]``)."""
+    return list(range(sl.start, sl.stop))
+
+
+#: parameters that move the pre-bounce segment (the rest act after the bounce only)
+PRE_DEPENDENT = (P_XB, P_YB, P_TB, *indices(P_VIN), *indices(P_WIN), P_DRAG, P_LIFT)
+
+NFREE = 11
+F_POS = slice(0, 3)
+F_VEL = slice(3, 6)
+F_SPIN = slice(6, 9)
+F_DRAG = 9
+F_LIFT = 10
+F_STATE = slice(0, 9)
 
 # consts layout
 C_K, C_G, C_R, C_WX, C_WY, C_WZ, C_DECAY, C_ALPHA, C_E, C_MU, C_EX, C_TC, C_H = range(13)
@@ -61,17 +96,80 @@ _M = _F[:, ::1]
 _I = types.int64[::1]
 _B = types.boolean
 _AF = AERO_FUNCTION_TYPE
-_SWEEP_SIG = types.void(_V, _F, _V, _I, types.int64, _F, _AF, _V, _V, _F, _M)
+_SWEEP_SIG = types.void(_V, _F, _V, _I, types.int64, _F, _AF, _V, _V, _F, _F, _M)
 _MODEL_SIG = types.void(_V, _V, _I, _AF, _V, _V, _M, _B, _B)
 _RES_SIG = types.void(_V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
 _JAC_SIG = types.void(_V, _I, _V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
+_FREE_SIG = types.void(_V, _F, _V, _AF, _V, _V, _M)
+_FREE_RES_SIG = types.void(_V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
+_FREE_JAC_SIG = types.void(_V, _I, _V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
+
+
+@nb.njit(cache=True)
+def _rhs(y, out, aero, ap, kd, kl, g, r, wind_x, wind_y, wind_z, decay):
+    """dy/dt of :func:`tennislab.core.dynamics.derivative` with k C_D -> kd C_D and k C_L -> kl C_L."""
+    ux = y[3] - wind_x
+    uy = y[4] - wind_y
+    uz = y[5] - wind_z
+    wx = y[6]
+    wy = y[7]
+    wz = y[8]
+    u = math.sqrt(ux * ux + uy * uy + uz * uz)
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    cd, cl = aero_coefficients(aero, u, w, r, ap)
+    d = -kd * cd * u
+    ax = d * ux
+    ay = d * uy
+    az = d * uz - g
+    if w > 0.0 and u > 0.0:
+        f = kl * cl * u / w
+        ax += f * (wy * uz - wz * uy)
+        ay += f * (wz * ux - wx * uz)
+        az += f * (wx * uy - wy * ux)
+    out[0] = y[3]
+    out[1] = y[4]
+    out[2] = y[5]
+    out[3] = ax
+    out[4] = ay
+    out[5] = az
+    out[6] = -decay * wx
+    out[7] = -decay * wy
+    out[8] = -decay * wz
+
+
+@nb.njit(cache=True)
+def _rk4(y, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, out):
+    """One classical Runge-Kutta 4 step (as :func:`tennislab.core.integrators.rk4_step`) of :func:`_rhs`."""
+    k1 = work[0]
+    k2 = work[1]
+    k3 = work[2]
+    k4 = work[3]
+    yt = work[4]
+    _rhs(y, k1, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k1[i]
+    _rhs(yt, k2, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + 0.5 * h * k2[i]
+    _rhs(yt, k3, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        yt[i] = y[i] + h * k3[i]
+    _rhs(yt, k4, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+#: integration steps allowed per sweep (bounds a sweep toward a far sample time: 40 s at 8 ms)
+MAX_STEPS = 5000
 
 
 @nb.njit(_SWEEP_SIG, cache=True)
-def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
+def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, dscale, lscale, out):
     """Integrate from (y0, t0) in ``direction`` (+1/-1) and write positions at t[idx[0..n-1]]
-    (ordered away from t0) into out[idx[j]]."""
-    k = consts[C_K] * kscale
+    (ordered away from t0) into out[idx[j]]; NaN beyond :data:`MAX_STEPS` steps or a non-finite state."""
+    k = consts[C_K]
+    kd = k * dscale
+    kl = k * lscale
     g = consts[C_G]
     r = consts[C_R]
     wx = consts[C_WX]
@@ -83,16 +181,22 @@ def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, kscale, out):
     ya = y0.copy()
     yb = np.empty(9)
     ta = t0
-    rk4_step(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+    _rk4(ya, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, yb)
     tb = t0 + h
+    steps = 1
     for j in range(n):
         ts = t[idx[j]]
-        while (ts - tb) * direction > 0.0:
+        while (ts - tb) * direction > 0.0 and steps <= MAX_STEPS:
             for i in range(9):
                 ya[i] = yb[i]
             ta = tb
-            rk4_step(ya, h, aero, ap, k, g, r, wx, wy, wz, dec, work, yb)
+            _rk4(ya, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, yb)
             tb = ta + h
+            steps += 1
+        if steps > MAX_STEPS or not (math.isfinite(yb[0]) and math.isfinite(yb[1]) and math.isfinite(yb[2])):
+            for c in range(3):
+                out[idx[j], c] = np.nan
+            continue
         s = (ts - ta) / h
         s2 = s * s
         s3 = s2 * s
@@ -168,7 +272,7 @@ def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
         y0[2] = consts[C_R]
         for i in range(6):
             y0[3 + i] = p[3 + i]
-        _sweep(y0, p[2], t, idx, npre, -1.0, aero, ap, consts, p[12], out)
+        _sweep(y0, p[2], t, idx, npre, -1.0, aero, ap, consts, p[P_DRAG], p[P_LIFT], out)
     if do_post and npost > 0:
         idx = np.empty(npost, dtype=np.int64)
         j = 0
@@ -177,7 +281,7 @@ def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
                 idx[j] = i
                 j += 1
         t0 = post_start(p, consts, y0)
-        _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[12], out)
+        _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[P_DRAG] * p[P_DRAG_POST], p[P_LIFT], out)
 
 
 @nb.njit(_RES_SIG, cache=True)
@@ -203,7 +307,7 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
         j = free[jj]
         q = p.copy()
         q[j] += steps[j]
-        pre_dep = j < 9 or j == 12
+        pre_dep = j < 9 or j == P_DRAG or j == P_LIFT  # PRE_DEPENDENT (a tuple test is not compiled)
         if not pre_dep:
             # v_out and the contact offsets do not move the pre-bounce segment: reuse the base residuals
             model_positions(q, t, seg, aero, ap, consts, pos, False, True)
@@ -217,6 +321,51 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
                     res[3 * i + c] = base[3 * i + c]
                 else:
                     res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
+        for m in range(3 * n):
+            jac[m, jj] = (res[m] - base[m]) / steps[j]
+
+
+@nb.njit(_FREE_SIG, cache=True)
+def free_positions(q, t0, t, aero, ap, consts, out):
+    """Free-flight positions (N, 3) at sorted times t from the state q[0:9] at t0 and scales q[9:11]."""
+    n = t.shape[0]
+    nb_ = 0
+    for i in range(n):
+        if t[i] < t0:
+            nb_ += 1
+    y0 = q[0:9].copy()
+    if nb_ > 0:
+        idx = np.empty(nb_, dtype=np.int64)
+        for j in range(nb_):
+            idx[j] = nb_ - 1 - j
+        _sweep(y0, t0, t, idx, nb_, -1.0, aero, ap, consts, q[F_DRAG], q[F_LIFT], out)
+    if n - nb_ > 0:
+        idx = np.empty(n - nb_, dtype=np.int64)
+        for j in range(n - nb_):
+            idx[j] = nb_ + j
+        _sweep(y0, t0, t, idx, n - nb_, 1.0, aero, ap, consts, q[F_DRAG], q[F_LIFT], out)
+
+
+@nb.njit(_FREE_RES_SIG, cache=True)
+def free_residuals(q, t0, t, xyz, w, aero, ap, consts, res, pos):
+    """Weighted residuals (3N,) of the free-flight model."""
+    free_positions(q, t0, t, aero, ap, consts, pos)
+    for i in range(t.shape[0]):
+        for c in range(3):
+            res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
+
+
+@nb.njit(_FREE_JAC_SIG, cache=True)
+def free_jacobian(q, free, steps, t0, t, xyz, w, aero, ap, consts, base, jac):
+    """Forward-difference Jacobian (3N, len(free)) of :func:`free_residuals` around ``base``."""
+    n = t.shape[0]
+    pos = np.empty((n, 3))
+    res = np.empty(3 * n)
+    for jj in range(free.shape[0]):
+        j = free[jj]
+        qq = q.copy()
+        qq[j] += steps[j]
+        free_residuals(qq, t0, t, xyz, w, aero, ap, consts, res, pos)
         for m in range(3 * n):
             jac[m, jj] = (res[m] - base[m]) / steps[j]
 
@@ -244,8 +393,17 @@ def make_consts(params, surface, contact_time: float, step: float = 2e-3) -> np.
     )
 
 
+def default_params() -> np.ndarray:
+    """A parameter vector (NPARAM,) of zeros with the aero scales and the post-bounce drag ratio at 1."""
+    p = np.zeros(NPARAM)
+    p[P_DRAG] = 1.0
+    p[P_LIFT] = 1.0
+    p[P_DRAG_POST] = 1.0
+    return p
+
+
 def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-3) -> np.ndarray:
-    """Python wrapper: model positions (N, 3) for parameters p (13,) at times t with labels seg."""
+    """Python wrapper: model positions (N, 3) for parameters p (NPARAM,) at times t with labels seg."""
     t = np.ascontiguousarray(t, dtype=np.float64)
     p = np.ascontiguousarray(p, dtype=np.float64)
     if p.shape != (NPARAM,):

@@ -152,3 +152,21 @@ def shot_library() -> list[dict]:
         }
     )
     return shots
+
+
+#: The example serve of the line-call page and the report: hard and flat down the T, landing
+#: about 6 mm beyond the far service line's outer edge (x = 6.40 m): a close call.
+SAMPLE_SERVE = {"position": (-11.8, 0.4, 2.85), "velocity": (48.0, -0.9, -4.257), "spin": (0.0, 60.0, 0.0)}
+
+
+def sample_serve(
+    seed: int = 7, sigma: float = 3e-3, rate: float = 340.0, params: FlightParams | None = None
+) -> SyntheticTrack:
+    """The example serve (:data:`SAMPLE_SERVE`) as a tracker near the line sees it: from 0.35 s before
+    its bounce to 0.15 s after, at ``rate`` [Hz] with noise ``sigma`` [m]."""
+    s = SAMPLE_SERVE
+    tr = synthetic_track(
+        s["position"], s["velocity"], s["spin"], params, rate=rate, sigma=sigma, seed=seed, after=0.15, name="serve"
+    )
+    keep = tr.t >= tr.bounce.t - 0.35
+    return SyntheticTrack(tr.t[keep], tr.xyz[keep], tr.truth[keep], tr.bounce, sigma, "sample serve")

@@ -69,3 +69,39 @@ def plot_call(mark, decision: dict, court=ITF_COURT, fit=None, track=None, bounc
         ax2.set_title("track and fitted flight")
     fig.tight_layout()
     return fig
+
+
+CALL_COLORS = {"in": "#1b7837", "out": "#c51b7d", "net": "#2166ac", "let": "#f1a340", "review": "#ffffff"}
+
+
+def plot_rally(result, court=ITF_COURT):
+    """Top view of the court with every called shot's bounce (colour = call; review hollow) and net
+    contacts (squares on the net line); the tracker's bounce as a small cross where given."""
+    from tennislab.plot.court import draw_court_top
+
+    fig, ax = plt.subplots(figsize=(11, 6))
+    draw_court_top(ax, court)
+    seen = set()
+    for s in result.shots:
+        b = s.get("bounce") or {}
+        call = s["call"]
+        label = None if call in seen else call
+        seen.add(call)
+        if b.get("x") is not None:
+            ec = "k" if call == "review" else CALL_COLORS.get(call, "k")
+            ax.plot(b["x"], b["y"], "o", ms=6, mfc=CALL_COLORS.get(call, "k"), mec=ec, label=label, zorder=4)
+        elif (s.get("net") or {}).get("contact"):
+            ax.plot(0.0, s["net"]["y"], "s", ms=6, color=CALL_COLORS["net"], label=label, zorder=4)
+        tr = s.get("tracker") or {}
+        if tr.get("bounce_x") is not None:
+            ax.plot(tr["bounce_x"], tr["bounce_y"], "x", ms=4, color="#333333", zorder=5)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    sm = result.summary
+    ax.set_title(
+        f"{sm['n_shots']} shots: " + ", ".join(f"{k} {v}" for k, v in sm["calls"].items() if v) + " (x: tracker)"
+    )
+    ax.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    return fig

@@ -1,51 +1,51 @@
 """Report section: a line call from a synthetic track, the ball mark drawn against the line.
 
-The track is the example serve of the app (:data:`tennislab.app.features.SAMPLE_SERVE`,
-340 Hz, 3 mm noise, seed 7), so the truth is known and the error of the call
-can be shown beside it.  The pipeline is the one of ``tennislab call --track``
-(:mod:`tennislab.app.linecall_adapter`).
+The track is the example serve (:func:`tennislab.linecall.synth.sample_serve`, 340 Hz, 3 mm noise,
+seed 7), so the truth is known and the error of the call can be shown beside it.  The call is the
+workflow of ``tennislab call --track`` (:func:`tennislab.linecall.call_track`); this module only draws
+and tabulates its result.
 """
 
 from __future__ import annotations
 
 import math
 
+import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.patches import Circle, Ellipse, Rectangle
 
-from tennislab.app.services import require
+from tennislab.core.court import ITF_COURT
+from tennislab.linecall import call_track
+from tennislab.linecall.synth import sample_serve
+from tennislab.plot.court import draw_court_side
 from tennislab.report import html as H
 
 TARGET = "deuce-box"
+SIGMA = 3e-3  #: [m] the example track's noise, given to the call as its sigma column
 
 
 def linecall(ctx) -> None:
-    require("linecall")
-    import matplotlib.pyplot as plt
-    from matplotlib.patches import Circle, Ellipse, Rectangle
-
-    from tennislab.app import features
-    from tennislab.app.linecall_adapter import pipeline, summary
-    from tennislab.core.court import ITF_COURT
-    from tennislab.plot.court import draw_court_side
-
     sec = ctx.section
-    data, truth = features.synthetic_track(seed=7)
-    text = "t,x,y,z,sigma\n" + "\n".join(f"{r[0]:.6f},{r[1]:.5f},{r[2]:.5f},{r[3]:.5f},0.003" for r in data)
-    track, fit, mark, res = pipeline(text, "hard", None, TARGET)
-    out = summary(fit, mark, res)
+    tr = sample_serve(seed=7)
+    truth = (tr.bounce.x, tr.bounce.y)
+    res = call_track(tr.t, tr.xyz, np.full(tr.t.size, SIGMA), surface="hard", target=TARGET)
+    out = res.to_dict()
+    fit, mark = res.fit_result, res.mark_result
+    if fit is None or mark is None:  # pragma: no cover - the example serve always bounces
+        raise RuntimeError(f"the example serve was not called: {out['reason']}")
     err_mm = 1e3 * math.hypot(out["bounce"]["x"] - truth[0], out["bounce"]["y"] - truth[1])
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5), width_ratios=[1, 1.5])
     cx, cy, half = float(mark.center[0]), float(mark.center[1]), 0.16
     ax.add_patch(Rectangle((cx - 1, cy - 1), 2, 2, color="#3a7d44", zorder=0))
+    lines = out.get("lines") or {}
     for name, (x0, x1, y0, y1) in ITF_COURT.lines().items():
-        hit = name in (res.get("lines") or {}) and abs(res["lines"][name]["distance_mm"]) < 100
+        hit = name in lines and abs(lines[name]["distance_mm"]) < 100
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color="#ffe066" if hit else "white", zorder=1))
     for x, y, r in mark.discs:
         if r > 0:
-            ax.add_patch(
-                Circle((x, y), r, color="#c81e1e" if out["call"] == "out" else "#8a4b1c", alpha=0.25, lw=0, zorder=2)
-            )
+            color = "#c81e1e" if out["provisional_call"] == "out" else "#8a4b1c"
+            ax.add_patch(Circle((x, y), r, color=color, alpha=0.25, lw=0, zorder=2))
     ev, evec = np.linalg.eigh(fit.bounce_cov)
     ang = math.degrees(math.atan2(evec[1, 1], evec[0, 1]))
     for k, ls in ((1, "-"), (2, "--")):
@@ -69,12 +69,12 @@ def linecall(ctx) -> None:
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(f"mark vs the service line: {out['call'].upper()} by {abs(out['distance_mm']):.1f} mm")
+    ax.set_title(f"mark vs the service line: {out['call'].upper()} ({abs(out['distance_mm']):.1f} mm)")
     ax.legend(loc="lower right", fontsize=8)
     draw_court_side(ax2)
-    ax2.plot(track.xyz[:, 0], track.xyz[:, 2], ".", ms=2, color="#777", label="track (3 mm noise)")
-    tt = np.linspace(track.t[0], track.t[-1], 400)
-    pts = fit.positions(tt)
+    ax2.plot(tr.xyz[:, 0], tr.xyz[:, 2], ".", ms=2, color="#777", label="track (3 mm noise)")
+    ts = res.track[0] if res.track is not None else tr.t - tr.t[0]  # the call's relative clock
+    pts = fit.positions(np.linspace(ts[0], ts[-1], 400))
     ax2.plot(pts[:, 0], pts[:, 2], "-", color="#d62828", lw=1.5, label="fitted flight and bounce")
     ax2.set_xlim(-8, 11)
     ax2.set_ylim(0, 3)
@@ -82,7 +82,7 @@ def linecall(ctx) -> None:
     fig.tight_layout()
 
     rows = [
-        ["call", out["call"]],
+        ["call", out["call"] + (f" (the numbers say {out['provisional_call']})" if out["call"] == "review" else "")],
         ["against", f"{TARGET} (lines included)"],
         ["distance of the mark to the line [mm]", H.num(out["distance_mm"], 1)],
         ["probability the ball is in", H.num(out["p_in"], 3)],
@@ -96,7 +96,9 @@ def linecall(ctx) -> None:
         ],
         ["fit rms [mm] / outliers", f"{H.num(out['fit']['rms_mm'], 2)} / {out['fit']['outliers']}"],
     ]
-    for name, d in (res.get("lines") or {}).items():
+    if out["reason"]:
+        rows.append(["why review", out["reason"]])
+    for name, d in lines.items():
         rows.append(
             [
                 f"line {name}: call, distance [mm], P(in)",
@@ -106,9 +108,10 @@ def linecall(ctx) -> None:
     sec.add(
         H.para(
             "A first serve down the T, tracked at 340 frames per second with 3 mm of noise per axis (a "
-            "synthetic track with known truth). The flight model is fitted through the bounce, the ball "
-            "mark is rebuilt from the contact (compression and skid), and the mark is called against the "
-            "service box: a ball is in when any part of its mark touches the line."
+            "synthetic track with known truth). The flight model is fitted to the approach and the bounce, "
+            "the ball mark is rebuilt from the contact (compression and skid), and the mark is called "
+            "against the service box: a ball is in when any part of its mark touches the line. A call whose "
+            "probability lies between 5 % and 95 % is answered 'review'."
         ),
         H.figure(
             ctx.save(fig, "line_call.png"),

@@ -1,0 +1,554 @@
+"""The line-call workflows: one shot's track (:func:`call_track`), a state (:func:`call_state`) and
+camera detections (:func:`call_detections`), each returning a :class:`TrackCall`.
+
+:func:`call_track` is the pipeline of ``tennislab call --track`` and of every shot of
+``tennislab call --rally`` (:mod:`tennislab.linecall.rally`):
+
+1. the net check (:func:`tennislab.linecall.net.check_net`): a ball stopped by the net is called
+   ``net``; after a net cord only the flight after the net is fitted; a serve that touched the tape
+   and lands in its box is a ``let``;
+2. the first bounce in the data (:func:`tennislab.linecall.detect.find_bounces`): the fit splits
+   there and ends before the second; later bounces are reported (``bounces``), not called;
+3. the robust fit through the bounce (:func:`tennislab.linecall.fit.fit_track`), the ball mark
+   (:func:`tennislab.core.mark.ball_mark`) and the decision against the target or line with its
+   probability (:func:`tennislab.linecall.decide.call_mark`);
+4. the quality gate: a fit that diverged (non-finite parameters or covariance, an incoming speed far
+   from the data's or beyond :data:`MAX_SPEED`), a model misfit (residual RMS above
+   :data:`MISFIT_SIGMA` times the track's noise and above :data:`MISFIT_MIN`), more than a quarter of
+   the points rejected, a bounce extrapolated beyond :data:`MAX_EXTRAPOLATION`, or ``p_in`` within
+   :data:`REVIEW_P` is answered ``review`` with the reasons (``review_reasons``), never a confident
+   call; ``provisional_call`` keeps what the numbers say.
+
+The track's noise, for the misfit test, is the given sigma or the model-free estimate from third
+differences (:func:`tennislab.linecall.detect.noise_from_differences`), never below
+:data:`tennislab.linecall.fit.NOISE_FLOOR`.
+
+Spin (``spin``): the fitted spin vector at the bounce in the launch vocabulary of
+:mod:`tennislab.core.launch` relative to the incoming velocity d: topspin (about h = unit(z x d),
+horizontal; < 0 backspin), sidespin (about u = d x h; > 0 curves the ball to its left) and spin along
+the path (about d), each with its 1-sigma from the fit's covariance, in rpm; the tracker's signed
+rpm (negative = backspin) is compared with the topspin component.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+import tennislab.linecall.model as M
+from tennislab.core.bounce import bounce
+from tennislab.core.flight import FlightParams, fly
+from tennislab.core.launch import describe_velocity, direction, spin_basis
+from tennislab.core.mark import BallMark, MarkParams, ball_mark
+from tennislab.core.surfaces import get_surface
+from tennislab.errors import InputError, check_range, check_vector
+from tennislab.linecall.cameras import cameras_from_records, triangulate_detections
+from tennislab.linecall.closed_form import closed_form_from_physics
+from tennislab.linecall.decide import N_SAMPLES, call_mark
+from tennislab.linecall.detect import (
+    bounce_estimate,
+    find_bounces,
+    noise_from_differences,
+    travel_direction,
+)
+from tennislab.linecall.fit import NOISE_FLOOR, TrackFit, fit_track
+from tennislab.linecall.net import NetCheck, check_net
+from tennislab.results import Result, jsonable
+from tennislab.units import RPM
+
+MAX_SPEED = 80.0  #: [m/s] fastest credible incoming speed at a bounce (fastest serves: 73 m/s off the racket)
+SPEED_TOL = (0.35, 6.0)  #: a fitted incoming speed further than rel x |v| + abs [m/s] from the data's has diverged
+MISFIT_SIGMA = 5.0  #: residual RMS per axis above this many noise sigmas is a model misfit...
+MISFIT_MIN = 0.02  #: [m] ...and above this 3-D RMS
+MAX_EXTRAPOLATION = 0.15  #: [s] a bounce further than this after the last sample before it is a guess
+REVIEW_P = (0.05, 0.95)  #: p_in strictly between these: ``review``
+MIN_TRACK_POINTS = 4  #: fewest samples of a track called
+SECOND_BOUNCE_GAP = 0.02  #: [s] the fit ends this long before the second bounce's lowest sample
+CALLS = ("in", "out", "net", "let", "review")
+
+
+@dataclass(frozen=True)
+class TrackCall(Result):
+    """One line call (``tennislab call --track/--position/--cameras --json`` is :meth:`to_dict`).
+
+    ``call`` is one of :data:`CALLS`; ``provisional_call`` the in/out of the numbers when the call is
+    ``review``; ``decision`` the output of :func:`~tennislab.linecall.decide.call_mark` (``p_in``,
+    ``distance_mm``, ``target``/``line``, ``lines``).  ``fit_result``, ``mark_result`` and ``track``
+    are the objects behind it (for plots; not in the JSON); their times are relative to
+    ``time_offset`` [s] (the first sample), the JSON's are absolute.
+    """
+
+    method: str
+    call: str
+    provisional_call: str | None
+    review_reasons: tuple[str, ...]
+    decision: dict | None
+    bounce: dict | None
+    mark: dict | None
+    fit: dict
+    spin: dict | None
+    net: dict | None
+    later_bounces: tuple[dict, ...]
+    surface: str
+    physics: dict
+    extra: dict = field(default_factory=dict)
+    fit_result: TrackFit | None = field(default=None, repr=False, compare=False)
+    mark_result: BallMark | None = field(default=None, repr=False, compare=False)
+    track: tuple | None = field(default=None, repr=False, compare=False)
+    time_offset: float = field(default=0.0, repr=False, compare=False)
+
+    @property
+    def p_in(self) -> float | None:
+        return None if self.decision is None else self.decision["p_in"]
+
+    @property
+    def distance_mm(self) -> float | None:
+        return None if self.decision is None else self.decision["distance_mm"]
+
+    def to_dict(self) -> dict:
+        d = self.decision or {}
+        out: dict = {"method": self.method}
+        out.update(self.extra)
+        out["bounce"] = self.bounce or {"x": None, "y": None, "t": None, "sigma_mm": None}
+        out["mark"] = self.mark
+        out["call"] = self.call
+        out["p_in"] = d.get("p_in")
+        out["distance_mm"] = d.get("distance_mm")
+        if "line" in d:
+            out["line"] = d["line"]
+        else:
+            out["target"] = d.get("target")
+        out["lines"] = d.get("lines", {})
+        out["provisional_call"] = self.provisional_call
+        out["review_reasons"] = list(self.review_reasons)
+        out["reason"] = "; ".join(self.review_reasons) or None
+        out["fit"] = self.fit
+        out["spin"] = self.spin
+        out["net"] = self.net
+        out["bounces"] = list(self.later_bounces)
+        out["n_bounces"] = (0 if self.bounce is None else 1) + len(self.later_bounces)
+        out["surface"] = self.surface
+        out["physics"] = self.physics
+        return jsonable(out)
+
+
+def physics_dict(params: FlightParams) -> dict:
+    return {
+        "aero": params.aero.name,
+        "mass": params.ball.mass,
+        "radius": params.ball.radius,
+        "air_density": params.atmosphere.density,
+        "gravity": params.atmosphere.gravity,
+        "wind": params.atmosphere.wind,
+    }
+
+
+def mark_dict(mark: BallMark) -> dict:
+    return {
+        "length": mark.length,
+        "width": mark.width,
+        "x": float(mark.center[0]),
+        "y": float(mark.center[1]),
+        "start_x": float(mark.start[0]),
+        "start_y": float(mark.start[1]),
+        "skid": mark.skid,
+        "compression": mark.compression,
+        "contact_time": mark.contact_time,
+        "direction": mark.direction,
+    }
+
+
+def spin_components(spin, velocity, cov=None, tracker_rpm: float | None = None) -> dict:
+    """Spin vector [rad/s] in the launch vocabulary of :mod:`tennislab.core.launch` relative to
+    ``velocity``: topspin (about h = unit(z x d); < 0 backspin), sidespin (about u = d x h; > 0 curves
+    the ball to its left) and along the path (about d), in rpm, with 1-sigma from ``cov``
+    (3x3 [rad^2/s^2]) and the tracker's signed rpm compared with the topspin component."""
+    w = np.asarray(spin, dtype=float)
+    _, a, b = describe_velocity(velocity)
+    h, u = spin_basis(a, b)
+    axes = np.vstack([h, u, direction(a, b)])
+    comp = axes @ w / RPM
+    out = {
+        "vector": w,
+        "rpm": float(np.linalg.norm(w) / RPM),
+        "topspin_rpm": float(comp[0]),
+        "sidespin_rpm": float(comp[1]),
+        "along_path_rpm": float(comp[2]),
+    }
+    if cov is not None:
+        c = axes @ np.asarray(cov, dtype=float) @ axes.T
+        sd = np.sqrt(np.clip(np.diag(c), 0.0, None)) / RPM
+        out["topspin_sigma_rpm"] = float(sd[0])
+        out["sidespin_sigma_rpm"] = float(sd[1])
+        out["along_path_sigma_rpm"] = float(sd[2])
+        nw = float(np.linalg.norm(w))
+        if nw > 0:
+            e = w / nw
+            out["rpm_sigma"] = float(math.sqrt(max(float(e @ np.asarray(cov) @ e), 0.0)) / RPM)
+        out["cov"] = np.asarray(cov, dtype=float)
+    if tracker_rpm is not None:
+        out["tracker_rpm"] = float(tracker_rpm)
+        out["topspin_minus_tracker_rpm"] = float(comp[0] - tracker_rpm)
+    return out
+
+
+def _check_track(t, xyz, sigma):
+    try:
+        t = np.asarray(t, dtype=float).reshape(-1)
+        xyz = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    except (TypeError, ValueError):
+        raise InputError("track: times must be (N,) and positions (N, 3) numbers") from None
+    if t.size != xyz.shape[0]:
+        raise InputError(f"track: {t.size} times but {xyz.shape[0]} positions")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(xyz))):
+        raise InputError("track: times and positions must be finite")
+    if t.size > 1 and np.any(np.diff(t) <= 0):
+        raise InputError("track: times must be strictly increasing")
+    if sigma is not None:
+        sig = np.broadcast_to(np.asarray(sigma, dtype=float), t.shape).copy()
+        if not np.all((sig > 0) & (sig <= 1.0)):
+            bad = float(sig[~((sig > 0) & (sig <= 1.0))][0])
+            raise InputError(f"sigma: {bad:g} m is outside the allowed range (0, 1] m")
+        sigma = sig
+    return t, xyz, sigma
+
+
+def review_call(reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None):
+    """A ``review`` answer without a bounce (the reasons say why)."""
+    surface = get_surface(surface)
+    return TrackCall(
+        method=method,
+        call="review",
+        provisional_call=None,
+        review_reasons=tuple(reasons),
+        decision=None,
+        bounce=None,
+        mark=None,
+        fit={"rms_mm": None, "outliers": 0, "n_points": n_points},
+        spin=None,
+        net=net,
+        later_bounces=(),
+        surface=surface.name,
+        physics=physics_dict(params),
+        extra=extra or {},
+        track=track,
+    )
+
+
+def quality_reasons(fit: TrackFit, t, noise: float) -> list[str]:
+    """Why a fit must not give a confident call (empty: none)."""
+    reasons = []
+    p = fit.p
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(fit.cov)) and np.isfinite(fit.rms)):
+        return ["fit diverged: non-finite parameters, covariance or residuals"]
+    v = float(np.linalg.norm(p[M.P_VIN]))
+    v0 = float(np.linalg.norm(fit.p_start[M.P_VIN]))
+    if v > MAX_SPEED or abs(v - v0) > SPEED_TOL[0] * v0 + SPEED_TOL[1]:
+        reasons.append(f"fit diverged: incoming speed {v:.1f} m/s where the data say {v0:.1f} m/s")
+    pre_t = t[fit.segment == M.SEG_PRE]
+    if pre_t.size and fit.t_bounce - pre_t.max() > MAX_EXTRAPOLATION:
+        reasons.append(f"bounce extrapolated {fit.t_bounce - pre_t.max():.2f} s beyond the last sample before it")
+    if pre_t.size and fit.t_bounce < pre_t.min():
+        reasons.append("fit diverged: the bounce lies before the track")
+    ref = max(noise, NOISE_FLOOR) if np.isfinite(noise) else max(fit.noise, NOISE_FLOOR)
+    lim = max(MISFIT_SIGMA * math.sqrt(3.0) * ref, MISFIT_MIN)
+    if fit.rms > lim:
+        reasons.append(f"model misfit: residual rms {fit.rms * 1e3:.1f} mm against a noise of {ref * 1e3:.1f} mm")
+    if fit.rejection_capped:
+        reasons.append("most points rejected: more than a quarter of the points look like outliers")
+    return reasons
+
+
+def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float) -> dict:
+    return {
+        "rms_mm": fit.rms * 1000.0,
+        "outliers": int(fit.outlier.sum()),
+        "outlier_rows": np.nonzero(fit.outlier)[0],
+        "n_points": int(n_points),
+        "n_used": int(np.count_nonzero(fit.segment >= 0)),
+        "n_pre": fit.n_pre,
+        "n_post": fit.n_post,
+        "has_post_bounce": fit.has_post,
+        "velocity_out_from": fit.vout_source,
+        "chi2_dof": fit.chi2_dof,
+        "sigma_mm": float(np.nanmedian(fit.sigma) * 1000),
+        "noise_mm": noise * 1000.0,
+        "drag_scale": fit.drag_scale,
+        "drag_scale_sigma": fit.param_sigma(M.P_DRAG),
+        "lift_scale": fit.lift_scale,
+        "lift_scale_sigma": fit.param_sigma(M.P_LIFT),
+        **_effective_aero(fit),
+        "contact_offset_mm": fit.contact_offset * 1000,
+        "rejection_capped": fit.rejection_capped,
+        "converged": fit.converged,
+        "evaluations": fit.n_iter,
+        "elapsed_ms": elapsed * 1000,
+    }
+
+
+def _effective_aero(fit: TrackFit) -> dict:
+    """C_D and C_L the fitted flight used at the bounce: the aero model's at the incoming speed and spin,
+    times the fitted scales (``cd_effective``, ``cl_effective``)."""
+    v = float(np.linalg.norm(fit.velocity_in))
+    w = float(np.linalg.norm(fit.spin_in))
+    if not (np.isfinite(v) and np.isfinite(w)):
+        return {"cd_effective": None, "cl_effective": None}
+    aero = fit.params.aero
+    cd, cl = aero.kernel(v, w, fit.params.ball.radius, aero.params)
+    return {"cd_effective": float(cd) * fit.drag_scale, "cl_effective": float(cl) * fit.lift_scale}
+
+
+def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:
+    sb = np.sqrt(np.clip(np.diag(fit.cov)[:3], 0, None))
+    return {
+        "x": float(fit.p[M.P_XB]),
+        "y": float(fit.p[M.P_YB]),
+        "t": fit.t_bounce + t_ref,
+        "sigma_mm": fit.sigma_bounce * 1000.0,
+        "sigma_x_mm": sb[0] * 1000,
+        "sigma_y_mm": sb[1] * 1000,
+        "sigma_t_ms": sb[2] * 1000,
+        "cov_xy_m2": fit.bounce_cov,
+        "velocity_in": fit.velocity_in,
+        "spin_in": fit.spin_in,
+        "velocity_out": fit.velocity_out,
+        "spin_out": fit.spin_out,
+        "speed_in_ms": float(np.linalg.norm(fit.velocity_in)),
+    }
+
+
+def _options(window, contact_sigma):
+    w = check_vector("window", window, 2)
+    if not (0 < w[0] <= 100 and 0 <= w[1] <= 100):
+        raise InputError(f"window: ({w[0]:g}, {w[1]:g}) s is outside the allowed range (0, 100] x [0, 100] s")
+    cs = check_range("contact_sigma", contact_sigma, 0.0, 10.0, "ms")
+    return w, cs
+
+
+def call_track(
+    t,
+    xyz,
+    sigma=None,
+    *,
+    params: FlightParams | None = None,
+    surface="hard",
+    line: str | None = None,
+    target: str | None = None,
+    drag: str = "prior",
+    lift: str = "prior",
+    fit_drag: bool = False,
+    contact_sigma: float = 0.0,
+    window=(0.6, 0.3),
+    post: str = "auto",
+    serve: bool = False,
+    net_check: bool = True,
+    strict: bool = True,
+    tracker_spin_rpm: float | None = None,
+    mark_params: MarkParams = MarkParams(),
+    n_samples: int = N_SAMPLES,
+) -> TrackCall:
+    """Call one shot from its 3-D track (see the module docstring).
+
+    t [s] (N,), xyz [m] (N, 3) ball-centre positions in the court frame, sigma [m] per-axis noise
+    (scalar, (N,) or None: estimated); params: flight physics (:meth:`FlightParams.from_options`);
+    surface: court surface name; line / target: what to call against (default: the singles court of
+    the half the ball lands in); drag, lift, fit_drag: the aero scales of the fit
+    (:func:`~tennislab.linecall.fit.fit_track`); contact_sigma [ms]: prior sigma of the contact time
+    (0: trust the contact model); window (before, after) [s] around the bounce; serve: a serve (a net
+    cord landing in the target is a ``let``); net_check: look for net contact; strict: raise
+    :class:`InputError` on a track that cannot be fitted (``False``: answer ``review`` with the reason,
+    as for a rally's shots); tracker_spin_rpm: the tracker's signed spin, for comparison.
+    """
+    t0_clock = time.perf_counter()
+    params = params or FlightParams()
+    surf = get_surface(surface)
+    t, xyz, sigma = _check_track(t, xyz, sigma)
+    w, cs = _options(window, contact_sigma)
+    t_ref = float(t[0]) if t.size else 0.0
+    t = t - t_ref  # times relative to the first sample inside (absolute clocks lose precision)
+    if t.size < MIN_TRACK_POINTS:
+        msg = f"track: too few points ({t.size}); need at least {MIN_TRACK_POINTS}"
+        if strict:
+            raise InputError(msg)
+        return review_call([msg], params, surf, n_points=int(t.size), track=(t, xyz))
+    n_all = t.size
+    noise = float(np.median(sigma)) if sigma is not None else noise_from_differences(t, xyz)
+    direction = travel_direction(t, xyz)
+    net: NetCheck | None = check_net(t, xyz, params, direction) if net_check else None
+    net_d = None if net is None else net.to_dict(t_ref)
+    extra_reasons: list[str] = []
+    if net is not None and net.contact and not net.crossed:
+        return TrackCall(
+            method="track-fit",
+            call="net",
+            provisional_call=None,
+            review_reasons=(),
+            decision=None,
+            bounce=None,
+            mark=None,
+            fit={"rms_mm": None, "outliers": 0, "n_points": int(n_all)},
+            spin=None,
+            net=net_d,
+            later_bounces=(),
+            surface=surf.name,
+            physics=physics_dict(params),
+            track=(t, xyz),
+        )
+    sel = np.arange(t.size)
+    if net is not None and net.contact and net.resume >= 0:
+        sel = sel[net.resume :]
+    ts, xs = t[sel], xyz[sel]
+    bidx = find_bounces(ts, xs)
+    later: list[dict] = []
+    t_hint = None
+    if bidx:
+        t_hint = float(ts[bidx[0]])
+        if len(bidx) > 1:
+            for i in bidx[1:]:
+                tb, xb, yb = bounce_estimate(ts, xs, i, params.ball.radius)
+                later.append({"t": tb + t_ref, "x": xb, "y": yb})
+            cut = ts < ts[bidx[1]] - SECOND_BOUNCE_GAP
+            cut &= np.arange(ts.size) <= bidx[1] - 2
+            sel = sel[cut]
+            ts, xs = t[sel], xyz[sel]
+    sig_sel = None if sigma is None else sigma[sel]
+    try:
+        fit = fit_track(
+            ts,
+            xs,
+            sig_sel,
+            params,
+            surf,
+            drag=drag,
+            lift=lift,
+            fit_drag=fit_drag,
+            window=tuple(w),
+            contact_prior=cs / 1000.0,
+            post=post,
+            t_hint=t_hint,
+            mark_params=mark_params,
+        )
+    except InputError as exc:
+        if strict:
+            raise
+        return review_call([str(exc)], params, surf, net=net_d, n_points=int(n_all), track=(t, xyz))
+    reasons = quality_reasons(fit, ts, noise) + extra_reasons
+    mark = None
+    decision = None
+    if not any(r.startswith("fit diverged") for r in reasons) and np.all(np.isfinite(fit.velocity_out)):
+        mark = ball_mark(fit.bounce_xy, fit.velocity_in, fit.velocity_out, fit.spin_in, surf, params.ball, mark_params)
+        decision = call_mark(
+            mark, court=params.court, target=target, line=line, bounce_cov=fit.bounce_cov, n_samples=n_samples
+        )
+    elif not reasons:
+        reasons.append("fit diverged: no outgoing velocity")
+    provisional = None if decision is None else decision["call"]
+    if decision is not None and REVIEW_P[0] < decision["p_in"] < REVIEW_P[1]:
+        reasons.append(f"too close to call: p_in = {decision['p_in']:.2f}")
+    call = "review" if reasons else str(provisional)
+    if not reasons and serve and net is not None and net.contact and provisional == "in":
+        call = "let"
+    elapsed = time.perf_counter() - t0_clock
+    spin = spin_components(fit.spin_in, fit.velocity_in, fit.param_cov([6, 7, 8]), tracker_spin_rpm)
+    return TrackCall(
+        method="track-fit",
+        call=call,
+        provisional_call=provisional,
+        review_reasons=tuple(reasons),
+        decision=decision,
+        bounce=_bounce_dict(fit, t_ref),
+        mark=None if mark is None else mark_dict(mark),
+        fit=_fit_dict(fit, n_all, elapsed, noise),
+        spin=spin,
+        net=net_d,
+        later_bounces=tuple(later),
+        surface=surf.name,
+        physics=physics_dict(params),
+        fit_result=fit,
+        mark_result=mark,
+        track=(ts, xs),
+        time_offset=t_ref,
+    )
+
+
+def call_state(
+    position,
+    velocity,
+    spin=(0.0, 0.0, 0.0),
+    *,
+    params: FlightParams | None = None,
+    surface="hard",
+    line: str | None = None,
+    target: str | None = None,
+    method: str = "numeric",
+) -> TrackCall:
+    """Call the landing of a ball flown from a state: numerically (``method="numeric"``) or by seed
+    001's closed form (``"closed-form"``: its drop point with the numerical landing velocity)."""
+    params = params or FlightParams()
+    surf = get_surface(surface)
+    if method not in ("numeric", "closed-form"):
+        raise InputError(f"method: unknown {method!r}; allowed: numeric, closed-form")
+    position = check_vector("position", position)
+    velocity = check_vector("velocity", velocity)
+    spin = check_vector("spin", spin)
+    tr = fly(position, velocity, spin, params)
+    if tr.landing is None:
+        raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s (no bounce in range)")
+    land = tr.landing
+    extra: dict = {}
+    if method == "closed-form":
+        dp = closed_form_from_physics(position, velocity, spin, params)
+        pos = np.array([dp.x, dp.y])
+        t_land = dp.t
+        extra["closed_form"] = dp.as_dict()
+        extra["numeric"] = {"x": land.x, "y": land.y, "t": land.t}
+        extra["closed_form_error_mm"] = float(np.hypot(dp.x - land.x, dp.y - land.y) * 1000)
+    else:
+        pos = land.position[:2]
+        t_land = land.t
+    b = bounce(land.velocity, land.spin, surf, params.ball)
+    mark = ball_mark(pos, land.velocity, b.velocity_out, land.spin, surf, params.ball)
+    decision = call_mark(mark, court=params.court, target=target, line=line)
+    bnc = {
+        "x": float(pos[0]),
+        "y": float(pos[1]),
+        "t": float(t_land),
+        "sigma_mm": 0.0,
+        "velocity_in": land.velocity,
+        "spin_in": land.spin,
+        "velocity_out": b.velocity_out,
+        "spin_out": b.spin_out,
+        "mode": b.mode,
+    }
+    return TrackCall(
+        method=method,
+        call=decision["call"],
+        provisional_call=decision["call"],
+        review_reasons=(),
+        decision=decision,
+        bounce=bnc,
+        mark=mark_dict(mark),
+        fit={"rms_mm": None, "outliers": 0, "n_points": 0},
+        spin=spin_components(land.spin, land.velocity),
+        net=None,
+        later_bounces=(),
+        surface=surf.name,
+        physics=physics_dict(params),
+        extra=extra,
+        mark_result=mark,
+    )
+
+
+def call_detections(cameras, detections: dict, **kwargs) -> TrackCall:
+    """Triangulate 2-D detections from calibrated cameras and call the track (:func:`call_track`'s
+    keyword arguments).  ``cameras``: :class:`~tennislab.linecall.cameras.Camera` objects or the plain
+    camera records of :func:`tennislab.io.cameras.parse_cameras`."""
+    cams = cameras_from_records(cameras)
+    t, xyz, sig = triangulate_detections(cams, detections)
+    res = call_track(t, xyz, sig, **kwargs)
+    extra = dict(res.extra)
+    extra["cameras"] = {"n_cameras": len(cams), "n_triangulated": int(t.size)}
+    return replace(res, extra=extra)
