@@ -38,13 +38,14 @@ def _scipy_rate(S, p, n: int, repeats: int = 3) -> tuple[float, float]:
 
 def _first_class_rate(S, p, repeats: int) -> float:
     """Batch rate with the aero kernel called through a function pointer (no inlining)."""
-    from tennislab.core.events import NCOLS
+    from tennislab.core.events import NCOLS, event_array
     from tennislab.core.integrators import batch_kernel_fp
 
     out = np.empty((len(S), NCOLS))
     c = p.consts(2e-7, 2e-7)
-    batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, out[:1000])
-    return _best_rate(lambda: batch_kernel_fp(S, p.aero.kernel, p.aero.params, c, out), len(S), repeats)[0]
+    ev = event_array(p.events())
+    batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, ev, out[:1000])
+    return _best_rate(lambda: batch_kernel_fp(S, p.aero.kernel, p.aero.params, c, ev, out), len(S), repeats)[0]
 
 
 def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict:

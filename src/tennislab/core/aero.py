@@ -48,6 +48,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
+from tennislab.core._jit import JIT, JIT_DYNAMIC
 from tennislab.errors import InputError, check_range
 
 #: Numba signature of every aero kernel: (v [m/s], w [rad/s], r [m], params) -> (C_D, C_L)
@@ -96,16 +97,18 @@ def _kernel_key(kernel):
 
 
 def _core_digest() -> str:
-    """Short hash of the sources of :mod:`tennislab.core`.
+    """Short hash of the names, sizes and modification times of the sources of :mod:`tennislab.core`.
 
     It is part of the tag classes' names, hence of the cache keys of every
     kernel compiled for a tag: Numba only checks the date of the file that
     holds a cached function, not of the kernels compiled into it, so without
     this an edited C_D formula or right-hand side could run from a stale cache.
+    (File metadata, as Numba's own cache check uses: core reads no file.)
     """
     h = hashlib.sha256()
     for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
+        st = f.stat()
+        h.update(f"{f.name}:{st.st_size}:{st.st_mtime_ns};".encode())
     return h.hexdigest()[:10]
 
 
@@ -162,13 +165,13 @@ def _aero_coefficients_compiled(aero, v, w, r, p):
 
 # ---------------------------------------------------------------- kernels
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _constant_kernel(v, w, r, p):
     return p[0], p[1]
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _stepanek_kernel(v, w, r, p):
     # Seed 000 eqs 3-4 (Stepanek 1988).  p = (C_D0, a, b, h, q): C_D = C_D0 + 1/(a + b (v/rw)^h)^q
     rw = r * w
@@ -184,7 +187,7 @@ def _stepanek_kernel(v, w, r, p):
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _linear_lift_kernel(v, w, r, p):
     # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
     if v <= 0.0:
@@ -195,7 +198,7 @@ def _linear_lift_kernel(v, w, r, p):
     return p[0], cl
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
+@nb.njit(**JIT, inline="always")
 def _locate(p, off, n, x):
     """(cell index, fraction) of x on the grid p[off:off + n], clamped at its ends."""
     if n == 1 or x <= p[off]:
@@ -209,7 +212,7 @@ def _locate(p, off, n, x):
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _table_kernel(v, w, r, p):
     # p = [nv, nw, v_0..v_nv-1, w_0..w_nw-1, cd (nv*nw, row-major in v), cl (same)]
     nv = int(p[0])
@@ -353,9 +356,9 @@ def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str 
     function Numba cannot compile raises :class:`InputError`.
     """
     try:
-        jf = nb.njit(fn)
+        jf = nb.njit(**JIT_DYNAMIC)(fn)
 
-        @nb.njit(AERO_SIGNATURE)
+        @nb.njit(AERO_SIGNATURE, **JIT_DYNAMIC)
         def _wrapped(v, w, r, p):
             a, b = jf(v, w)
             return float(a), float(b)
