@@ -331,15 +331,17 @@ def _scipy_event(index: int, target: float, direction: float, terminal: bool, t0
     """A :class:`~tennislab.core.events.Event` as a ``solve_ivp`` event function.
 
     ``armed``: the component starts on its target moving away (a flight starting
-    on the ground going up); at t0 the function reports a value just on the
-    near side, so that SciPy brackets the real crossing, not the start.
-    (A closure, not a callable object: SciPy calls it at every step.)
+    on the ground going up); while it is still exactly on the target (at t0, and
+    after a first step too short to move it by one ulp) the function reports a
+    value just on the near side, so that SciPy brackets the real crossing, not
+    the start.  (A closure, not a callable object: SciPy calls it at every step.)
     """
     if armed:
         start = -direction * 1e-300
 
         def g(t, y):
-            return y[index] - target if t > t0 else start
+            v = y[index] - target
+            return v if (t > t0 and v != 0.0) else start
 
     else:
 
