@@ -51,7 +51,7 @@ def test_ball_into_the_net_stops_at_the_net(x0, vx, y0):
     c = tr.net_contact
     assert tr.landing is None and c is not None
     assert c.position[0] == pytest.approx(side * R, abs=1e-9)  # the ball's surface on the plane x = 0
-    assert c.z <= COURT.net_height(c.y)  # below the tape
+    assert c.z <= COURT.net_height(c.y) and c.part == "mesh"  # below the tape
     assert tr.net.result == "net" and tr.net.t == c.t and tr.net.clearance < 0
     assert tr.t[-1] == c.t and np.array_equal(tr.y[-1], np.concatenate([c.position, c.velocity, c.spin]))
     assert tb["status"][0] == STATUS_NET and tb.net_result[0] == "net" and not tb.ok[0]
@@ -74,17 +74,24 @@ def test_ball_clearing_the_net_is_unchanged():
     assert tb.net_contact is None and tb.net.result == "over"
 
 
-def test_tape_grazer_flies_on_and_is_reported_net():
-    """A ball whose surface reaches the net plane above the cord flies on (deflection not modelled);
-    its centre crosses less than r above the cord, so the crossing still says ``net``."""
+@pytest.mark.parametrize("dz", [0.5, 0.9])
+def test_ball_on_the_tape_stops_at_the_crossing(dz):
+    """A ball whose surface reaches the net plane above the cord but whose centre crosses x = 0 less
+    than r above it touches the tape: it stops at the crossing (the pass-through net says ``net``)."""
     h = COURT.net_height(0.0)
-    z0 = h + 0.5 * R
-    s = _state((-0.5, 0.0, z0), (20.0, 0.0, 9.81 * 0.025 / 2))  # level at the net, 0.025 s later
+    s = _state((-0.5, 0.0, h + dz * R), (20.0, 0.0, 9.81 * 0.025 / 2))  # level at the net, 0.025 s later
     tr = fly(s[:3], s[3:6], s[6:], STOP)
     tb = fly_batch(s, STOP)
-    assert tr.net_contact is None and tr.landing is not None
-    assert h < tr.net.z < h + R and tr.net.result == "net"
-    assert tb["status"][0] == STATUS_OK and tb.net_result[0] == "net"
+    c = tr.net_contact
+    assert c is not None and c.part == "tape" and tr.landing is None
+    assert c.position[0] == pytest.approx(0.0, abs=1e-9) and h < c.z < h + R
+    assert tr.net.result == "net" and -R < tr.net.clearance < 0
+    assert tb["status"][0] == STATUS_NET and tb["net_hit_x"][0] == pytest.approx(0.0, abs=1e-9)
+    assert tb["net_hit_z"][0] == pytest.approx(c.z, abs=1e-6)
+    ok = fly(s[:3], s[3:6], s[6:], PASS)
+    assert ok.landing is not None and ok.net.result == "net"  # without the obstacle: flies on, flagged net
+    above = _state((-0.5, 0.0, h + 1.2 * R), s[3:6])
+    assert fly(above[:3], above[3:6], above[6:], STOP).net_contact is None  # clears the tape
 
 
 def test_beyond_the_posts_there_is_no_net():
@@ -106,7 +113,7 @@ def test_ball_starting_inside_the_net_is_refused():
 def test_obstacle_columns_are_documented_and_nan_without_contact():
     assert {f"net_hit_{c}" for c in ("t", "x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")} <= set(COLUMNS)
     ev = event_array(OBSTACLE_EVENTS)
-    assert ev.shape[0] == 4 and ev.flags.writeable
+    assert ev.shape[0] == 5 and ev.flags.writeable
     tb = fly_batch(_state((-11.885, 0.0, 1.0), (30.0, 0.0, 5.0)), STOP)
     assert np.isnan(tb.data[0, COL["net_hit_t"] :]).all()
 
@@ -123,8 +130,9 @@ def test_obstacle_columns_are_documented_and_nan_without_contact():
     far=st.booleans(),
 )
 def test_obstacle_property_batch_equals_scipy(speed, elev, head, z0, y0, spin_rpm, ax, far):
-    """Every flight either meets the net (surface at x = -+r, at or below the cord, between the posts)
-    or is exactly the pass-through flight; both paths agree on which and where."""
+    """Every flight either meets the net (the mesh: surface at x = -+r at or below the cord; the tape:
+    centre crossing x = 0 less than r above it; between the posts) -- exactly the flights the
+    pass-through net calls ``net`` -- or is exactly the pass-through flight; both paths agree."""
     e, h = math.radians(elev), math.radians(head)
     sgn = -1.0 if far else 1.0
     v = speed * np.array([sgn * math.cos(e) * math.cos(h), math.cos(e) * math.sin(h), math.sin(e)])
@@ -136,13 +144,17 @@ def test_obstacle_property_batch_equals_scipy(speed, elev, head, z0, y0, spin_rp
     if tb["status"][0] == STATUS_NET:
         c = tr.net_contact
         assert c is not None and tr.landing is None
-        assert abs(c.position[0]) == pytest.approx(R, abs=1e-9)
-        assert abs(c.y) <= COURT.y_post and c.z <= COURT.net_height(c.y) + 1e-9
+        h = COURT.net_height(c.y)
+        assert abs(c.y) <= COURT.y_post
+        if c.part == "mesh":
+            assert abs(c.position[0]) == pytest.approx(R, abs=1e-9) and c.z <= h + 1e-9
+        else:
+            assert c.position[0] == pytest.approx(0.0, abs=1e-9) and h - 1e-9 <= c.z <= h + R + 1e-9
         assert tb["net_hit_y"][0] == pytest.approx(c.y, abs=1e-5)
         assert tb["net_hit_z"][0] == pytest.approx(c.z, abs=1e-5)
         assert tp.net_result[0] == "net"  # the pass-through flight agrees that it hit the net
     else:
-        assert tr.net_contact is None
+        assert tr.net_contact is None and tp.net_result[0] != "net"
         assert np.array_equal(tb.data[:, : COL["status"] + 1], tp.data[:, : COL["status"] + 1], equal_nan=True)
         if tr.landing is not None and tb.ok[0]:
             assert tb["land_x"][0] == pytest.approx(tr.landing.x, abs=1e-5)

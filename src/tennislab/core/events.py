@@ -16,16 +16,21 @@ The events of a flight (:data:`FLIGHT_EVENTS`):
 ``apex``     the highest point: v_z falls through 0 (the start if the ball starts going down).
 
 With the net as an obstacle (``FlightParams(net_obstacle=True)``,
-:data:`OBSTACLE_EVENTS`) one more:
+:data:`OBSTACLE_EVENTS`) two more, which end the flight where the ball meets
+the net (status :data:`STATUS_NET`, columns ``net_hit_*``):
 
-``net_hit``  the ball's surface reaches the net plane (centre at x = -r on the
-             near side, +r on the far side) at or below the top of the net,
-             h(y), between the posts: the ball meets the net there and the
-             flight ends (status :data:`STATUS_NET`).  A ball whose surface
-             reaches the plane above the cord flies on; if its centre then
-             crosses x = 0 less than r above the cord it grazes the tape and
-             the ``net`` crossing says so (``net`` result, negative clearance),
-             as without the obstacle (its deflection is not modelled).
+``net_hit``   the mesh: the ball's surface reaches the net plane (centre at
+              x = -r on the near side, +r on the far side) at or below the top
+              of the net, h(y), between the posts.
+``net_tape``  the tape: a ball whose surface reached the plane above the cord
+              has its centre cross x = 0 less than r above the cord (the
+              crossing the pass-through net calls ``net``).  Located at the
+              crossing: the first touch of the cord came up to r earlier along
+              the path (~1 ms at 30 m/s); what the cord does to the ball (a let,
+              a ball dropping back) is not modelled.
+
+So with the obstacle exactly the flights whose crossing says ``net`` without it
+end at the net, and every other flight is unchanged.
 
 Conventions shared by both paths:
 
@@ -117,10 +122,12 @@ class Event:
     radii : plus this many ball radii (on the start's side of the net plane for ``TOWARD`` events)
     direction : ``DOWN`` (falling through the target), ``UP`` or ``TOWARD`` (from the start's side)
     stop : ``NEVER`` (recorded, the flight goes on), ``ALWAYS`` (ends the flight) or
-        ``IF_NET`` (ends it when the ball is at or below the net's top between the posts;
-        recorded only then)
+        ``IF_NET`` (ends it when the centre is at most ``net_margin`` radii above the
+        net's top h(y) between the posts; recorded only then)
     status : the row's status when this event ends the flight
     record : state components recorded when it happens
+    columns : prefix of its batch columns (default: ``name``; two events may share them)
+    net_margin : see ``stop`` [ball radii]
     aim : the compiled path shortens the step that would reach it so that the step ends just
         past it (the ground: see :func:`tennislab.core.integrators._aim_at`); a position
         component falling (``DOWN``) only
@@ -135,6 +142,13 @@ class Event:
     status: int = STATUS_OK
     record: tuple[str, ...] = ()
     aim: bool = False
+    columns: str = ""
+    net_margin: float = 0.0
+
+    @property
+    def prefix(self) -> str:
+        """Prefix of the event's batch columns and its key in a trajectory's events."""
+        return self.columns or self.name
 
     def __post_init__(self):
         if self.component not in STATE_INDEX or any(c not in STATE_INDEX for c in self.record):
@@ -144,8 +158,8 @@ class Event:
         if self.aim and (self.direction != DOWN or STATE_INDEX[self.component] > 2):
             raise ValueError(f"event {self.name}: only a falling position component can be aimed at")
         for c in ("t", *self.record):
-            if f"{self.name}_{c}" not in COL:
-                raise ValueError(f"event {self.name}: no column {self.name}_{c} in COLUMNS")
+            if f"{self.prefix}_{c}" not in COL:
+                raise ValueError(f"event {self.name}: no column {self.prefix}_{c} in COLUMNS")
 
     @property
     def index(self) -> int:
@@ -165,19 +179,22 @@ class Event:
 LAND = Event("land", "z", radii=1.0, direction=DOWN, stop=ALWAYS, status=STATUS_OK, record=STATE, aim=True)
 NET = Event("net", "x", direction=TOWARD, record=("y", "z"))
 APEX = Event("apex", "vz", direction=DOWN, record=("x", "y", "z"))
-NET_CONTACT = Event("net_hit", "x", radii=1.0, direction=TOWARD, stop=IF_NET, status=STATUS_NET, record=STATE)
+NET_MESH = Event("net_hit", "x", radii=1.0, direction=TOWARD, stop=IF_NET, status=STATUS_NET, record=STATE)
+NET_TAPE = Event(
+    "net_tape", "x", direction=TOWARD, stop=IF_NET, status=STATUS_NET, record=STATE, columns="net_hit", net_margin=1.0
+)
 
 #: events of a flight with the net as a plane the ball passes through (the default)
 FLIGHT_EVENTS = (LAND, NET, APEX)
 #: events of a flight with the net as an obstacle
-OBSTACLE_EVENTS = (LAND, NET, APEX, NET_CONTACT)
+OBSTACLE_EVENTS = (LAND, NET, APEX, NET_MESH, NET_TAPE)
 
 # Layout of a row of the kernel's event array (all float64; codes and column indices as exact integers)
-EVENT_FIELDS = ("component", "target", "radii", "direction", "stop", "status", "aim", "t_col") + tuple(
+EVENT_FIELDS = ("component", "target", "radii", "direction", "stop", "status", "aim", "net_margin", "t_col") + tuple(
     f"col_{c}" for c in STATE
 )
-EV_COMPONENT, EV_TARGET, EV_RADII, EV_DIRECTION, EV_STOP, EV_STATUS, EV_AIM, EV_TCOL = range(8)
-EV_COL0 = 8  # EV_COL0 + i: column recording state component i, or -1
+EV_COMPONENT, EV_TARGET, EV_RADII, EV_DIRECTION, EV_STOP, EV_STATUS, EV_AIM, EV_MARGIN, EV_TCOL = range(9)
+EV_COL0 = 9  # EV_COL0 + i: column recording state component i, or -1
 NEVFIELDS = len(EVENT_FIELDS)
 #: most events a kernel handles (size of its per-event scratch)
 MAX_EVENTS = 8
@@ -201,9 +218,10 @@ def _event_array(events: tuple[Event, ...]) -> np.ndarray:
         a[i, EV_STOP] = ev.stop
         a[i, EV_STATUS] = ev.status
         a[i, EV_AIM] = 1.0 if ev.aim else 0.0
-        a[i, EV_TCOL] = COL[f"{ev.name}_t"]
+        a[i, EV_MARGIN] = ev.net_margin
+        a[i, EV_TCOL] = COL[f"{ev.prefix}_t"]
         for c in ev.record:
-            a[i, EV_COL0 + STATE_INDEX[c]] = COL[f"{ev.name}_{c}"]
+            a[i, EV_COL0 + STATE_INDEX[c]] = COL[f"{ev.prefix}_{c}"]
     a.setflags(write=False)
     return a
 
@@ -256,13 +274,16 @@ class NetCrossing:
 
 @dataclass(frozen=True)
 class NetContact:
-    """Where a ball met the net (``net_obstacle=True``): time [s], ball centre [m] (x = -+r),
-    velocity [m/s] and spin [rad/s] at the contact; the contact point on the net is (0, y, z)."""
+    """Where a ball met the net (``net_obstacle=True``): time [s], ball centre [m], velocity [m/s]
+    and spin [rad/s] at the contact, and ``part``: ``mesh`` (the centre at x = -+r, the contact
+    point (0, y, z) at or below the cord) or ``tape`` (the centre crossing x = 0 less than r
+    above the cord, the contact point on the cord, (0, y, h(y)))."""
 
     t: float
     position: np.ndarray
     velocity: np.ndarray
     spin: np.ndarray
+    part: str = "mesh"
 
     @property
     def y(self) -> float:

@@ -101,8 +101,8 @@ class FlightParams:
     t_max : longest flight integrated [s]
     net_obstacle : False (default): the ball passes through the net plane and the
         crossing says whether it cleared the net (``net.result``); True: a ball
-        meeting the net stops there (the ``net_hit`` event, status ``STATUS_NET``;
-        :mod:`tennislab.core.events`)
+        meeting the net (mesh or tape) stops there (status ``STATUS_NET``, the
+        ``net_hit_*`` columns; :mod:`tennislab.core.events`)
     """
 
     ball: Ball = field(default_factory=Ball)
@@ -308,23 +308,27 @@ def check_start(y0: np.ndarray, params: FlightParams) -> None:
     spin = math.hypot(*y0[6:9])
     if spin > MAX_SPIN:
         raise InputError(f"spin: {spin / RPM:g} rpm is outside the allowed range [0, {MAX_SPIN_RPM:g}] rpm")
-    if params.net_obstacle and abs(y0[0]) < r and _blocks(y0, params):
+    # (the events' own rule: past the mesh event, or on the plane within r of the cord)
+    inside = (abs(y0[0]) < r and _blocks(y0, params)) or (y0[0] == 0 and _blocks(y0, params, 1.0))
+    if params.net_obstacle and inside:
         raise InputError(
             f"position: a ball at x = {y0[0]:g} m, z = {y0[2]:g} m overlaps the net "
             f"(|x| < r = {r:g} m at or below the net's top); start it clear of the net"
         )
 
 
-def _blocks(y, params: FlightParams) -> bool:
+def _blocks(y, params: FlightParams, margin: float = 0.0) -> bool:
+    """Whether a ball centred at ``y`` is at most ``margin`` radii above the net's top, between the posts."""
     c = params.court
-    return bool(net_blocks(float(y[1]), float(y[2]), c.net_center_height, c.net_post_height, c.y_post))
+    z = float(y[2]) - margin * params.ball.radius
+    return bool(net_blocks(float(y[1]), z, c.net_center_height, c.net_post_height, c.y_post))
 
 
 def _stops(ev: Event, y, params: FlightParams) -> bool:
-    """Whether ``ev`` ends the flight when it happens at state ``y`` (as the kernel's ``_stops``)."""
+    """Whether ``ev`` ends the flight when it happens at state ``y`` (as the kernel's ``_stops_at``)."""
     if ev.stop == ALWAYS:
         return True
-    return ev.stop == IF_NET and _blocks(y, params)
+    return ev.stop == IF_NET and _blocks(y, params, ev.net_margin)
 
 
 def _scipy_event(index: int, target: float, direction: float, terminal: bool, t0: float, armed: bool):
@@ -447,9 +451,9 @@ def fly(
             if d * f0 > 0:  # (check_start refuses these with a clearer message)
                 raise InputError(f"position: the launch is beyond the {ev.name} event")
             stop_ev = stop_ev or ev
-            occ[ev.name] = (t0, y0.copy())
+            occ[ev.prefix] = (t0, y0.copy())
         elif ev.stop != IF_NET:
-            occ[ev.name] = (t0, y0.copy())
+            occ[ev.prefix] = (t0, y0.copy())
     if stop_ev is not None:  # ends where it starts (a ball on the ground, not going up)
         ts, ys, sol = np.array([t0]), y0[None, :].copy(), _Constant(y0)
     else:
@@ -482,18 +486,18 @@ def fly(
                 t_stop, stop_ev = te, ev
         for ev, te, ye in first:
             if ye is not None and te <= t_stop and (ev.stop != IF_NET or ev is stop_ev):
-                occ[ev.name] = (te, np.asarray(ye, dtype=float).copy())
+                occ[ev.prefix] = (te, np.asarray(ye, dtype=float).copy())
         if stop_ev is not None and stop_ev.stop == IF_NET:  # the flight ends at the net: cut the steps there
             keep = ts < t_stop
             ts = np.append(ts[keep], t_stop)
-            ys = np.vstack([ys[keep], occ[stop_ev.name][1]])
+            ys = np.vstack([ys[keep], occ[stop_ev.prefix][1]])
     if not (np.all(np.isfinite(ys)) and all(np.all(np.isfinite(v)) for _, v in occ.values())):
         raise InputError("flight: the integration produced a non-finite state (inputs too extreme)")
     return _trajectory(ts, ys, sol, occ, params)
 
 
 def _trajectory(ts, ys, sol, occ: dict, params: FlightParams) -> Trajectory:
-    """The :class:`Trajectory` of recorded events ``occ`` (event name -> (t, state))."""
+    """The :class:`Trajectory` of recorded events ``occ`` (event column prefix -> (t, state))."""
     landing = None
     if "land" in occ:
         t, s = occ["land"]
@@ -501,7 +505,8 @@ def _trajectory(ts, ys, sol, occ: dict, params: FlightParams) -> Trajectory:
     contact = None
     if "net_hit" in occ:
         t, s = occ["net_hit"]
-        contact = NetContact(t, s[0:3].copy(), s[3:6].copy(), s[6:9].copy())
+        part = "tape" if abs(s[0]) < 0.5 * params.ball.radius else "mesh"
+        contact = NetContact(t, s[0:3].copy(), s[3:6].copy(), s[6:9].copy(), part)
         net = _net_crossing(t, s, params)
     elif "net" in occ:
         t, s = occ["net"]

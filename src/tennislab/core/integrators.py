@@ -30,6 +30,7 @@ from tennislab.core.events import (
     EV_COL0,
     EV_COMPONENT,
     EV_DIRECTION,
+    EV_MARGIN,
     EV_RADII,
     EV_STATUS,
     EV_STOP,
@@ -241,7 +242,8 @@ def _stops_at(ev, e, y_, z_, c):
     if stop == ALWAYS:
         return True
     if stop == IF_NET:
-        return net_blocks(y_, z_, c.net_center_height, c.net_post_height, c.net_y_post)
+        zz = z_ - ev[e, EV_MARGIN] * c.radius
+        return net_blocks(y_, zz, c.net_center_height, c.net_post_height, c.net_y_post)
     return False
 
 
