@@ -15,7 +15,7 @@
    10^6 and 10^8 rows, and through a 2-worker LocalCluster at 10^6 and 10^7
    rows (client RSS: at most 2 x threads chunks in flight).
 
-Run: ``python benchmarks/bench_batch.py [--full] [--n-throughput N]``.
+Run: ``python benchmarks/bench_batch.py [--full | --quick] [--n-throughput N] [--skip-memory]``.
 """
 
 from __future__ import annotations
@@ -270,6 +270,7 @@ def main(argv=()) -> dict:
     p.add_argument("--full", action="store_true", help="also measure the 10^8-shot run")
     p.add_argument("--n-throughput", type=int, default=400_000)
     p.add_argument("--skip-memory", action="store_true")
+    p.add_argument("--quick", action="store_true", help="memory at N = 1e5 and 1e6 only (minutes, not hours)")
     p.add_argument("--_memory-child", nargs=4, metavar=("N", "OUT", "FN", "SCHED"), help=argparse.SUPPRESS)
     a = p.parse_args(list(argv))
     if a._memory_child:
@@ -277,10 +278,10 @@ def main(argv=()) -> dict:
         return {}
     res = {"throughput": throughput(a.n_throughput)}
     if not a.skip_memory:
-        sizes = [10**5, 10**6, 10**7] + ([10**8] if a.full else [])
+        sizes = [10**5, 10**6] if a.quick else [10**5, 10**6, 10**7] + ([10**8] if a.full else [])
         res["memory"] = memory(sizes)
-        res["memory_machinery"] = memory([10**6, 10**8], fn_name="vacuum")
-        res["memory_dask"] = memory([10**6, 10**7], fn_name="vacuum", scheduler="processes")
+        res["memory_machinery"] = memory([10**6] if a.quick else [10**6, 10**8], fn_name="vacuum")
+        res["memory_dask"] = memory([10**6] if a.quick else [10**6, 10**7], fn_name="vacuum", scheduler="processes")
     return res
 
 

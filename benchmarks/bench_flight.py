@@ -28,6 +28,16 @@ def _best_rate(fn, n: int, repeats: int) -> tuple[float, float]:
     return max(rates), float(np.median(rates))
 
 
+def _cpu_per_traj(fn, n: int, repeats: int) -> float:
+    """Least CPU time (all threads of this process) per trajectory over ``repeats`` calls [s]."""
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.process_time()
+        fn()
+        best = min(best, (time.process_time() - t0) / n)
+    return best
+
+
 def _scipy_rate(S, p, n: int, repeats: int = 3) -> tuple[float, float]:
     def run():
         for i in range(n):
@@ -38,13 +48,14 @@ def _scipy_rate(S, p, n: int, repeats: int = 3) -> tuple[float, float]:
 
 def _first_class_rate(S, p, repeats: int) -> float:
     """Batch rate with the aero kernel called through a function pointer (no inlining)."""
-    from tennislab.core.events import NCOLS
+    from tennislab.core.events import NCOLS, event_array
     from tennislab.core.integrators import batch_kernel_fp
 
     out = np.empty((len(S), NCOLS))
     c = p.consts(2e-7, 2e-7)
-    batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, out[:1000])
-    return _best_rate(lambda: batch_kernel_fp(S, p.aero.kernel, p.aero.params, c, out), len(S), repeats)[0]
+    ev = event_array(p.events())
+    batch_kernel_fp(S[:1000], p.aero.kernel, p.aero.params, c, ev, out[:1000])
+    return _best_rate(lambda: batch_kernel_fp(S, p.aero.kernel, p.aero.params, c, ev, out), len(S), repeats)[0]
 
 
 def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict:
@@ -84,6 +95,19 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict
     print(
         f"flight: max landing error vs DOP853 rtol 1e-10 reference = {res['max_landing_error_mm']:.5f} mm "
         f"(target 0.01 mm)"
+    )
+    # CPU time on one thread each: far less sensitive to other processes on a shared machine than
+    # wall-clock rates (the batch's two threads suffer most from a busy machine)
+    cb = _cpu_per_traj(lambda: fly_batch(S[:200_000], p, parallel=False), 200_000, repeats)
+    cs = _cpu_per_traj(
+        lambda: [fly(s[:3], s[3:6], s[6:], p, method="RK45", rtol=1e-8, atol=1e-8) for s in S[:n_scipy]],
+        n_scipy,
+        repeats,
+    )
+    res["cpu_ratio_one_thread"] = cs / cb
+    print(
+        f"flight: CPU time per trajectory on one thread: batch {cb * 1e6:.3f} us, SciPy {cs * 1e3:.3f} ms, "
+        f"ratio {cs / cb:,.0f}x (x2 on 2 idle cores; load-independent check)"
     )
     rf = _first_class_rate(S[:300_000], p, repeats)
     res["inline_gain"] = rate_batch / rf

@@ -2,7 +2,7 @@
 
 Target (issue 2): landing point within 0.01 mm of the reference (DOP853, rtol 1e-10) for serves,
 groundstrokes and lobs with up to 6000 rpm about any axis.  The shots are those of
-tests/test_flight_accuracy.py (serves 30-60 m/s, groundstrokes 15-40 m/s, lobs 12-25 m/s at 25-60 deg,
+tests/core/test_flight_accuracy.py (serves 30-60 m/s, groundstrokes 15-40 m/s, lobs 12-25 m/s at 25-60 deg,
 spin 0-6000 rpm about uniformly random axes), many more of them.  Prints, per model and tolerance, the
 maximum, 99th percentile and mean landing difference and the mean number of accepted steps.
 
@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "core"))
 from test_flight_accuracy import shot_states
 
 from tennislab.core.aero import get_aero_model

@@ -8,11 +8,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tennislab.core.ball import Ball
-from tennislab.core.bounce import bounce, bounce_batch
+from tennislab.core.bounce import bounce, bounce_batch, court_pace_rating
 from tennislab.core.flight import FlightParams
 from tennislab.core.mark import ball_mark, contact_displacement, depth_in_halfplane, depth_in_rect
 from tennislab.core.rally import fly_bounces, fly_bounces_batch
-from tennislab.core.surfaces import Surface, court_pace_rating, cpr_category, cpr_formula, get_surface, surface_names
+from tennislab.core.surfaces import Surface, cpr_category, cpr_formula, get_surface, surface_names
 from tennislab.errors import InputError
 
 BALL = Ball()

@@ -188,7 +188,7 @@ def _shots(n=60, seed=4):
 def test_inlined_kernels_agree_with_first_class_path(model):
     """The per-model kernels (formula inlined) compute what the shared pointer-calling kernel does."""
     from tennislab.core.aero import inline_tag
-    from tennislab.core.events import COL, NCOLS
+    from tennislab.core.events import COL, NCOLS, event_array
     from tennislab.core.flight import FlightParams, fly_batch
     from tennislab.core.integrators import batch_kernel_fp, serial_kernel_fp
 
@@ -200,7 +200,7 @@ def test_inlined_kernels_agree_with_first_class_path(model):
     assert np.nanmax(np.abs(inl - fly_batch(s, p, parallel=False).data)) < 1e-12
     for kern in (batch_kernel_fp, serial_kernel_fp):
         fp = np.empty((len(s), NCOLS))
-        kern(s, model.kernel, model.params, p.consts(2e-7, 2e-7), fp)
+        kern(s, model.kernel, model.params, p.consts(2e-7, 2e-7), event_array(p.events()), fp)
         assert np.array_equal(inl[:, COL["status"]], fp[:, COL["status"]])
         assert np.array_equal(inl[:, COL["n_steps"]], fp[:, COL["n_steps"]])
         # same arithmetic up to floating-point contraction: far below the integration tolerance

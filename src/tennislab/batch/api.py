@@ -17,6 +17,7 @@ import dataclasses
 import functools
 import hashlib
 import json
+import os
 import time
 from dataclasses import dataclass
 
@@ -25,7 +26,7 @@ import numpy as np
 from tennislab.batch.progress import ProgressBar, progress_enabled
 from tennislab.batch.schedulers import check_scheduler, get_runner
 from tennislab.batch.sources import as_source, default_chunk_size, hash_arrays, is_indexable
-from tennislab.batch.store import ChunkStore
+from tennislab.batch.store import MANIFEST, ChunkStore, load_manifest
 from tennislab.errors import InputError
 
 
@@ -192,8 +193,9 @@ def run_batch(
         chunk_size = int(chunk_size or default_chunk_size(source.n_rows))
     else:
         chunk_size = None
+    ok = False
     try:
-        return _run(
+        res = _run(
             fn,
             source,
             scheduler,
@@ -212,9 +214,13 @@ def run_batch(
             skip,
             max_chunks,
         )
+        ok = True
+        return res
     finally:
         if store is not None:
             store.close()
+            if not ok:  # a run that failed before writing any part leaves no directory it created
+                store.discard_if_unused()
 
 
 def _run(
@@ -251,7 +257,7 @@ def _run(
 
     bar = ProgressBar(n_total, desc=desc, enabled=progress_enabled(progress))
     results: dict[int, dict] = {}
-    schema = {}
+    schema: dict = {}
     counts = {"computed": 0, "skipped": 0, "seen": 0, "restored": 0, "taken": 0, "cut": False}
     if indexable:  # counted up front: a max_chunks run stops scanning early
         counts["skipped"] = sum(1 for i in have if 0 <= i < n_total)
@@ -443,18 +449,14 @@ def map_chunks(
 
 
 def _existing_chunk_size(out) -> int | None:
-    import os
-
-    from tennislab.batch.store import MANIFEST
-
-    path = os.path.join(os.fspath(out), MANIFEST)
-    if not os.path.exists(path):
+    """The chunk size recorded in ``out``'s manifest, if it has a readable one (else the store refuses it)."""
+    if not os.path.isfile(os.path.join(os.fspath(out), MANIFEST)):
         return None
     try:
-        with open(path) as fh:
-            return json.load(fh).get("chunk_size")
-    except (OSError, json.JSONDecodeError):
+        size = load_manifest(out).get("chunk_size")
+    except InputError:
         return None
+    return size if isinstance(size, int) and size >= 1 else None
 
 
 def _check_schema(schema: dict, res: dict, fn) -> None:

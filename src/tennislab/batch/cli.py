@@ -14,7 +14,7 @@ from tennislab.errors import InputError
 
 def _scheduler_arg(text: str) -> str:
     try:
-        return check_scheduler(text)
+        return str(check_scheduler(text))
     except InputError as exc:
         raise argparse.ArgumentTypeError(str(exc).partition(": ")[2]) from None
 

@@ -24,7 +24,7 @@ chunk instead (each Parquet part records the hash of its input chunk).
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sized
 
 import numpy as np
 
@@ -52,7 +52,7 @@ def hash_arrays(arrays: dict[str, np.ndarray], h=None) -> str:
     for name in sorted(arrays):
         a = np.ascontiguousarray(arrays[name])
         h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
-        h.update(memoryview(a).cast("B") if a.size else b"")
+        h.update(a.data.cast("B") if a.size else b"")  # no copy
     return h.hexdigest()
 
 
@@ -60,7 +60,7 @@ def check_chunk_dict(name: str, chunk) -> int:
     """Validate a dict of equal-length arrays; return its number of rows."""
     if not isinstance(chunk, dict) or not chunk:
         raise InputError(f"{name}: expected a non-empty dict of equal-length arrays, got {type(chunk).__name__}")
-    n = None
+    n: int | None = None
     for key, a in chunk.items():
         if not isinstance(key, str):
             raise InputError(f"{name}: column names must be strings, got {key!r}")
@@ -70,7 +70,7 @@ def check_chunk_dict(name: str, chunk) -> int:
             n = a.shape[0]
         elif a.shape[0] != n:
             raise InputError(f"{name}[{key!r}]: has {a.shape[0]} rows, expected {n} like the other columns")
-    return int(n)
+    return int(n or 0)
 
 
 class ArraySource:
@@ -83,7 +83,7 @@ class ArraySource:
         arrays = {k: np.asarray(v) for k, v in arrays.items()} if isinstance(arrays, dict) else arrays
         self.n_rows = check_chunk_dict("inputs", arrays)
         self.arrays = arrays
-        self._fp = None
+        self._fp: str | None = None
 
     def n_chunks(self, chunk_size: int) -> int:
         return -(-self.n_rows // chunk_size)
@@ -112,7 +112,7 @@ class StreamSource:
 
     def __init__(self, chunks: Iterable[dict], n_chunks: int | None = None):
         self.chunks = chunks
-        if n_chunks is None and hasattr(chunks, "__len__"):
+        if n_chunks is None and isinstance(chunks, Sized):
             n_chunks = len(chunks)
         self._n_chunks = n_chunks
 

@@ -1,36 +1,53 @@
-"""Resumable Parquet output: one file per chunk plus a manifest.
+"""Resumable Parquet output: one file per chunk plus a manifest that vouches for each.
 
 Layout of an output directory::
 
-    manifest.json          what the job is (fn, inputs fingerprint, chunk size, ...)
+    manifest.json          what the job is (fn, inputs fingerprint, chunk size, ...) and,
+                           once complete, every part's row count, size and checksum
     part-00000.parquet     outputs of chunk 0 (rows [0, c))
     part-00001.parquet     ...
+    .ledger.jsonl          while the job is incomplete: one line per finished part
+                           {"part", "rows", "bytes", "blake2b"} (folded into the manifest at the end)
+    .lock                  held by the run writing the directory
 
-Every file is written to a temporary name and renamed, so a part either exists
-complete or not at all: a rerun (after a crash, Ctrl-C or a lost worker)
-skips the parts that exist and computes the others.  A rerun that describes a
-different job (other inputs, function, chunk size) is refused with
-:class:`InputError` -- results of two jobs are never mixed.  Each part's
-Parquet metadata records its chunk index, row range and the hash of its input
-chunk (checked on resume for stream sources, which have no up-front
-fingerprint).
+A part is written to a temporary name (``.part-00000.parquet.tmp-XXXX``), flushed
+to disk (fsync), renamed into place, and only then recorded in the ledger
+(fsync again).  A part counts as finished only if its size and BLAKE2b checksum
+match its record: a zero-byte, truncated or bit-flipped part, or one written but
+not yet recorded when the run was killed, is computed again on a rerun, and
+:func:`read_output` refuses a damaged one.  A rerun that describes a different job
+(other inputs, function, chunk size, format) is refused with :class:`InputError`
+-- results of two jobs are never mixed; a ``manifest.json`` that is not a
+manifest (e.g. ``[]``) is one line too.
+
+Files are only ever removed when they belong to the job: leftover temporary
+parts of *this* job (matching names) after its manifest was found to match.  A
+refused start creates nothing (a directory that holds files but no manifest, or
+another job's, is left exactly as it was) and a run that fails before writing
+its first part removes the directory it created.  Files are created with the
+user's umask (0644 typically).
 """
 
 from __future__ import annotations
 
-import glob
+import hashlib
 import json
 import os
 import re
+import secrets
+from typing import IO
 
 import numpy as np
 
 from tennislab.errors import InputError
-from tennislab.io.files import atomic_path
 
 MANIFEST = "manifest.json"
-FORMAT = "tennislab.batch/1"
+LEDGER = ".ledger.jsonl"
+LOCK = ".lock"
+FORMAT = "tennislab.batch/2"
 _PART_RE = re.compile(r"^part-(\d{5,})\.parquet$")
+#: temporary files this module writes (and may remove): ``.<final name>.tmp-<random>``
+_TMP_RE = re.compile(r"^\.(part-\d{5,}\.parquet|manifest\.json)\.tmp-[0-9a-f]{16}$")
 #: manifest keys that must agree for a rerun to resume into the same directory
 IDENTITY_KEYS = (
     "format",
@@ -44,7 +61,11 @@ IDENTITY_KEYS = (
     "row_key",
     "include_inputs",
 )
+#: manifest keys that describe the run's state, not the job
+_STATE_KEYS = ("complete", "n_chunks", "total_rows", "parts")
 _META_KEY = b"tennislab.batch"
+#: largest manifest read [bytes]
+_MAX_MANIFEST = 64 * 1024 * 1024
 
 
 def _pa():
@@ -89,45 +110,180 @@ def table_to_outputs(table, columns=None) -> dict[str, np.ndarray]:
     return out
 
 
+# ------------------------------------------------------------------ files
+def _checksum(data: bytes) -> str:
+    return hashlib.blake2b(data, digest_size=16).hexdigest()
+
+
+def _fsync_dir(path: str) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:  # pragma: no cover - not POSIX
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover - some file systems refuse fsync on directories
+        pass
+    finally:
+        os.close(fd)
+
+
+def write_durable(path: str, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically and durably, with the user's umask.
+
+    A temporary file ``.<name>.tmp-<random>`` beside ``path`` (created with mode
+    0666 & ~umask), fsync, rename, fsync of the directory.
+    """
+    d, name = os.path.split(os.path.abspath(path))
+    tmp = os.path.join(d, f".{name}.tmp-{secrets.token_hex(8)}")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    _fsync_dir(d)
+
+
+def _load_json(path: str, what: str):
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(_MAX_MANIFEST + 1)
+    except OSError as exc:
+        raise InputError(f"out: {path}: {exc.strerror or exc}") from None
+    if len(raw) > _MAX_MANIFEST:
+        raise InputError(f"out: {path} is too large to be a tennislab {what}")
+    try:
+        return json.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError):
+        raise InputError(f"out: {path} is not a tennislab {what} (not JSON)") from None
+
+
+def load_manifest(path: str) -> dict:
+    """The manifest of output directory ``path`` (validated: a JSON object with this format's keys)."""
+    mpath = os.path.join(os.fspath(path), MANIFEST)
+    man = _load_json(mpath, "batch manifest")
+    if not isinstance(man, dict) or not isinstance(man.get("format"), str):
+        raise InputError(f"out: {mpath} is not a tennislab batch manifest")
+    if man["format"] != FORMAT:
+        raise InputError(f"out: {path} was written by another version of tennislab ({man['format']}, now {FORMAT})")
+    parts = man.get("parts", {})
+    if not isinstance(parts, dict) or not all(_valid_record(r) for r in parts.values()):
+        raise InputError(f"out: {mpath} is damaged (malformed part records)")
+    return man
+
+
+def _valid_record(r) -> bool:
+    return (
+        isinstance(r, dict)
+        and isinstance(r.get("rows"), int)
+        and isinstance(r.get("bytes"), int)
+        and isinstance(r.get("blake2b"), str)
+    )
+
+
 class ChunkStore:
     """The output directory of one job (see module docstring)."""
 
     def __init__(self, path: str, manifest: dict, *, lock: bool = False):
-        self.path = os.fspath(path)
-        self._lock_fh = None
         from tennislab import __version__
 
-        self.manifest = dict(manifest, format=FORMAT, tennislab=__version__)
-        mpath = os.path.join(self.path, MANIFEST)
-        if os.path.isfile(self.path):
+        self.path = os.fspath(path)
+        self._lock_fh: IO | None = None
+        self._created = False
+        self._records: dict[int, dict] = {}
+        self._verified: set[int] = set()
+        self._written = 0
+        job = {k: v for k, v in manifest.items() if k not in _STATE_KEYS}
+        self.manifest = dict(job, format=FORMAT, tennislab=__version__)
+        if os.path.exists(self.path) and not os.path.isdir(self.path):
             raise InputError(f"out: {self.path} is a file, expected a directory")
-        os.makedirs(self.path, exist_ok=True)
-        if lock:
-            self._lock()
+        if os.path.isdir(self.path):
+            self._check_existing()  # refuse before creating anything
+        else:
+            try:
+                os.makedirs(self.path)
+            except OSError as exc:
+                raise InputError(f"out: cannot create {self.path}: {exc.strerror or exc}") from None
+            self._created = True
         try:
-            self._open(mpath)
+            if lock:
+                self._lock()
+            self._open()
         except BaseException:
             self.close()
+            self.discard_if_unused()
             raise
 
-    def _open(self, mpath: str) -> None:
-        for tmp in glob.glob(os.path.join(self.path, ".tmp-*")):  # leftovers of a killed run
-            os.unlink(tmp)
-        if os.path.exists(mpath):
-            with open(mpath) as fh:
-                try:
-                    old = json.load(fh)
-                except json.JSONDecodeError:
-                    raise InputError(f"out: {mpath} is not a tennislab batch manifest") from None
-            self._check_same_job(old)
-            self.manifest["complete"] = old.get("complete", False) and self.manifest.get("n_chunks") == old.get(
-                "n_chunks"
-            )
-        else:
-            if [n for n in os.listdir(self.path) if n != ".lock"]:
-                raise InputError(f"out: {self.path} is not empty and has no {MANIFEST}; use an empty or new directory")
+    # -------------------------------------------------------------- opening
+    def _mpath(self) -> str:
+        return os.path.join(self.path, MANIFEST)
+
+    def _check_existing(self) -> None:
+        """Refuse another job's directory or a foreign non-empty one (nothing touched)."""
+        if os.path.exists(self._mpath()):
+            self._check_same_job(load_manifest(self.path))
+        elif [n for n in os.listdir(self.path) if n != LOCK]:
+            raise InputError(f"out: {self.path} is not empty and has no {MANIFEST}; use an empty or new directory")
+
+    def _open(self) -> None:
+        if not os.path.exists(self._mpath()):  # new job (re-checked under the lock)
+            self._check_existing()
             self.manifest["complete"] = False
             self._write_manifest()
+            return
+        old = load_manifest(self.path)
+        self._check_same_job(old)
+        for name in os.listdir(self.path):  # leftovers of a killed run of this job
+            if _TMP_RE.match(name):
+                os.unlink(os.path.join(self.path, name))
+        self._records = {int(k): v for k, v in old.get("parts", {}).items()}
+        self._records.update(self._read_ledger())
+        self._verified = {i for i in self._records if self._verify(i)}
+        n = old.get("n_chunks")
+        complete = bool(old.get("complete")) and isinstance(n, int) and self._verified.issuperset(range(n))
+        self.manifest.update({k: old[k] for k in ("n_chunks", "total_rows") if k in old})
+        self.manifest["complete"] = complete
+        if old.get("complete") and not complete:  # a damaged part: no longer complete until recomputed
+            self._write_manifest()
+
+    def _read_ledger(self) -> dict[int, dict]:
+        path = os.path.join(self.path, LEDGER)
+        out: dict[int, dict] = {}
+        if not os.path.exists(path):
+            return out
+        with open(path, "rb") as fh:
+            for line in fh:
+                try:
+                    rec = json.loads(line.decode("utf-8"))
+                except (UnicodeDecodeError, ValueError):
+                    continue  # a line torn by a crash: its part is simply not trusted
+                if isinstance(rec, dict) and isinstance(rec.get("part"), int) and _valid_record(rec):
+                    out[rec["part"]] = {k: rec[k] for k in ("rows", "bytes", "blake2b")}
+        return out
+
+    def _expected_rows(self, i: int) -> int | None:
+        c, n = self.manifest.get("chunk_size"), self.manifest.get("n_rows")
+        if not isinstance(c, int) or not isinstance(n, int):
+            return None  # a stream: chunk lengths are not known up front
+        return max(0, min(c, n - i * c))
+
+    def _verify(self, i: int) -> bool:
+        """Whether part ``i`` on disk is the one its record describes (size, checksum, row count)."""
+        rec = self._records.get(i)
+        path = self.part_path(i)
+        if rec is None or not os.path.isfile(path) or os.path.getsize(path) != rec["bytes"]:
+            return False
+        want = self._expected_rows(i)
+        if want is not None and rec["rows"] != want:
+            return False
+        with open(path, "rb") as fh:
+            return _checksum(fh.read()) == rec["blake2b"]
 
     def _lock(self) -> None:
         """Hold an exclusive lock on DIR/.lock until :meth:`close`: two runs never share a directory."""
@@ -135,7 +291,11 @@ class ChunkStore:
             import fcntl
         except ImportError:  # pragma: no cover - not POSIX: no locking
             return
-        fh = open(os.path.join(self.path, ".lock"), "a")
+        lock_path = os.path.join(self.path, LOCK)
+        try:
+            fh = open(lock_path, "a")
+        except OSError as exc:
+            raise InputError(f"out: cannot write in {self.path}: {exc.strerror or exc}") from None
         try:
             fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
@@ -151,6 +311,20 @@ class ChunkStore:
             self._lock_fh.close()
             self._lock_fh = None
 
+    def discard_if_unused(self) -> None:
+        """Remove the directory this store created if no part was written in it (a failed start)."""
+        if not self._created or self._written:
+            return
+        for name in (MANIFEST, LEDGER, LOCK):
+            p = os.path.join(self.path, name)
+            if os.path.exists(p):
+                os.unlink(p)
+        try:
+            os.rmdir(self.path)
+        except OSError:  # something else appeared in it: leave it
+            pass
+        self._created = False
+
     def _check_same_job(self, old: dict) -> None:
         for key in IDENTITY_KEYS:
             a, b = old.get(key), self.manifest.get(key)
@@ -161,42 +335,73 @@ class ChunkStore:
                 )
 
     def _write_manifest(self) -> None:
-        def w(tmp):
-            with open(tmp, "w") as fh:
-                json.dump(self.manifest, fh, indent=2, sort_keys=True)
-                fh.write("\n")
+        """Write the manifest with the records of the parts verified or written so far."""
+        self.manifest["parts"] = {str(i): self._records[i] for i in sorted(self._verified)}
+        write_durable(self._mpath(), (json.dumps(self.manifest, indent=2, sort_keys=True) + "\n").encode())
 
-        atomic_path(os.path.join(self.path, MANIFEST), w)
-
+    # -------------------------------------------------------------- parts
     def part_path(self, i: int) -> str:
         return os.path.join(self.path, f"part-{i:05d}.parquet")
 
     def done(self) -> set[int]:
-        """Indices of the chunks whose part file exists."""
-        out = set()
-        for name in os.listdir(self.path):
-            m = _PART_RE.match(name)
-            if m:
-                out.add(int(m.group(1)))
-        return out
+        """Indices of the chunks whose part exists and matches its record (size, checksum, rows)."""
+        return set(self._verified)
 
     def write(self, i: int, outputs: dict[str, np.ndarray], meta: dict) -> None:
-        _, pq = _pa()
+        """Write part ``i`` durably, then record it in the ledger."""
+        pa, pq = _pa()
         table = outputs_to_table(outputs, dict(meta, chunk=i))
-        atomic_path(self.part_path(i), lambda tmp: pq.write_table(table, tmp))
+        sink = pa.BufferOutputStream()
+        pq.write_table(table, sink)
+        data = sink.getvalue().to_pybytes()
+        write_durable(self.part_path(i), data)
+        self._written += 1
+        rec = {"rows": int(table.num_rows), "bytes": len(data), "blake2b": _checksum(data)}
+        self._records[i] = rec
+        self._verified.add(i)
+        line = (json.dumps({"part": i, **rec}, sort_keys=True) + "\n").encode()
+        fd = os.open(os.path.join(self.path, LEDGER), os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o666)
+        try:
+            os.write(fd, line)
+            os.fsync(fd)
+        finally:
+            os.close(fd)
 
     def read_meta(self, i: int) -> dict:
+        """The metadata stored in part ``i`` (chunk index, rows, input hash)."""
         _, pq = _pa()
-        md = pq.read_schema(self.part_path(i)).metadata or {}
-        return json.loads(md.get(_META_KEY, b"{}"))
+        table = pq.read_table(self._pa_source(i))
+        return json.loads((table.schema.metadata or {}).get(_META_KEY, b"{}"))
 
     def read(self, i: int, columns=None) -> dict[str, np.ndarray]:
+        """The outputs of part ``i`` (verified against its record)."""
         _, pq = _pa()
-        return table_to_outputs(pq.read_table(self.part_path(i)), columns)
+        return table_to_outputs(pq.read_table(self._pa_source(i)), columns)
+
+    def _pa_source(self, i: int):
+        pa, _ = _pa()
+        return pa.BufferReader(_read_part(self.path, i, self._records.get(i)))
 
     def finish(self, n_chunks: int, n_rows: int) -> None:
+        """Mark the job complete: the manifest takes every part's record; the ledger goes."""
         self.manifest.update(complete=True, n_chunks=int(n_chunks), total_rows=int(n_rows))
         self._write_manifest()
+        ledger = os.path.join(self.path, LEDGER)
+        if os.path.exists(ledger):
+            os.unlink(ledger)
+
+
+def _read_part(path: str, i: int, rec: dict | None) -> bytes:
+    """The bytes of part ``i`` of output ``path``, checked against its record ``rec``."""
+    name = os.path.join(path, f"part-{i:05d}.parquet")
+    try:
+        with open(name, "rb") as fh:
+            data = fh.read()
+    except OSError as exc:
+        raise InputError(f"out: {name}: {exc.strerror or exc}; rerun the job to recompute it") from None
+    if rec is None or len(data) != rec["bytes"] or _checksum(data) != rec["blake2b"]:
+        raise InputError(f"out: {name} is damaged or not this job's (checksum differs); rerun the job to recompute it")
+    return data
 
 
 def _short(v) -> str:
@@ -205,23 +410,33 @@ def _short(v) -> str:
 
 
 def read_manifest(path: str) -> dict:
-    mpath = os.path.join(os.fspath(path), MANIFEST)
-    if not os.path.exists(mpath):
+    """The manifest of a batch output directory (one-line :class:`InputError` if absent or malformed)."""
+    if not os.path.exists(os.path.join(os.fspath(path), MANIFEST)):
         raise InputError(f"out: {path} has no {MANIFEST} (not a tennislab batch output)")
-    with open(mpath) as fh:
-        return json.load(fh)
+    return load_manifest(path)
 
 
 def iter_output(path: str, columns=None):
-    """Yield ``(chunk_index, outputs)`` of a finished output directory in chunk order (bounded memory)."""
+    """Yield ``(chunk_index, outputs)`` of a finished output directory in chunk order (bounded memory).
+
+    Every part is checked against the manifest's record (size, checksum); a damaged
+    one is an :class:`InputError` (rerun the job: it recomputes the part).
+    """
+    pa, pq = _pa()
     man = read_manifest(path)
-    have = {int(_PART_RE.match(n).group(1)) for n in os.listdir(path) if _PART_RE.match(n)}
     n = man.get("n_chunks")
-    if not man.get("complete") or n is None or not have.issuperset(range(n)):
-        raise InputError(f"out: {path} is incomplete ({len(have)} parts); rerun the job to finish it")
-    _, pq = _pa()
+    parts = man.get("parts", {})
+    if not man.get("complete") or not isinstance(n, int) or not all(str(i) in parts for i in range(n)):
+        have = sum(1 for name in os.listdir(path) if _PART_RE.match(name))
+        raise InputError(f"out: {path} is incomplete ({have} parts); rerun the job to finish it")
     for i in range(n):
-        yield i, table_to_outputs(pq.read_table(os.path.join(path, f"part-{i:05d}.parquet")), columns)
+        data = _read_part(os.fspath(path), i, parts[str(i)])
+        table = pq.read_table(pa.BufferReader(data))
+        if table.num_rows != parts[str(i)]["rows"]:
+            raise InputError(
+                f"out: part {i} of {path} has {table.num_rows} rows, its record says {parts[str(i)]['rows']}"
+            )
+        yield i, table_to_outputs(table, columns)
 
 
 def read_output(path: str, columns=None) -> dict[str, np.ndarray]:

@@ -48,6 +48,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
+from tennislab.core._jit import JIT, JIT_DYNAMIC
 from tennislab.errors import InputError, check_range
 
 #: Numba signature of every aero kernel: (v [m/s], w [rad/s], r [m], params) -> (C_D, C_L)
@@ -96,16 +97,18 @@ def _kernel_key(kernel):
 
 
 def _core_digest() -> str:
-    """Short hash of the sources of :mod:`tennislab.core`.
+    """Short hash of the names, sizes and modification times of the sources of :mod:`tennislab.core`.
 
     It is part of the tag classes' names, hence of the cache keys of every
     kernel compiled for a tag: Numba only checks the date of the file that
     holds a cached function, not of the kernels compiled into it, so without
     this an edited C_D formula or right-hand side could run from a stale cache.
+    (File metadata, as Numba's own cache check uses: core reads no file.)
     """
     h = hashlib.sha256()
     for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
+        st = f.stat()
+        h.update(f"{f.name}:{st.st_size}:{st.st_mtime_ns};".encode())
     return h.hexdigest()[:10]
 
 
@@ -162,13 +165,13 @@ def _aero_coefficients_compiled(aero, v, w, r, p):
 
 # ---------------------------------------------------------------- kernels
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _constant_kernel(v, w, r, p):
     return p[0], p[1]
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _stepanek_kernel(v, w, r, p):
     # Seed 000 eqs 3-4 (Stepanek 1988).  p = (C_D0, a, b, h, q): C_D = C_D0 + 1/(a + b (v/rw)^h)^q
     rw = r * w
@@ -184,7 +187,7 @@ def _stepanek_kernel(v, w, r, p):
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _linear_lift_kernel(v, w, r, p):
     # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
     if v <= 0.0:
@@ -195,7 +198,7 @@ def _linear_lift_kernel(v, w, r, p):
     return p[0], cl
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"}, inline="always")
+@nb.njit(**JIT, inline="always")
 def _locate(p, off, n, x):
     """(cell index, fraction) of x on the grid p[off:off + n], clamped at its ends."""
     if n == 1 or x <= p[off]:
@@ -209,7 +212,7 @@ def _locate(p, off, n, x):
 
 
 @_inlinable
-@nb.njit(AERO_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(AERO_SIGNATURE, **JIT)
 def _table_kernel(v, w, r, p):
     # p = [nv, nw, v_0..v_nv-1, w_0..w_nw-1, cd (nv*nw, row-major in v), cl (same)]
     nv = int(p[0])
@@ -323,6 +326,15 @@ def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = math.inf) -> A
     )
 
 
+#: allowed ranges of a table's values: C_D, C_L [-] (as the constant model), speed [m/s], spin [rad/s]
+TABLE_CD_RANGE = (0.0, 2.0)
+TABLE_CL_RANGE = (-2.0, 2.0)
+TABLE_SPEED_RANGE = (0.0, 200.0)
+TABLE_SPIN_RANGE = (0.0, 20_000.0 * 2.0 * math.pi / 60.0)  # 20,000 rpm
+#: most grid points of a table
+TABLE_MAX_POINTS = 100_000
+
+
 @register_aero("table")
 def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
     """C_D, C_L interpolated over a grid: ``speed`` [m/s] (n), ``spin`` [rad/s] (m), ``cd``, ``cl`` (n x m).
@@ -330,18 +342,42 @@ def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
     Core reads no file: a CSV (columns ``speed_ms, spin_rpm, cd, cl``) is read by
     :func:`tennislab.io.aero_table.read_aero_table` at the edge and its arrays
     passed here (``FlightParams.from_options(aero="table", aero_table=...)``).
+    Values are range-checked (:data:`TABLE_CD_RANGE`, :data:`TABLE_CL_RANGE`,
+    :data:`TABLE_SPEED_RANGE`, :data:`TABLE_SPIN_RANGE`): a C_L of 10^6 would
+    make the flight a stiff problem no integrator finishes, not a study.
     """
     if speed is None or spin is None or cd is None or cl is None:
         raise InputError("aero_table: the table model needs speed, spin, cd and cl arrays (a CSV via --aero-table)")
-    v = np.asarray(speed, dtype=float).ravel()
-    w = np.asarray(spin, dtype=float).ravel()
-    cda = np.asarray(cd, dtype=float).reshape(len(v), len(w))
-    cla = np.asarray(cl, dtype=float).reshape(len(v), len(w))
-    for nm, arr in (("speed", v), ("spin", w)):
+    try:
+        v: np.ndarray = np.asarray(speed, dtype=float).ravel()
+        w: np.ndarray = np.asarray(spin, dtype=float).ravel()
+        cda: np.ndarray = np.asarray(cd, dtype=float).reshape(len(v), len(w))
+        cla: np.ndarray = np.asarray(cl, dtype=float).reshape(len(v), len(w))
+    except (TypeError, ValueError):
+        raise InputError("aero_table: speed, spin, cd and cl must be numbers, cd and cl (speeds x spins)") from None
+    if v.size * w.size > TABLE_MAX_POINTS:
+        raise InputError(f"aero_table: {v.size * w.size} grid points; at most {TABLE_MAX_POINTS} allowed")
+    arr: np.ndarray
+    for nm, arr, (lo, hi), unit, scale in (
+        ("speed", v, TABLE_SPEED_RANGE, "m/s", 1.0),
+        ("spin", w, TABLE_SPIN_RANGE, "rpm", 60.0 / (2.0 * math.pi)),
+    ):
         if len(arr) < 1 or not np.all(np.isfinite(arr)) or np.any(np.diff(arr) <= 0):
-            raise InputError(f"table: {nm} grid must be finite and strictly increasing")
-    if not (np.all(np.isfinite(cda)) and np.all(np.isfinite(cla))):
-        raise InputError("table: cd and cl must be finite")
+            raise InputError(f"aero_table: the {nm} grid must be finite and strictly increasing")
+        bad = (arr < lo) | (arr > hi)
+        if bad.any():
+            raise InputError(
+                f"aero_table: {nm} {arr[bad][0] * scale:g} {unit} is outside the allowed range "
+                f"[{lo * scale:g}, {hi * scale:g}] {unit}"
+            )
+    for nm, arr, (lo, hi) in (("cd", cda, TABLE_CD_RANGE), ("cl", cla, TABLE_CL_RANGE)):
+        bad = ~np.isfinite(arr) | (arr < lo) | (arr > hi)
+        if bad.any():
+            i, j = np.argwhere(bad)[0]
+            raise InputError(
+                f"aero_table: {nm} = {arr[i, j]:g} at speed {v[i]:g} m/s, spin {w[j] * 60 / (2 * math.pi):g} rpm "
+                f"is outside the allowed range [{lo:g}, {hi:g}]"
+            )
     p = _params(len(v), len(w), *v, *w, *cda.ravel(), *cla.ravel())
     return AeroModel("table", _table_kernel, p, "user table")
 
@@ -353,9 +389,9 @@ def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str 
     function Numba cannot compile raises :class:`InputError`.
     """
     try:
-        jf = nb.njit(fn)
+        jf = nb.njit(**JIT_DYNAMIC)(fn)
 
-        @nb.njit(AERO_SIGNATURE)
+        @nb.njit(AERO_SIGNATURE, **JIT_DYNAMIC)
         def _wrapped(v, w, r, p):
             a, b = jf(v, w)
             return float(a), float(b)

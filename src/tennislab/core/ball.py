@@ -18,6 +18,8 @@ from tennislab.errors import check_range
 ITF_MASS_RANGE = (0.0560, 0.0594)  #: [kg] ITF Rules, Appendix I
 ITF_DIAMETER_RANGE = (0.0654, 0.0686)  #: [m] type 2 ball, ITF Rules, Appendix I
 THIN_SHELL = 2.0 / 3.0  #: I/(m r^2) for a thin spherical shell
+MASS_RANGE = (0.01, 0.5)  #: [kg] allowed masses (physical envelope of balls, not the rules)
+RADIUS_RANGE = (0.01, 0.1)  #: [m] allowed radii
 
 
 @dataclass(frozen=True)
@@ -27,9 +29,9 @@ class Ball:
     Attributes
     ----------
     mass : float
-        Mass [kg]; default 0.0577 (ITF range 0.0560-0.0594).
+        Mass [kg]; default 0.0577 (ITF range 0.0560-0.0594); allowed 0.01-0.5.
     radius : float
-        Radius [m]; default 0.0335 (ITF type-2 diameter 0.0654-0.0686).
+        Radius [m]; default 0.0335 (ITF type-2 diameter 0.0654-0.0686); allowed 0.01-0.1.
     inertia_factor : float
         I / (m r^2) [-]; default 2/3 (thin shell, as in the seeds).
     """
@@ -40,9 +42,12 @@ class Ball:
 
     def __post_init__(self):
         # Broad physical envelope (junior foam balls are lighter and larger than
-        # ITF balls); use `itf_compliant` for the rules' ranges.
-        check_range("mass", self.mass, 0.0, 0.5, "kg", lo_open=True)
-        check_range("radius", self.radius, 0.0, 0.1, "m", lo_open=True)
+        # ITF balls: ITF stage 3 foam, ~25 g and up to 90 mm); use `itf_compliant`
+        # for the rules' ranges.  The lower bounds also keep the equations of
+        # motion non-stiff (k = rho A / 2m <= 3.2 /m), so that every flight
+        # integrates in a bounded number of steps.
+        check_range("mass", self.mass, *MASS_RANGE, "kg")
+        check_range("radius", self.radius, *RADIUS_RANGE, "m")
         check_range("inertia_factor", self.inertia_factor, 0.0, 1.0, lo_open=True)
 
     @property

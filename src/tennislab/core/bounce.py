@@ -21,6 +21,10 @@ contact point at -r e_z from the centre.
 
 The normal force acting off-centre (Cross 2002) is represented only through
 e_x.  ``e`` is constant (real balls' e falls with impact speed).
+
+:func:`court_pace_rating` simulates the ITF court-pace test on a surface with
+this model (the surfaces and the CPR formula live in
+:mod:`tennislab.core.surfaces`, which knows nothing of the bounce).
 """
 
 from __future__ import annotations
@@ -31,12 +35,15 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from tennislab.core._jit import JIT
+from tennislab.core.ball import Ball
+from tennislab.core.surfaces import ITF_CPR_ANGLE, ITF_CPR_SPEED, cpr_category, cpr_formula, get_surface
 from tennislab.errors import InputError, check_vector
 
 MODES = ("slide", "roll", "grip")  #: mode codes 0, 1, 2 of the kernel
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def bounce_kernel(vin, win, r, alpha, e, mu, ex, vout, wout):
     """Outgoing velocity and spin of one impact; returns the mode code (0 slide, 1 roll, 2 grip).
 
@@ -72,7 +79,7 @@ def bounce_kernel(vin, win, r, alpha, e, mu, ex, vout, wout):
     return mode
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def bounce_batch_kernel(vin, win, r, alpha, e, mu, ex, vout, wout, modes):
     """:func:`bounce_kernel` over rows of (N, 3) arrays."""
     for i in range(vin.shape[0]):
@@ -101,9 +108,6 @@ def bounce(velocity_in, spin_in, surface, ball=None) -> BounceResult:
     surface : :class:`~tennislab.core.surfaces.Surface` or a registered name
     ball : :class:`~tennislab.core.ball.Ball` (radius, inertia factor); default ITF ball
     """
-    from tennislab.core.ball import Ball
-    from tennislab.core.surfaces import get_surface
-
     s = get_surface(surface)
     ball = ball or Ball()
     vin = np.array(check_vector("velocity_in", velocity_in), dtype=np.float64)
@@ -119,9 +123,6 @@ def bounce(velocity_in, spin_in, surface, ball=None) -> BounceResult:
 
 def bounce_batch(velocity_in, spin_in, surface, ball=None):
     """Vectorised :func:`bounce`: (N, 3) arrays in, (vout, wout, mode codes) out."""
-    from tennislab.core.ball import Ball
-    from tennislab.core.surfaces import get_surface
-
     s = get_surface(surface)
     ball = ball or Ball()
     vin = np.ascontiguousarray(velocity_in, dtype=np.float64).reshape(-1, 3)
@@ -131,3 +132,29 @@ def bounce_batch(velocity_in, spin_in, surface, ball=None):
     modes = np.empty(vin.shape[0], dtype=np.int64)
     bounce_batch_kernel(vin, win, ball.radius, ball.inertia_factor, s.e, s.mu, s.e_x, vout, wout, modes)
     return vout, wout, modes
+
+
+def court_pace_rating(
+    surface, ball=None, speed: float = ITF_CPR_SPEED, angle: float = ITF_CPR_ANGLE, spin: float = 0.0
+) -> dict:
+    """Simulate the ITF court-pace test (ITF CS 01/02) on a surface with the bounce model.
+
+    Parameters
+    ----------
+    surface : :class:`~tennislab.core.surfaces.Surface` or name
+    ball : :class:`~tennislab.core.ball.Ball` (default ITF type 2, thin shell)
+    speed : incoming speed [m/s] (ITF: 30 +- 2)
+    angle : incoming angle to the surface [rad] (ITF: 16 +- 2 deg)
+    spin : incoming topspin [rad/s] (ITF: <= 3 rev/s)
+
+    Returns a dict with the apparent ``e`` and ``mu`` (ITF definitions), ``cpr``
+    (:func:`~tennislab.core.surfaces.cpr_formula`), ``category`` and the bounce ``mode``.
+    """
+    s = get_surface(surface)
+    ball = ball or Ball()
+    vin = (speed * math.cos(angle), 0.0, -speed * math.sin(angle))
+    res = bounce(vin, (0.0, spin, 0.0), s, ball)
+    e_app = res.velocity_out[2] / -vin[2]
+    mu_app = (vin[0] - res.velocity_out[0]) / (-vin[2] * (1.0 + e_app))
+    cpr = cpr_formula(e_app, mu_app)
+    return {"surface": s.name, "e": e_app, "mu": mu_app, "cpr": cpr, "category": cpr_category(cpr), "mode": res.mode}

@@ -26,16 +26,27 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from tennislab.core._jit import JIT
 from tennislab.errors import InputError, check_range
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(**JIT, inline="always")
 def net_height_linear(y, h_center, h_post, y_post):
     """Height of the net cord [m] at lateral position ``y`` [m]; 0 beyond the posts."""
     ay = abs(y)
     if ay > y_post:
         return 0.0
     return h_center + (h_post - h_center) * ay / y_post
+
+
+@nb.njit(**JIT)
+def net_blocks(y, z, h_center, h_post, y_post):
+    """True when the point (0, y, z) of the net plane is net: between the posts, at or below the cord.
+
+    The net hangs from the cord down to the ground (ITF rule 1: it must fill the
+    space between the posts); a ball touching the plane there meets the net.
+    """
+    return abs(y) <= y_post and z <= net_height_linear(y, h_center, h_post, y_post)
 
 
 @dataclass(frozen=True)

@@ -22,13 +22,14 @@ import math
 import numba as nb
 from numba import types
 
+from tennislab.core._jit import JIT
 from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 
 _F = types.float64
 DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(**JIT)
 def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     """Fill ``out`` with dy/dt.
 
@@ -75,7 +76,7 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     out[8] = -decay * wz
 
 
-@nb.njit(DERIVATIVE_SIGNATURE, cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+@nb.njit(DERIVATIVE_SIGNATURE, **JIT)
 def derivative_call(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     """:func:`derivative` with a fixed signature, for calls from Python (the SciPy path).
 

@@ -1,4 +1,4 @@
-"""Ball flight: one right-hand side, two integration paths.
+"""Ball flight: one right-hand side, one description of the events, two integration paths.
 
 * :func:`fly` - one trajectory with SciPy ``solve_ivp`` (DOP853 at rtol 1e-10
   by default) and dense output, for plots; at its default tolerance it is the
@@ -7,13 +7,25 @@
   Dormand-Prince kernel of :mod:`tennislab.core.integrators`, returning an
   event table (:class:`FlightTable`).
 
-Both call :func:`tennislab.core.dynamics.derivative`.  Events: first net-plane
-crossing, apex, first ground contact (ball centre at height r), each found by
-root-finding on the step interpolant.
+Both call :func:`tennislab.core.dynamics.derivative` and read the same event
+descriptions (:mod:`tennislab.core.events`): first ground contact (ball centre
+at height r), first net-plane crossing, apex and, with
+``FlightParams(net_obstacle=True)``, the ball meeting the net.
+
+Guard rails (issue 16): a launch faster than :data:`MAX_SPEED`, spinning faster
+than :data:`MAX_SPIN_RPM`, outside :data:`POSITION_LIMIT` or below the ground is
+refused (:func:`fly`: :class:`~tennislab.errors.InputError` naming the
+parameter and the allowed range; :func:`fly_batch`: the row's status code,
+docs/flight.md); every integration is bounded (:data:`MAX_RHS_EVALS` evaluations
+of the right-hand side for SciPy, :data:`MAX_STEPS` step attempts, rejected ones
+included, per compiled trajectory); a non-finite state is an error, never an
+answer.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -22,11 +34,47 @@ from scipy.integrate import solve_ivp
 from tennislab.core.aero import DEFAULT_AERO, AeroModel, get_aero_model, inline_tag
 from tennislab.core.atmosphere import Atmosphere
 from tennislab.core.ball import Ball
-from tennislab.core.court import ITF_COURT, Court
+from tennislab.core.court import ITF_COURT, Court, net_blocks
 from tennislab.core.dynamics import derivative_call
-from tennislab.core.events import COL, COLUMNS, NCOLS, NET_RESULTS, STATUS_OK, Apex, Landing, NetCrossing
-from tennislab.core.integrators import NCONSTS, batch_kernel, batch_kernel_fp, serial_kernel, serial_kernel_fp
+from tennislab.core.events import (
+    ALWAYS,
+    COL,
+    COLUMNS,
+    FLIGHT_EVENTS,
+    IF_NET,
+    NCOLS,
+    NET_RESULTS,
+    OBSTACLE_EVENTS,
+    STATUS_NAMES,
+    STATUS_OK,
+    Apex,
+    Event,
+    Landing,
+    NetContact,
+    NetCrossing,
+    event_array,
+)
+from tennislab.core.integrators import (
+    KernelConsts,
+    batch_kernel,
+    batch_kernel_fp,
+    serial_kernel,
+    serial_kernel_fp,
+)
 from tennislab.errors import InputError, check_range, check_vector
+from tennislab.units import RPM
+
+#: Fastest launch accepted [m/s] (the fastest recorded serves are ~73 m/s; issue 17's guard rail)
+MAX_SPEED = 100.0
+#: Fastest spin accepted [rpm] (serves and groundstrokes carry up to ~5,000 rpm)
+MAX_SPIN_RPM = 10_000.0
+MAX_SPIN = MAX_SPIN_RPM * RPM  #: [rad/s]
+#: Largest |x|, |y| and z of a launch position [m] (a court is 24 x 11 m)
+POSITION_LIMIT = 1000.0
+#: Most step attempts (accepted and rejected) of one compiled trajectory; a mixed shot takes ~8-30
+MAX_STEPS = 100_000
+#: Most evaluations of the right-hand side in one :func:`fly` (a flight takes ~1,000-3,000 at rtol 1e-10)
+MAX_RHS_EVALS = 200_000
 
 #: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
 #: keep the dataclass defaults: ITF type-2 ball, ISA sea-level moist air, DEFAULT_AERO).
@@ -48,9 +96,13 @@ class FlightParams:
     ball : :class:`Ball` (mass [kg], radius [m])
     atmosphere : :class:`Atmosphere` (density [kg/m^3], gravity [m/s^2], wind [m/s])
     aero : :class:`AeroModel` (default :data:`~tennislab.core.aero.DEFAULT_AERO`)
-    court : :class:`Court` (net profile for the net event)
-    spin_decay : exponential spin-decay rate [1/s]; 0 = off (default)
+    court : :class:`Court` (net profile for the net events)
+    spin_decay : exponential spin-decay rate [1/s], 0-10; 0 = off (default)
     t_max : longest flight integrated [s]
+    net_obstacle : False (default): the ball passes through the net plane and the
+        crossing says whether it cleared the net (``net.result``); True: a ball
+        meeting the net (mesh or tape) stops there (status ``STATUS_NET``, the
+        ``net_hit_*`` columns; :mod:`tennislab.core.events`)
     """
 
     ball: Ball = field(default_factory=Ball)
@@ -59,10 +111,14 @@ class FlightParams:
     court: Court = ITF_COURT
     spin_decay: float = 0.0
     t_max: float = 20.0
+    net_obstacle: bool = False
 
     def __post_init__(self):
-        check_range("spin_decay", self.spin_decay, 0.0, 100.0, "1/s")
+        # measured decay is ~0.05-0.1 /s (Cross & Lindsey 2014, dynamics.py); 10 /s halves the spin in 0.07 s
+        check_range("spin_decay", self.spin_decay, 0.0, 10.0, "1/s")
         check_range("t_max", self.t_max, 0.0, 1000.0, "s", lo_open=True)
+        if not isinstance(self.net_obstacle, (bool, np.bool_)):
+            raise InputError(f"net_obstacle: expected true or false, got {self.net_obstacle!r}")
 
     @classmethod
     def from_options(
@@ -80,6 +136,7 @@ class FlightParams:
         inertia_factor=None,
         court: Court | None = None,
         t_max=None,
+        net_obstacle=None,
         preset: str = "standard",
     ) -> FlightParams:
         """The one builder of flight physics from plain options (every front-end calls it).
@@ -90,7 +147,8 @@ class FlightParams:
         ``aero`` is a registered name, an :class:`AeroModel` or a callable
         ``f(v, w) -> (C_D, C_L)``; ``cd``/``cl`` go to its factory; ``aero_table`` is
         ``(speed [m/s], spin [rad/s], cd, cl)`` arrays for ``aero="table"`` (read from a
-        CSV at the edge by :func:`tennislab.io.aero_table.read_aero_table`).
+        CSV at the edge by :func:`tennislab.io.aero_table.read_aero_table`);
+        ``net_obstacle=True`` stops a ball that meets the net (default: it passes through).
         """
         if preset not in PRESETS:
             raise InputError(f"preset: unknown physics preset {preset!r}; allowed: {', '.join(sorted(PRESETS))}")
@@ -105,6 +163,7 @@ class FlightParams:
             spin_decay=spin_decay,
             inertia_factor=inertia_factor,
             t_max=t_max,
+            net_obstacle=net_obstacle,
         )
         base.update({k: v for k, v in given.items() if v is not None})
         model = base.pop("aero", None)
@@ -149,6 +208,7 @@ class FlightParams:
             "spin_decay": self.spin_decay,
             "t_max": self.t_max,
             "court": self.court,
+            "net_obstacle": self.net_obstacle,
         }
 
     @property
@@ -156,43 +216,58 @@ class FlightParams:
         """Aerodynamic constant 1/2 rho A / m [1/m]."""
         return 0.5 * self.atmosphere.density * self.ball.area / self.ball.mass
 
-    def consts(self, rtol: float, atol: float) -> np.ndarray:
-        """The constant vector of the compiled kernel (layout in :mod:`integrators`)."""
+    def events(self) -> tuple[Event, ...]:
+        """The events of a flight with these parameters (:mod:`tennislab.core.events`)."""
+        return OBSTACLE_EVENTS if self.net_obstacle else FLIGHT_EVENTS
+
+    def consts(self, rtol: float, atol: float) -> KernelConsts:
+        """The named constants of the compiled kernel (:class:`~tennislab.core.integrators.KernelConsts`)."""
         w = self.atmosphere.wind
         c = self.court
-        out = np.array(
-            [
-                self.k,
-                self.atmosphere.gravity,
-                self.ball.radius,
-                w[0],
-                w[1],
-                w[2],
-                self.spin_decay,
-                c.net_center_height,
-                c.net_post_height,
-                c.y_post,
-                self.t_max,
-                rtol,
-                atol,
-            ],
-            dtype=np.float64,
+        return KernelConsts(
+            k=self.k,
+            gravity=self.atmosphere.gravity,
+            radius=self.ball.radius,
+            wind_x=float(w[0]),
+            wind_y=float(w[1]),
+            wind_z=float(w[2]),
+            spin_decay=float(self.spin_decay),
+            net_center_height=c.net_center_height,
+            net_post_height=c.net_post_height,
+            net_y_post=c.y_post,
+            t_max=float(self.t_max),
+            rtol=float(rtol),
+            atol=float(atol),
+            max_speed=MAX_SPEED,
+            max_spin=MAX_SPIN,
+            max_position=POSITION_LIMIT,
+            max_steps=float(MAX_STEPS),
         )
-        assert out.shape == (NCONSTS,)
-        return out
 
-    def rhs(self):
-        """The right-hand side f(t, y) for SciPy, calling the shared compiled derivative."""
+    def rhs(self, max_evals: int | None = None):
+        """The right-hand side f(t, y) for SciPy, calling the shared compiled derivative.
+
+        With ``max_evals``, the call after that many raises :class:`EvaluationLimit`.
+        """
         k, g, r = self.k, self.atmosphere.gravity, self.ball.radius
         wx, wy, wz = self.atmosphere.wind
         kern, p, lam = self.aero.kernel, self.aero.params, self.spin_decay
+        limit = math.inf if max_evals is None else int(max_evals)
+        count = [0]
 
         def f(t, y):
+            count[0] += 1
+            if count[0] > limit:
+                raise EvaluationLimit(limit)
             out = np.empty(9)
             derivative_call(np.ascontiguousarray(y, dtype=np.float64), out, kern, p, k, g, r, wx, wy, wz, lam)
             return out
 
         return f
+
+
+class EvaluationLimit(RuntimeError):
+    """Raised by :meth:`FlightParams.rhs` past its evaluation budget (caught by :func:`fly`)."""
 
 
 def initial_state(position, velocity, spin=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -203,9 +278,105 @@ def initial_state(position, velocity, spin=(0.0, 0.0, 0.0)) -> np.ndarray:
     )
 
 
+def start_side(y0) -> float:
+    """The half a ball starts in: -1 (x < 0), +1 (x > 0); on the net plane, the half it moves away from."""
+    if y0[0] < 0:
+        return -1.0
+    if y0[0] > 0:
+        return 1.0
+    return -math.copysign(1.0, y0[3])
+
+
+def check_start(y0: np.ndarray, params: FlightParams) -> None:
+    """Refuse a launch outside the physical range (:class:`InputError` naming the parameter and the range).
+
+    The same limits mark rows of :func:`fly_batch` (status codes) instead of raising.
+    """
+    r = params.ball.radius
+    lim = POSITION_LIMIT
+    for i, name in ((0, "x"), (1, "y")):
+        if abs(y0[i]) > lim:
+            raise InputError(f"position: {name} = {y0[i]:g} m is outside the allowed range [-{lim:g}, {lim:g}] m")
+    if not r <= y0[2] <= lim:
+        raise InputError(
+            f"position: z = {y0[2]:g} m is outside the allowed range [{r:g}, {lim:g}] m "
+            "(the ball centre at least one radius above the ground)"
+        )
+    speed = math.hypot(*y0[3:6])  # (no overflow for huge components)
+    if speed > MAX_SPEED:
+        raise InputError(f"velocity: speed {speed:g} m/s is outside the allowed range [0, {MAX_SPEED:g}] m/s")
+    spin = math.hypot(*y0[6:9])
+    if spin > MAX_SPIN:
+        raise InputError(f"spin: {spin / RPM:g} rpm is outside the allowed range [0, {MAX_SPIN_RPM:g}] rpm")
+    # (the events' own rule: past the mesh event, or on the plane within r of the cord)
+    inside = (abs(y0[0]) < r and _blocks(y0, params)) or (y0[0] == 0 and _blocks(y0, params, 1.0))
+    if params.net_obstacle and inside:
+        raise InputError(
+            f"position: a ball at x = {y0[0]:g} m, z = {y0[2]:g} m overlaps the net "
+            f"(|x| < r = {r:g} m at or below the net's top); start it clear of the net"
+        )
+
+
+def _blocks(y, params: FlightParams, margin: float = 0.0) -> bool:
+    """Whether a ball centred at ``y`` is at most ``margin`` radii above the net's top, between the posts."""
+    c = params.court
+    z = float(y[2]) - margin * params.ball.radius
+    return bool(net_blocks(float(y[1]), z, c.net_center_height, c.net_post_height, c.y_post))
+
+
+def _stops(ev: Event, y, params: FlightParams) -> bool:
+    """Whether ``ev`` ends the flight when it happens at state ``y`` (as the kernel's ``_stops_at``)."""
+    if ev.stop == ALWAYS:
+        return True
+    return ev.stop == IF_NET and _blocks(y, params, ev.net_margin)
+
+
+def _scipy_event(index: int, target: float, direction: float, terminal: bool, t0: float, armed: bool):
+    """A :class:`~tennislab.core.events.Event` as a ``solve_ivp`` event function.
+
+    ``armed``: the component starts on its target moving away (a flight starting
+    on the ground going up); while it is still exactly on the target (at t0, and
+    after a first step too short to move it by one ulp) the function reports a
+    value just on the near side, so that SciPy brackets the real crossing, not
+    the start.  (A closure, not a callable object: SciPy calls it at every step.)
+    """
+    if armed:
+        start = -direction * 1e-300
+
+        def g(t, y):
+            v = y[index] - target
+            return v if (t > t0 and v != 0.0) else start
+
+    else:
+
+        def g(t, y):
+            return y[index] - target
+
+    setattr(g, "terminal", terminal)  # noqa: B010 - the attributes solve_ivp reads
+    setattr(g, "direction", direction)  # noqa: B010
+    return g
+
+
+class _Constant:
+    """Dense output of a flight that ends where it starts."""
+
+    def __init__(self, y0):
+        self.y0 = np.asarray(y0, dtype=float)
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        if t.ndim == 0:
+            return self.y0.copy()
+        return np.repeat(self.y0[:, None], t.size, axis=1)
+
+
 @dataclass(frozen=True)
 class Trajectory:
-    """One integrated flight: solver steps, dense solution and events."""
+    """One integrated flight: solver steps, dense solution and events.
+
+    ``net_contact`` is where the ball met the net (``net_obstacle=True`` only;
+    the flight ends there and ``landing`` is None).
+    """
 
     t: np.ndarray
     y: np.ndarray
@@ -214,15 +385,16 @@ class Trajectory:
     net: NetCrossing
     apex: Apex
     params: FlightParams = field(repr=False)
+    net_contact: NetContact | None = None
 
     def sample(self, n: int = 300, t_end: float | None = None):
         """(t, states) at n evenly spaced times from 0 to landing (or ``t_end``)."""
         te = self.t[-1] if t_end is None else t_end
         ts = np.linspace(self.t[0], te, n)
-        return ts, self.sol(ts).T
+        return ts, self.sol(ts).T  # type: ignore[operator]
 
 
-def _net_crossing(t, yev, params: FlightParams) -> NetCrossing:
+def _net_crossing(t: float | None, yev, params: FlightParams) -> NetCrossing:
     if t is None:
         nan = float("nan")
         return NetCrossing(nan, nan, nan, nan, nan, "none")
@@ -243,77 +415,123 @@ def fly(
     atol: float = 1e-12,
     t0: float = 0.0,
 ) -> Trajectory:
-    """Integrate one flight to its first ground contact with SciPy ``solve_ivp``.
+    """Integrate one flight to its first ground contact (or the net, as an obstacle) with SciPy ``solve_ivp``.
 
     Parameters
     ----------
-    position : (x, y, z) of the ball centre [m]; z must be >= the ball radius
-    velocity : (vx, vy, vz) [m/s]
+    position : (x, y, z) of the ball centre [m]; r <= z <= 1000 m, |x|, |y| <= 1000 m
+    velocity : (vx, vy, vz) [m/s]; speed <= :data:`MAX_SPEED`
     spin : spin vector omega [rad/s] (right-hand rule: topspin on a ball moving
-        along +x is omega along +y, backspin along -y; see docs/conventions.md)
+        along +x is omega along +y, backspin along -y; see docs/conventions.md);
+        rate <= :data:`MAX_SPIN_RPM`
     params : :class:`FlightParams` (defaults if None)
     method, rtol, atol : SciPy solver settings (default DOP853, 1e-10, 1e-12)
     t0 : start time [s] (used when chaining flights after bounces)
+
+    Raises :class:`InputError` for a launch outside those ranges, and when the
+    integration fails or does not finish within :data:`MAX_RHS_EVALS` evaluations.
     """
     params = params or FlightParams()
     y0 = initial_state(position, velocity, spin)
+    check_start(y0, params)
     r = params.ball.radius
-    if y0[2] < r:
-        raise InputError(f"position z: {y0[2]:g} m is below the ball radius {r:g} m (ball centre above ground)")
-    side = -1.0 if y0[0] < 0 else (1.0 if y0[0] > 0 else -np.sign(y0[3]) or -1.0)
-
-    def ev_ground(t, y):
-        # at the start the ball may sit exactly at z = r (a flight chained after a
-        # bounce): count that as "above", so that the sign change SciPy sees at the
-        # end of the first step is bracketed by the real contact, not taken at t0
-        return y[2] - r if t > t0 else max(y[2] - r, 1e-300)
-
-    ev_ground.terminal = True
-    ev_ground.direction = -1
-
-    def ev_net(t, y):
-        return y[0]
-
-    ev_net.direction = -side
-
-    def ev_apex(t, y):
-        return y[5]
-
-    ev_apex.direction = -1
-
-    sol = solve_ivp(
-        params.rhs(),
-        (t0, t0 + params.t_max),
-        y0,
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        dense_output=True,
-        events=(ev_ground, ev_net, ev_apex),
-    )
-    if sol.status < 0:
-        raise InputError(f"flight: integration failed ({sol.message})")
-    landing = None
-    if len(sol.t_events[0]):
-        ye = sol.y_events[0][0]
-        landing = Landing(float(sol.t_events[0][0]), ye[0:3].copy(), ye[3:6].copy(), ye[6:9].copy())
-    t_land = landing.t if landing else np.inf
-    tn = [(t, yv) for t, yv in zip(sol.t_events[1], sol.y_events[1]) if t <= t_land]
-    net = _net_crossing(tn[0][0], tn[0][1], params) if tn else _net_crossing(None, None, params)
-    if y0[5] <= 0:
-        apex = Apex(t0, y0[0:3].copy())
+    side = start_side(y0)
+    f = params.rhs(MAX_RHS_EVALS)
+    slope = f(t0, y0)
+    # the events at the start (events.py): past -> at the start; on the target moving away -> armed
+    occ: dict[str, tuple[float, np.ndarray]] = {}
+    watched: list[tuple[Event, Callable]] = []
+    stop_ev: Event | None = None
+    for ev in params.events():
+        tg, d, i = ev.target_value(r, side), ev.direction_value(side), ev.index
+        f0 = y0[i] - tg
+        if d * f0 < 0 or (f0 == 0 and d * slope[i] < 0):
+            watched.append((ev, _scipy_event(i, tg, d, ev.stop == ALWAYS, t0, armed=d * f0 >= 0)))
+        elif _stops(ev, y0, params):
+            if d * f0 > 0:  # (check_start refuses these with a clearer message)
+                raise InputError(f"position: the launch is beyond the {ev.name} event")
+            stop_ev = stop_ev or ev
+            occ[ev.prefix] = (t0, y0.copy())
+        elif ev.stop != IF_NET:
+            occ[ev.prefix] = (t0, y0.copy())
+    if stop_ev is not None:  # ends where it starts (a ball on the ground, not going up)
+        ts, ys, sol = np.array([t0]), y0[None, :].copy(), _Constant(y0)
     else:
-        ta = [(t, yv) for t, yv in zip(sol.t_events[2], sol.y_events[2]) if t <= t_land]
-        apex = Apex(float(ta[0][0]), ta[0][1][0:3].copy()) if ta else Apex(float(sol.t[-1]), sol.y[0:3, -1].copy())
-    return Trajectory(sol.t, sol.y.T, sol.sol, landing, net, apex, params)
+        try:
+            res = solve_ivp(
+                f,
+                (t0, t0 + params.t_max),
+                y0,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                dense_output=True,
+                events=[se for _, se in watched],
+            )
+        except EvaluationLimit:
+            raise InputError(
+                f"flight: no result within {MAX_RHS_EVALS:,} evaluations of the equations of motion "
+                "(inputs too extreme for the integrator)"
+            ) from None
+        if res.status < 0:
+            raise InputError(f"flight: integration failed ({res.message})")
+        ts, ys, sol = res.t, res.y.T, res.sol
+        first = [
+            (ev, float(res.t_events[k][0]), res.y_events[k][0]) if len(res.t_events[k]) else (ev, math.inf, None)
+            for k, (ev, _) in enumerate(watched)
+        ]
+        t_stop = math.inf
+        for ev, te, ye in first:
+            if ye is not None and te < t_stop and _stops(ev, ye, params):
+                t_stop, stop_ev = te, ev
+        for ev, te, ye in first:
+            if ye is not None and te <= t_stop and (ev.stop != IF_NET or ev is stop_ev):
+                occ[ev.prefix] = (te, np.asarray(ye, dtype=float).copy())
+        if stop_ev is not None and stop_ev.stop == IF_NET:  # the flight ends at the net: cut the steps there
+            keep = ts < t_stop
+            ts = np.append(ts[keep], t_stop)
+            ys = np.vstack([ys[keep], occ[stop_ev.prefix][1]])
+    if not (np.all(np.isfinite(ys)) and all(np.all(np.isfinite(v)) for _, v in occ.values())):
+        raise InputError("flight: the integration produced a non-finite state (inputs too extreme)")
+    return _trajectory(ts, ys, sol, occ, params)
+
+
+def _trajectory(ts, ys, sol, occ: dict, params: FlightParams) -> Trajectory:
+    """The :class:`Trajectory` of recorded events ``occ`` (event column prefix -> (t, state))."""
+    landing = None
+    if "land" in occ:
+        t, s = occ["land"]
+        landing = Landing(t, s[0:3].copy(), s[3:6].copy(), s[6:9].copy())
+    contact = None
+    if "net_hit" in occ:
+        t, s = occ["net_hit"]
+        part = "tape" if abs(s[0]) < 0.5 * params.ball.radius else "mesh"
+        contact = NetContact(t, s[0:3].copy(), s[3:6].copy(), s[6:9].copy(), part)
+        net = _net_crossing(t, s, params)
+    elif "net" in occ:
+        t, s = occ["net"]
+        net = _net_crossing(t, s, params)
+    else:
+        net = _net_crossing(None, None, params)
+    if "apex" in occ:
+        t, s = occ["apex"]
+        apex = Apex(t, s[0:3].copy())
+    else:  # no apex before the end: the highest point is the end (still rising)
+        apex = Apex(float(ts[-1]), ys[-1, 0:3].copy())
+    return Trajectory(ts, ys, sol, landing, net, apex, params, contact)
 
 
 @dataclass(frozen=True)
 class FlightTable:
     """Event table of a batch: one row per initial state, columns :data:`events.COLUMNS`.
 
-    ``table["land_x"]`` gives a column; :attr:`clearance` and :attr:`net_result` are derived.
-    Rows with ``status != 0`` did not land within ``t_max`` (1) or started invalid (2).
+    ``table["land_x"]`` gives a column; :attr:`clearance`, :attr:`net_result` and
+    :attr:`status_name` are derived.  ``status`` (:mod:`tennislab.core.events`):
+    0 landed, 1 no landing within ``t_max``, 2 bad start (non-finite, below the
+    ground, inside the net), 3 stopped by the net (``net_obstacle=True``),
+    4 launch out of range (speed > :data:`MAX_SPEED`, spin > :data:`MAX_SPIN_RPM`,
+    position beyond :data:`POSITION_LIMIT`), 5 integration failed (step limit,
+    non-finite state).
     """
 
     data: np.ndarray
@@ -336,6 +554,11 @@ class FlightTable:
         return np.array(NET_RESULTS)[self["net_status"].astype(int)]
 
     @property
+    def status_name(self) -> np.ndarray:
+        """The status of each row in words (``landed``, ``net``, ``out of range``, ...)."""
+        return np.array(STATUS_NAMES)[self["status"].astype(int)]
+
+    @property
     def ok(self) -> np.ndarray:
         return self["status"] == STATUS_OK
 
@@ -352,10 +575,19 @@ def fly_batch(
     default tolerance (rtol = atol = 2e-7) keeps landing points within 0.006 mm
     of the reference :func:`fly` at rtol 1e-10 for serves, groundstrokes and
     lobs with up to 6000 rpm about any axis, for every built-in aero model
-    (18,000 shots: docs/flight.md; tests/test_flight_accuracy.py).
+    (18,000 shots: docs/flight.md; tests/core/test_flight_accuracy.py).
+
+    Rows outside the physical range are not refused but marked (``status``, see
+    :class:`FlightTable`), so that one bad row never stops millions of good ones;
+    a malformed ``states`` array or bad parameters raise :class:`InputError`.
     """
     params = params or FlightParams()
-    s = np.ascontiguousarray(np.asarray(states, dtype=np.float64))
+    check_range("rtol", rtol, 1e-14, 1e-2)
+    check_range("atol", atol, 1e-16, 1e-2)
+    try:
+        s = np.ascontiguousarray(np.asarray(states, dtype=np.float64))
+    except (TypeError, ValueError):
+        raise InputError("states: expected an (N, 9) array of numbers") from None
     if s.ndim == 1:
         s = s.reshape(1, -1)
     if s.ndim != 2 or s.shape[1] != 9:
@@ -366,5 +598,5 @@ def fly_batch(
         kern, aero = (batch_kernel if parallel else serial_kernel), tag
     else:  # any other kernel: the shared kernel, called through a pointer
         kern, aero = (batch_kernel_fp if parallel else serial_kernel_fp), params.aero.kernel
-    kern(s, aero, params.aero.params, params.consts(rtol, atol), out)
+    kern(s, aero, params.aero.params, params.consts(rtol, atol), event_array(params.events()), out)
     return FlightTable(out, params.ball.radius)

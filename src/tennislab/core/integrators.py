@@ -13,24 +13,70 @@ interpolant, to ~1e-14 in the step fraction, never at a step end.  The right-han
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 from numba import types
 
+from tennislab.core._jit import JIT
 from tennislab.core.aero import AERO_FUNCTION_TYPE
-from tennislab.core.court import net_height_linear
+from tennislab.core.court import net_blocks, net_height_linear
 from tennislab.core.dynamics import derivative
 from tennislab.core.events import (
+    ALWAYS,
     COL,
+    EV_AIM,
+    EV_COL0,
+    EV_COMPONENT,
+    EV_DIRECTION,
+    EV_MARGIN,
+    EV_RADII,
+    EV_STATUS,
+    EV_STOP,
+    EV_TARGET,
+    EV_TCOL,
+    IF_NET,
+    MAX_EVENTS,
     NCOLS,
     NET_HIT,
     NET_NONE,
     NET_OVER,
     STATUS_BAD_START,
+    STATUS_FAILED,
+    STATUS_NET,
     STATUS_NO_LANDING,
-    STATUS_OK,
+    STATUS_OUT_OF_RANGE,
+    TOWARD,
 )
+
+
+class KernelConsts(NamedTuple):
+    """The constants of the compiled flight kernel, by name (built by
+    :meth:`tennislab.core.flight.FlightParams.consts`; all float64, SI)."""
+
+    k: float  #: 1/2 rho A / m [1/m]
+    gravity: float  #: [m/s^2]
+    radius: float  #: ball radius [m]
+    wind_x: float  #: wind velocity [m/s]
+    wind_y: float
+    wind_z: float
+    spin_decay: float  #: [1/s]
+    net_center_height: float  #: [m]
+    net_post_height: float  #: [m]
+    net_y_post: float  #: lateral position of the posts [m]
+    t_max: float  #: longest flight [s]
+    rtol: float  #: relative tolerance of the step control
+    atol: float  #: absolute tolerance of the step control
+    max_speed: float  #: launch speeds above this are refused (status STATUS_OUT_OF_RANGE) [m/s]
+    max_spin: float  #: launch spins above this are refused (status STATUS_OUT_OF_RANGE) [rad/s]
+    max_position: float  #: launches with |x|, |y| or z above this are refused (STATUS_OUT_OF_RANGE) [m]
+    max_steps: float  #: most step attempts (accepted and rejected) per flight (then STATUS_FAILED)
+
+
+NCONSTS = len(KernelConsts._fields)
+#: Numba type of :class:`KernelConsts`
+CONSTS_TYPE = types.NamedUniTuple(types.float64, NCONSTS, KernelConsts)
 
 # Dormand-Prince 5(4) tableau
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
@@ -67,29 +113,19 @@ _A61, _A62, _A63, _A64, _A65 = _A[5, 0], _A[5, 1], _A[5, 2], _A[5, 3], _A[5, 4]
 _B1, _B3, _B4, _B5, _B6 = _B[0], _B[2], _B[3], _B[4], _B[5]
 _E1, _E3, _E4, _E5, _E6, _E7 = _E[0], _E[2], _E[3], _E[4], _E[5], _E[6]
 
-# consts vector layout passed to the kernel
-K_K, K_G, K_R, K_WX, K_WY, K_WZ, K_DECAY, K_HC, K_HP, K_YP, K_TMAX, K_RTOL, K_ATOL = range(13)
-NCONSTS = 13
-
-_c_apex_t = COL["apex_t"]
-_c_apex_x = COL["apex_x"]
-_c_apex_y = COL["apex_y"]
-_c_apex_z = COL["apex_z"]
-_c_n_steps = COL["n_steps"]
-_c_net_h = COL["net_h"]
-_c_net_status = COL["net_status"]
 _c_net_t = COL["net_t"]
 _c_net_y = COL["net_y"]
 _c_net_z = COL["net_z"]
+_c_net_h = COL["net_h"]
+_c_net_status = COL["net_status"]
+_c_hit_t = COL["net_hit_t"]
+_c_hit_y = COL["net_hit_y"]
+_c_hit_z = COL["net_hit_z"]
+_c_n_steps = COL["n_steps"]
 _c_status = COL["status"]
-_iLAND_T = COL["land_t"]
-_iNET_T = COL["net_t"]
-_iAPEX_T = COL["apex_t"]
-
-_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
+@nb.njit(**JIT, inline="always")
 def _dense_comp(theta, c, y0, K, h, P):
     s = 0.0
     for k in range(7):
@@ -98,13 +134,7 @@ def _dense_comp(theta, c, y0, K, h, P):
     return y0[c] + h * s
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
-def _dense_full(theta, y0, K, h, P, out):
-    for c in range(9):
-        out[c] = _dense_comp(theta, c, y0, K, h, P)
-
-
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
+@nb.njit(**JIT)
 def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
     """theta in [lo, 1] where the interpolant's component c equals target.
 
@@ -157,20 +187,22 @@ _H0 = 0.1
 _AIM = 1.03
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, inline="always")
-def _aim_at_ground(y, f, r, h):
-    """Step size: ``h``, or shortened so that the step ends just past the predicted ground contact.
+@nb.njit(**JIT, inline="always")
+def _aim_at(y, f, c, target, h):
+    """Step size: ``h``, or shortened so that the step ends just past the predicted crossing.
 
-    The contact is then located near the step's end, where the interpolant
-    (4th order, as accurate as the error *estimate*, ~ tol x |y|) meets the
-    5th-order solution, instead of mid-step: at the same tolerance this halves
-    the mean landing error and removes the worst cases (short flights whose
-    last step is long), at no cost in steps (docs/flight.md).  The prediction
-    solves z + v_z tau + a_z tau^2 / 2 = r with the current acceleration.
+    For the event that ends most flights (the ground): the contact is then
+    located near the step's end, where the interpolant (4th order, as accurate
+    as the error *estimate*, ~ tol x |y|) meets the 5th-order solution, instead
+    of mid-step: at the same tolerance this halves the mean landing error and
+    removes the worst cases (short flights whose last step is long), at no cost
+    in steps (docs/flight.md).  The prediction solves
+    q + v tau + a tau^2 / 2 = target for the falling position component q = y[c]
+    with the current velocity v = f[c] and acceleration a = f[c + 3].
     """
-    zz = y[2] - r
-    vz = y[5]
-    az = f[5]
+    zz = y[c] - target
+    vz = f[c]
+    az = f[c + 3]
     tau = -1.0
     if az < 0.0:
         disc = vz * vz - 2.0 * az * zz
@@ -183,188 +215,308 @@ def _aim_at_ground(y, f, r, h):
     return h
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
-def integrate_one(y_init, aero, aero_p, consts, row, work):
+@nb.njit(**JIT)
+def _root_after_start(c, target, d, y0, K, h, P, f1):
+    """theta of the crossing (direction ``d``) of a component that starts *on* its target moving
+    away from it and comes back within the step (a low hop from the ground): the root after the
+    interpolant's excursion, found by sampling for a point on the near side of the target and
+    root-finding from there; 0 if no such point (the excursion is below the sampling)."""
+    best = 0.0
+    th_best = 0.0
+    for i in range(1, 16):
+        th = i / 16.0
+        v = -d * (_dense_comp(th, c, y0, K, h, P) - target)
+        if v > best:
+            best = v
+            th_best = th
+    if best <= 0.0:
+        return 0.0
+    return _root(c, target, y0, K, h, P, _dense_comp(th_best, c, y0, K, h, P) - target, f1, th_best)
+
+
+@nb.njit(**JIT, inline="always")
+def _stops_at(ev, e, y_, z_, c):
+    """Whether event ``e`` ends the flight when it happens with the ball centre at lateral
+    position ``y_`` and height ``z_`` (only ``IF_NET`` events look at them)."""
+    stop = ev[e, EV_STOP]
+    if stop == ALWAYS:
+        return True
+    if stop == IF_NET:
+        zz = z_ - ev[e, EV_MARGIN] * c.radius
+        return net_blocks(y_, zz, c.net_center_height, c.net_post_height, c.net_y_post)
+    return False
+
+
+@nb.njit(**JIT)
+def _record(ev, e, t, theta, y0, K, h, P, row):
+    """Write event ``e``'s time and recorded components at step fraction ``theta`` into ``row``."""
+    row[int(ev[e, EV_TCOL])] = t + theta * h
+    for i in range(9):
+        col = int(ev[e, EV_COL0 + i])
+        if col >= 0:
+            row[col] = _dense_comp(theta, i, y0, K, h, P)
+
+
+@nb.njit(**JIT)
+def _finish_row(row, c, status, nsteps):
+    """Status, step count and the derived net columns (height, result; a net contact's place)."""
+    if status == STATUS_NET:
+        row[_c_net_t] = row[_c_hit_t]
+        row[_c_net_y] = row[_c_hit_y]
+        row[_c_net_z] = row[_c_hit_z]
+    if math.isnan(row[_c_net_t]):
+        row[_c_net_status] = NET_NONE
+    else:
+        hn = net_height_linear(row[_c_net_y], c.net_center_height, c.net_post_height, c.net_y_post)
+        row[_c_net_h] = hn
+        row[_c_net_status] = NET_HIT if row[_c_net_z] - hn - c.radius < 0.0 else NET_OVER
+    row[_c_n_steps] = nsteps
+    row[_c_status] = status
+
+
+@nb.njit(**JIT)
+def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
 
     ``aero`` is the aero kernel as a first-class function or its inline tag
-    (see the batch kernels below); ``work`` is a (12, 9) scratch array (reused
-    across trajectories of a chunk).
+    (see the batch kernels below); ``c`` the :class:`KernelConsts`; ``ev`` the
+    event array (:func:`tennislab.core.events.event_array`); ``work`` a (12, 9)
+    and ``evw`` a (6, MAX_EVENTS) scratch array (reused across trajectories).
+
+    Bounded: at most ``c.max_steps`` step attempts, rejected ones included
+    (then ``STATUS_FAILED``; a step whose error or new state is not finite is
+    rejected and shrunk, so a state that cannot be made finite ends there).  A
+    launch faster than ``c.max_speed``, spinning faster than ``c.max_spin`` or
+    from beyond ``c.max_position`` is not integrated (``STATUS_OUT_OF_RANGE``).
     """
-    k = consts[K_K]
-    g = consts[K_G]
-    r = consts[K_R]
-    wx = consts[K_WX]
-    wy = consts[K_WY]
-    wz = consts[K_WZ]
-    decay = consts[K_DECAY]
-    t_max = consts[K_TMAX]
-    rtol = consts[K_RTOL]
-    atol = consts[K_ATOL]
+    k = c.k
+    g = c.gravity
+    r = c.radius
+    wx = c.wind_x
+    wy = c.wind_y
+    wz = c.wind_z
+    decay = c.spin_decay
+    t_max = c.t_max
+    rtol = c.rtol
+    atol = c.atol
     P = _P
+    n_ev = ev.shape[0]
+    tgt = evw[0]
+    dirn = evw[1]
+    done = evw[2]
+    theta = evw[3]
+    armed = evw[4]
+    when = evw[5]
     for i in range(NCOLS):
         row[i] = np.nan
-    row[_c_net_status] = NET_NONE
     K = work[0:7]
     y = work[7]
     ytmp = work[8]
     ynew = work[9]
-    yev = work[10]
     fcur = work[11]
-    for c in range(9):
-        y[c] = y_init[c]
-    ok = True
+    for i in range(9):
+        y[i] = y_init[i]
     for i in range(9):
         if not math.isfinite(y[i]):
-            ok = False
-    if not ok or y[2] < r:
-        row[_c_status] = STATUS_BAD_START
-        row[_c_n_steps] = 0
+            _finish_row(row, c, STATUS_BAD_START, 0)
+            return
+    speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
+    spin = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8])
+    lim = c.max_position
+    if speed > c.max_speed or spin > c.max_spin or abs(y[0]) > lim or abs(y[1]) > lim or y[2] > lim:
+        _finish_row(row, c, STATUS_OUT_OF_RANGE, 0)
         return
     derivative(y, fcur, aero, aero_p, k, g, r, wx, wy, wz, decay)
     side = -1.0 if y[0] < 0.0 else (1.0 if y[0] > 0.0 else -math.copysign(1.0, y[3]))
-    net_done = False
-    apex_done = False
-    if y[5] <= 0.0:
-        apex_done = True
-        row[_iAPEX_T] = 0.0
-        row[_c_apex_x] = y[0]
-        row[_c_apex_y] = y[1]
-        row[_c_apex_z] = y[2]
+    # ---- the events at the start (events.py: past -> at the start; on the target moving away -> armed)
+    aim_e = -1
+    stop_e = -1
+    for e in range(n_ev):
+        toward = ev[e, EV_DIRECTION] == TOWARD
+        dirn[e] = -side if toward else ev[e, EV_DIRECTION]
+        tgt[e] = ev[e, EV_TARGET] + ev[e, EV_RADII] * r * (side if toward else 1.0)
+        done[e] = 0.0
+        armed[e] = 0.0
+        when[e] = -1.0
+        if ev[e, EV_AIM] != 0.0 and aim_e < 0:
+            aim_e = e
+        ci = int(ev[e, EV_COMPONENT])
+        f0 = y[ci] - tgt[e]
+        if dirn[e] * f0 < 0.0:
+            continue
+        if f0 == 0.0 and dirn[e] * fcur[ci] < 0.0:
+            armed[e] = 1.0
+            continue
+        done[e] = 1.0
+        if _stops_at(ev, e, y[1], y[2], c):
+            if dirn[e] * f0 > 0.0:  # beyond an event that ends the flight: below the ground, inside the net
+                _finish_row(row, c, STATUS_BAD_START, 0)
+                return
+            if stop_e < 0:
+                stop_e = e
+        elif ev[e, EV_STOP] != IF_NET:
+            _record_state(ev, e, 0.0, y, row)
+    if stop_e >= 0:
+        _record_state(ev, stop_e, 0.0, y, row)
+        _finish_row(row, c, int(ev[stop_e, EV_STATUS]), 0)
+        return
     t = 0.0
     h = _H0
     nsteps = 0
-    landed = False
-    while t < t_max and nsteps < 100000:
-        h = _aim_at_ground(y, fcur, r, h)
+    attempts = 0
+    status = STATUS_NO_LANDING
+    while t < t_max:
+        if attempts >= c.max_steps:
+            status = STATUS_FAILED
+            break
+        attempts += 1
+        if aim_e >= 0 and done[aim_e] == 0.0:
+            h = _aim_at(y, fcur, int(ev[aim_e, EV_COMPONENT]), tgt[aim_e], h)
         if t + h > t_max:
             h = t_max - t
-        for c in range(9):
-            K[0, c] = fcur[c]
+        for i in range(9):
+            K[0, i] = fcur[i]
         # stages, unrolled (Dormand-Prince tableau constants below)
-        for c in range(9):
-            ytmp[c] = y[c] + h * (_A21 * K[0, c])
+        for i in range(9):
+            ytmp[i] = y[i] + h * (_A21 * K[0, i])
         derivative(ytmp, K[1], aero, aero_p, k, g, r, wx, wy, wz, decay)
-        for c in range(9):
-            ytmp[c] = y[c] + h * (_A31 * K[0, c] + _A32 * K[1, c])
+        for i in range(9):
+            ytmp[i] = y[i] + h * (_A31 * K[0, i] + _A32 * K[1, i])
         derivative(ytmp, K[2], aero, aero_p, k, g, r, wx, wy, wz, decay)
-        for c in range(9):
-            ytmp[c] = y[c] + h * (_A41 * K[0, c] + _A42 * K[1, c] + _A43 * K[2, c])
+        for i in range(9):
+            ytmp[i] = y[i] + h * (_A41 * K[0, i] + _A42 * K[1, i] + _A43 * K[2, i])
         derivative(ytmp, K[3], aero, aero_p, k, g, r, wx, wy, wz, decay)
-        for c in range(9):
-            ytmp[c] = y[c] + h * (_A51 * K[0, c] + _A52 * K[1, c] + _A53 * K[2, c] + _A54 * K[3, c])
+        for i in range(9):
+            ytmp[i] = y[i] + h * (_A51 * K[0, i] + _A52 * K[1, i] + _A53 * K[2, i] + _A54 * K[3, i])
         derivative(ytmp, K[4], aero, aero_p, k, g, r, wx, wy, wz, decay)
-        for c in range(9):
-            ytmp[c] = y[c] + h * (_A61 * K[0, c] + _A62 * K[1, c] + _A63 * K[2, c] + _A64 * K[3, c] + _A65 * K[4, c])
+        for i in range(9):
+            ytmp[i] = y[i] + h * (_A61 * K[0, i] + _A62 * K[1, i] + _A63 * K[2, i] + _A64 * K[3, i] + _A65 * K[4, i])
         derivative(ytmp, K[5], aero, aero_p, k, g, r, wx, wy, wz, decay)
-        for c in range(9):
-            ynew[c] = y[c] + h * (_B1 * K[0, c] + _B3 * K[2, c] + _B4 * K[3, c] + _B5 * K[4, c] + _B6 * K[5, c])
+        for i in range(9):
+            ynew[i] = y[i] + h * (_B1 * K[0, i] + _B3 * K[2, i] + _B4 * K[3, i] + _B5 * K[4, i] + _B6 * K[5, i])
         derivative(ynew, K[6], aero, aero_p, k, g, r, wx, wy, wz, decay)
         errsum = 0.0
-        for c in range(9):
-            acc = _E1 * K[0, c] + _E3 * K[2, c] + _E4 * K[3, c] + _E5 * K[4, c] + _E6 * K[5, c] + _E7 * K[6, c]
-            sc = atol + rtol * max(abs(y[c]), abs(ynew[c]))
-            e = h * acc / sc
-            errsum += e * e
+        ysum = 0.0
+        for i in range(9):
+            acc = _E1 * K[0, i] + _E3 * K[2, i] + _E4 * K[3, i] + _E5 * K[4, i] + _E6 * K[5, i] + _E7 * K[6, i]
+            sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+            e_i = h * acc / sc
+            errsum += e_i * e_i
+            ysum += ynew[i]
         err = math.sqrt(errsum / 9.0)
-        if not math.isfinite(err):
+        if not math.isfinite(err + ysum):  # a non-finite error or state: a rejection, counted in attempts
             h *= 0.2
             continue
         if err > 1.0:
             h *= max(0.2, 0.9 * err**-0.2)
             continue
         nsteps += 1
-        # ---- events within [t, t + h]
-        th_land = 2.0
-        if ynew[2] - r <= 0.0:
-            if y[2] - r > 0.0:
-                th_land = _root(2, r, y, K, h, P, y[2] - r, ynew[2] - r)
-            elif nsteps == 1 and y[5] > 0.0 and ynew[5] <= 0.0:
-                # started on the ground (z = r) going up and hopped within the first
-                # step: the contact is the root after the hop's apex
-                ta = _root(5, 0.0, y, K, h, P, y[5], ynew[5])
-                th_land = _root(2, r, y, K, h, P, _dense_comp(ta, 2, y, K, h, P) - r, ynew[2] - r, ta)
-            elif nsteps == 1:
-                th_land = 0.0  # started on the ground, not going up
-        if not net_done and side * y[0] > 0.0 and side * ynew[0] <= 0.0:
-            th = _root(0, 0.0, y, K, h, P, y[0], ynew[0])
-            if th <= th_land:
-                net_done = True
-                ny = _dense_comp(th, 1, y, K, h, P)
-                nz = _dense_comp(th, 2, y, K, h, P)
-                hn = net_height_linear(ny, consts[K_HC], consts[K_HP], consts[K_YP])
-                row[_iNET_T] = t + th * h
-                row[_c_net_y] = ny
-                row[_c_net_z] = nz
-                row[_c_net_h] = hn
-                row[_c_net_status] = NET_HIT if nz - hn - r < 0.0 else NET_OVER
-        if not apex_done and y[5] > 0.0 and ynew[5] <= 0.0:
-            th = _root(5, 0.0, y, K, h, P, y[5], ynew[5])
-            if th <= th_land:
-                apex_done = True
-                row[_iAPEX_T] = t + th * h
-                row[_c_apex_x] = _dense_comp(th, 0, y, K, h, P)
-                row[_c_apex_y] = _dense_comp(th, 1, y, K, h, P)
-                row[_c_apex_z] = _dense_comp(th, 2, y, K, h, P)
-        if th_land <= 1.0:
-            _dense_full(th_land, y, K, h, P, yev)
-            row[_iLAND_T] = t + th_land * h
-            for c in range(9):
-                row[_iLAND_T + 1 + c] = yev[c]
-            landed = True
+        # ---- events within [t, t + h]: every crossing first, then the earliest that ends the flight
+        th_stop = 2.0
+        stop_e = -1
+        ncross = 0
+        for e in range(n_ev):
+            if done[e] != 0.0:
+                continue
+            ci = int(ev[e, EV_COMPONENT])
+            d = dirn[e]
+            f1 = ynew[ci] - tgt[e]
+            if d * f1 < 0.0:
+                continue
+            f0 = y[ci] - tgt[e]
+            if armed[e] != 0.0:
+                th = _root_after_start(ci, tgt[e], d, y, K, h, P, f1)
+            elif d * f0 < 0.0:
+                th = _root(ci, tgt[e], y, K, h, P, f0, f1)
+            else:
+                continue
+            theta[e] = th
+            when[e] = nsteps
+            ncross += 1
+            if ev[e, EV_STOP] == ALWAYS:
+                stops = True
+            elif ev[e, EV_STOP] == IF_NET:
+                stops = _stops_at(ev, e, _dense_comp(th, 1, y, K, h, P), _dense_comp(th, 2, y, K, h, P), c)
+            else:
+                stops = False
+            if stops and th < th_stop:
+                th_stop = th
+                stop_e = e
+        if nsteps == 1:
+            for e in range(n_ev):
+                armed[e] = 0.0
+        if ncross > 0:
+            for e in range(n_ev):
+                if when[e] == nsteps and done[e] == 0.0 and theta[e] <= th_stop:
+                    done[e] = 1.0
+                    if ev[e, EV_STOP] != IF_NET or e == stop_e:
+                        _record(ev, e, t, theta[e], y, K, h, P, row)
+        if stop_e >= 0:
+            status = int(ev[stop_e, EV_STATUS])
             break
         t += h
-        for c in range(9):
-            y[c] = ynew[c]
-            fcur[c] = K[6, c]
+        for i in range(9):
+            y[i] = ynew[i]
+            fcur[i] = K[6, i]
         fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
         h *= fac
-    row[_c_n_steps] = nsteps
-    row[_c_status] = STATUS_OK if landed else STATUS_NO_LANDING
+    _finish_row(row, c, status, nsteps)
+
+
+@nb.njit(**JIT)
+def _record_state(ev, e, t, ystate, row):
+    """Write event ``e``'s time ``t`` and recorded components of ``ystate`` into ``row``."""
+    row[int(ev[e, EV_TCOL])] = t
+    for i in range(9):
+        col = int(ev[e, EV_COL0 + i])
+        if col >= 0:
+            row[col] = ystate[i]
 
 
 # ---------------------------------------------------------------- batch kernels
 # ``aero`` is either the model's inline tag (tennislab's own models: Numba
 # compiles one specialised, cached kernel per model with the C_D/C_L formula
-# inlined, ~1.3x faster for Stepanek's formula) or a first-class function
+# inlined, ~2x faster for Stepanek's formula) or a first-class function
 # (any other kernel: one compiled kernel serves them all; see
 # :func:`tennislab.core.aero.aero_coefficients`).
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH, parallel=True)
-def batch_kernel(states, aero, aero_p, consts, out):
+@nb.njit(**JIT, parallel=True)
+def batch_kernel(states, aero, aero_p, consts, events, out):
     """Integrate every row of ``states`` (N, 9) and fill the event table ``out`` (N, NCOLS)."""
     n = states.shape[0]
     nchunks = (n + 255) // 256
     for ci in nb.prange(nchunks):
         work = np.empty((12, 9))
+        evw = np.empty((6, MAX_EVENTS))
         for i in range(ci * n // nchunks, (ci + 1) * n // nchunks):
-            integrate_one(states[i], aero, aero_p, consts, out[i], work)
+            integrate_one(states[i], aero, aero_p, consts, events, out[i], work, evw)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=_FASTMATH)
-def serial_kernel(states, aero, aero_p, consts, out):
+@nb.njit(**JIT)
+def serial_kernel(states, aero, aero_p, consts, events, out):
     """As :func:`batch_kernel`, on one thread (for callers that parallelise themselves)."""
     work = np.empty((12, 9))
+    evw = np.empty((6, MAX_EVENTS))
     for i in range(states.shape[0]):
-        integrate_one(states[i], aero, aero_p, consts, out[i], work)
+        integrate_one(states[i], aero, aero_p, consts, events, out[i], work, evw)
 
 
 _F = types.float64
-BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], _F[::1], _F[:, ::1])
+BATCH_SIGNATURE = types.void(_F[:, ::1], AERO_FUNCTION_TYPE, _F[::1], CONSTS_TYPE, _F[:, ::1], _F[:, ::1])
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath=_FASTMATH)
-def batch_kernel_fp(states, aero, aero_p, consts, out):
+@nb.njit(BATCH_SIGNATURE, **JIT)
+def batch_kernel_fp(states, aero, aero_p, consts, events, out):
     """:func:`batch_kernel` for an aero kernel passed as a first-class function."""
-    batch_kernel(states, aero, aero_p, consts, out)
+    batch_kernel(states, aero, aero_p, consts, events, out)
 
 
-@nb.njit(BATCH_SIGNATURE, cache=True, error_model="numpy", fastmath=_FASTMATH)
-def serial_kernel_fp(states, aero, aero_p, consts, out):
+@nb.njit(BATCH_SIGNATURE, **JIT)
+def serial_kernel_fp(states, aero, aero_p, consts, events, out):
     """:func:`serial_kernel` for an aero kernel passed as a first-class function."""
-    serial_kernel(states, aero, aero_p, consts, out)
+    serial_kernel(states, aero, aero_p, consts, events, out)
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def rk4_step(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
     """One classical Runge-Kutta 4 step of size ``h`` [s] (negative: backward) from ``y`` into ``out``.
 

@@ -35,6 +35,9 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from tennislab.core._jit import JIT
+from tennislab.core.ball import Ball
+from tennislab.core.surfaces import get_surface
 from tennislab.errors import check_range
 
 
@@ -167,9 +170,6 @@ def ball_mark(
     start : first-contact point (x, y) [m]; velocity_in/out [m/s] (3,); spin_in [rad/s] (3,);
     surface : :class:`~tennislab.core.surfaces.Surface` or name; ball : :class:`Ball`.
     """
-    from tennislab.core.ball import Ball
-    from tennislab.core.surfaces import get_surface
-
     s = get_surface(surface)
     ball = ball or Ball()
     r = ball.radius
@@ -199,7 +199,7 @@ def ball_mark(
     return BallMark(start, center, d, hi - lo, chi - clo, dmax, params.contact_time, skid, dvec, discs)
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def impulse_time_fraction(pmag, mu_pn, T):
     """Integral over the contact of the friction-impulse fraction, divided by T [-].
 
@@ -214,7 +214,7 @@ def impulse_time_fraction(pmag, mu_pn, T):
     return (0.5 * ts - math.sin(math.pi * ts) / (2.0 * math.pi)) / fs + (1.0 - ts)
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def contact_displacement(vxi, vyi, vxo, vyo, vz_in, mu, e, T, out):
     """Horizontal travel (out[0], out[1]) [m] of the ball centre during a contact of duration T [s]."""
     px = vxo - vxi
@@ -225,7 +225,7 @@ def contact_displacement(vxi, vyi, vxo, vyo, vz_in, mu, e, T, out):
 
 
 # ------------------------------------------------------------------ geometry
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def _depth_rect_kernel(discs, x0, x1, y0, y1, off, out):
     for m in range(off.shape[0]):
         best = -np.inf
@@ -244,7 +244,7 @@ def _depth_rect_kernel(discs, x0, x1, y0, y1, off, out):
         out[m] = best
 
 
-@nb.njit(cache=True)
+@nb.njit(**JIT)
 def _depth_half_kernel(discs, axis, edge, inward, off, out):
     for m in range(off.shape[0]):
         best = -np.inf

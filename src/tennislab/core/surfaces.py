@@ -12,7 +12,7 @@ Court Pace Rating (ITF CS 01/02; ITF Technical Booklet 2015):
     e  = v_out,z / v_in,z,   mu = (v_in,x - v_out,x) / (v_in,z (1 + e)),
 
 measured with a ball fired at 30 m/s, 16 deg to the surface, spin <= 3 rev/s.
-:func:`court_pace_rating` simulates that test with the bounce model and applies
+:func:`tennislab.core.bounce.court_pace_rating` simulates that test with the bounce model and applies
 the formula to the simulated velocities, so a surface on which the ball grips
 gets the lower *apparent* friction the ITF test would measure.  Categories:
 slow <= 29, medium-slow 30-34, medium 35-39, medium-fast 40-44, fast >= 45.
@@ -164,32 +164,3 @@ def cpr_category(cpr: float) -> str:
 def cpr_formula(e: float, mu: float) -> float:
     """CPR = 100 (1 - mu) + 150 (0.81 - e) (ITF CS 01/02)."""
     return 100.0 * (1.0 - mu) + 150.0 * (0.81 - e)
-
-
-def court_pace_rating(
-    surface, ball=None, speed: float = ITF_CPR_SPEED, angle: float = ITF_CPR_ANGLE, spin: float = 0.0
-) -> dict:
-    """Simulate the ITF court-pace test on a surface with the bounce model.
-
-    Parameters
-    ----------
-    surface : :class:`Surface` or name
-    ball : :class:`~tennislab.core.ball.Ball` (default ITF type 2, thin shell)
-    speed : incoming speed [m/s] (ITF: 30 +- 2)
-    angle : incoming angle to the surface [rad] (ITF: 16 +- 2 deg)
-    spin : incoming topspin [rad/s] (ITF: <= 3 rev/s)
-
-    Returns a dict with the apparent ``e`` and ``mu`` (ITF definitions), ``cpr``,
-    ``category`` and the bounce ``mode``.
-    """
-    from tennislab.core.ball import Ball
-    from tennislab.core.bounce import bounce
-
-    s = get_surface(surface)
-    ball = ball or Ball()
-    vin = (speed * math.cos(angle), 0.0, -speed * math.sin(angle))
-    res = bounce(vin, (0.0, spin, 0.0), s, ball)
-    e_app = res.velocity_out[2] / -vin[2]
-    mu_app = (vin[0] - res.velocity_out[0]) / (-vin[2] * (1.0 + e_app))
-    cpr = cpr_formula(e_app, mu_app)
-    return {"surface": s.name, "e": e_app, "mu": mu_app, "cpr": cpr, "category": cpr_category(cpr), "mode": res.mode}

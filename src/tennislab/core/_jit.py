@@ -1,0 +1,27 @@
+"""Compiler options shared by every Numba kernel of tennislab (one statement of them).
+
+``FASTMATH`` allows the floating-point rewrites that do not change what a finite
+computation means: no signed zeros (``nsz``), reciprocal instead of division
+(``arcp``), fused multiply-add (``contract``), approximate library functions
+(``afn``) and reassociation (``reassoc``).  It leaves out ``nnan`` and ``ninf``,
+so that ``math.isfinite`` and NaN checks keep working inside kernels (the
+integrators rely on them to stop on a non-finite state).
+
+Use as ``@nb.njit(**JIT)`` (add ``parallel=True``, ``inline="always"`` or a
+signature where needed).  Do not mutate ``FASTMATH``: Numba keeps the set it is
+given.
+"""
+
+from __future__ import annotations
+
+#: LLVM fast-math flags of every compiled kernel (Numba wants a ``set``)
+FASTMATH: set[str] = {"nsz", "arcp", "contract", "afn", "reassoc"}
+
+#: ``numba.njit`` options of every kernel: cached on disk, NumPy's error model (a
+#: division by zero gives inf/NaN, no exception), :data:`FASTMATH`
+JIT: dict = {"cache": True, "error_model": "numpy", "fastmath": FASTMATH}
+
+#: the same for functions compiled at run time (a user's aero callable): not cacheable on disk
+JIT_DYNAMIC: dict = {"error_model": "numpy", "fastmath": FASTMATH}
+
+__all__ = ["FASTMATH", "JIT", "JIT_DYNAMIC"]
