@@ -89,3 +89,20 @@ def test_caveats_for_the_net_and_a_rolling_ball():
     assert clean.caveats == [] and clean.to_dict()["caveats"] == []
     rolling = fly((-2, 0, 0.034), (3, 0, -0.04), bounces=6)  # 0.1 m/s down: it rolls after bounce 4
     assert any("rolls" in c for c in rolling.caveats)
+
+
+def test_the_net_stops_the_ball_by_default():
+    """A ball driven into the net ends there (net_contact, no landing); net='through' keeps the seeds' reading."""
+    from tennislab.trajectory import fly as fly_workflow
+
+    stopped = fly_workflow((-11.885, 0.0, 1.0), (30.0, 0.0, 1.2)).to_dict()
+    assert stopped["landing"] is None and stopped["bounce"] is None
+    nc = stopped["net_contact"]
+    assert nc["part"] == "mesh" and abs(nc["x"]) == pytest.approx(0.0335, abs=1e-9) and 0 < nc["z"] < 0.914
+    assert stopped["net"]["result"] == "net" and "flight ends there" in stopped["caveats"][0]
+    through = fly_workflow((-11.885, 0.0, 1.0), (30.0, 0.0, 1.2), net="through").to_dict()
+    assert through["net_contact"] is None and through["landing"]["x"] > 0
+    clear = fly_workflow((-11.885, 0.0, 1.0), (25.0, 0.0, 6.0), bounces=1).to_dict()
+    assert clear["net_contact"] is None and len(clear["bounces"]) == 1
+    with pytest.raises(InputError, match="^net: unknown mode"):
+        fly_workflow((-11.885, 0.0, 1.0), (25.0, 0.0, 6.0), net="maybe")

@@ -18,7 +18,7 @@ from tennislab.cli.common import (
 )
 from tennislab.errors import InputError
 from tennislab.plot.trajectory import plot_trajectories
-from tennislab.trajectory import fly
+from tennislab.trajectory import NET_MODES, fly
 
 #: where a ball starts when --position is not given: a groundstroke from the centre of the near
 #: baseline, 1 m above the ground [m]
@@ -68,6 +68,12 @@ def register(sub) -> None:
         metavar="NAME",
         help="court surface of the bounces: clay, grass, hard, carpet (default hard; only with --bounces)",
     )
+    p.add_argument(
+        "--net",
+        choices=NET_MODES,
+        default="obstacle",
+        help="obstacle (default): the flight ends where the ball meets the net; through: it passes (the seeds' models)",
+    )
     add_physics_flags(p)
     o = p.add_argument_group("output")
     o.add_argument("--plot", metavar="FILE.png", type=figure_file(), help="draw side and top views on the court")
@@ -88,6 +94,7 @@ def run(args) -> int:
         params=params,
         surface=args.surface or "hard",
         bounces=args.bounces,
+        net=args.net,
     )
     out = res.to_dict()
     if args.plot:
@@ -102,13 +109,20 @@ def run(args) -> int:
         f"heading {la['heading_deg']:.1f} deg, spin {la['spin_rpm']:.0f} rpm{axis}"
     )
     b = out["landing"]
-    areas = ", ".join(b["areas"]) if b["areas"] else "outside the court"
-    print(
-        f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, "
-        f"speed {b['speed']:.2f} m/s ({b['speed_kmh']:.1f} km/h); {areas}"
-    )
+    if b is not None:
+        areas = ", ".join(b["areas"]) if b["areas"] else "outside the court"
+        print(
+            f"landing: x = {b['x']:.3f} m, y = {b['y']:.3f} m at t = {b['t']:.3f} s, "
+            f"speed {b['speed']:.2f} m/s ({b['speed_kmh']:.1f} km/h); {areas}"
+        )
     n = out["net"]
-    if n["result"] == "none":
+    nc = out["net_contact"]
+    if nc is not None:
+        print(
+            f"net: STOPPED BY THE NET ({nc['part']}) at y = {nc['y']:.3f} m, z = {nc['z']:.3f} m, t = {nc['t']:.3f} s "
+            f"(clearance {n['clearance']:.3f} m)"
+        )
+    elif n["result"] == "none":
         print("net: not reached")
     else:
         verdict = "HITS THE NET" if n["result"] == "net" else "over"

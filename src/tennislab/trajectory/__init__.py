@@ -16,6 +16,7 @@ never an answer.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -31,7 +32,7 @@ from tennislab.errors import InputError, check_range, check_vector
 from tennislab.results import Result
 from tennislab.units import DEG, KMH, RPM
 
-__all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "FlightResult", "fly", "launch_vectors"]
+__all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "NET_MODES", "FlightResult", "fly", "launch_vectors"]
 
 #: Fastest launch accepted [m/s]: the fastest recorded serves are about 263 km/h = 73 m/s (ATP, 2012);
 #: 100 m/s leaves room for studies beyond them and refuses numbers no racket or machine produces.
@@ -42,6 +43,9 @@ MAX_SPIN_RPM = 10_000.0
 #: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long;
 #: the same limit as core.flight's guard rail).
 MAX_DISTANCE_M = 1000.0
+
+#: how the flight treats the net: stop the ball there, or let it pass (the seeds' models)
+NET_MODES = ("obstacle", "through")
 
 #: the launch speed's units: parameter -> (m/s per unit, unit label)
 _SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
@@ -160,11 +164,16 @@ class FlightResult(Result):
         """What the numbers do not model, in plain words (shown next to them by the CLI, app and report)."""
         out = []
         net = self.trajectory.net
-        if net.result == "net":
-            # TODO(core net obstacle): stop the ball at the net once core.flight can (issue 17).
+        contact = self.trajectory.net_contact
+        if contact is not None:
             out.append(
-                f"The ball hits the net (clearance {net.clearance:.3f} m). The flight is not stopped at the net "
-                "yet: the landing shown is where the ball would land if the net were not there."
+                f"The ball hits the net ({contact.part}, {contact.z:.2f} m high): the flight ends there; what the "
+                "net then does to the ball is not modelled."
+            )
+        elif net.result == "net":
+            out.append(
+                f"The ball hits the net (clearance {net.clearance:.3f} m). It was flown with the net switched off "
+                "(net='through'): the landing shown is where it would land if the net were not there."
             )
         if self.rally is not None and len(self.rally.segments) <= len(self.rally.bounces):
             n = len(self.rally.bounces)
@@ -223,6 +232,20 @@ class FlightResult(Result):
                 "wind": p.atmosphere.wind,
             },
         }
+        contact = tr.net_contact
+        out["net_contact"] = (
+            None
+            if contact is None
+            else {
+                "t": contact.t,
+                "x": float(contact.position[0]),
+                "y": contact.y,
+                "z": contact.z,
+                "velocity": contact.velocity,
+                "spin": contact.spin,
+                "part": contact.part,
+            }
+        )
         if self.rally is not None:
             out["surface"] = self.surface
             out["bounces"] = [_bounce_dict(b) for b in self.rally.bounces]
@@ -259,6 +282,7 @@ def fly(
     params: FlightParams | None = None,
     surface="hard",
     bounces: int = 0,
+    net: str = "obstacle",
 ) -> FlightResult:
     """Fly one ball from ``position`` [m] to its landing (``bounces=0``) or through ``bounces`` bounces
     on ``surface`` (a registered name or :class:`~tennislab.core.surfaces.Surface`).
@@ -268,8 +292,13 @@ def fly(
     about ``spin_axis`` (module docstring).  Raises :class:`~tennislab.errors.InputError` for a launch
     outside the guard rails, when the ball does not land within ``params.t_max``, or when the
     integration gives non-finite numbers.
+
+    ``net``: ``obstacle`` (default) ends the flight where the ball meets the net (the result's
+    ``net_contact``; no landing); ``through`` lets it pass, as the seeds' models do.
     """
-    params = params or FlightParams()
+    if net not in NET_MODES:
+        raise InputError(f"net: unknown mode {net!r}; allowed: {', '.join(NET_MODES)}")
+    params = dataclasses.replace(params or FlightParams(), net_obstacle=(net == "obstacle"))
     pos = check_vector("position", position)
     for i, c in enumerate(pos):
         if abs(c) > MAX_DISTANCE_M:
@@ -296,7 +325,7 @@ def fly(
         tr = rally.first
     else:
         tr = _fly(pos, v, w, params)
-    if tr.landing is None:
+    if tr.landing is None and tr.net_contact is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s")
     for seg in [tr] if rally is None else rally.segments:
         if not (np.all(np.isfinite(seg.y)) and (seg.landing is None or np.all(np.isfinite(seg.landing.velocity)))):
