@@ -18,9 +18,8 @@ import numpy as np
 from tennislab.app import launcher_adapter, linecall_adapter, serve_adapter
 from tennislab.app import services as S
 from tennislab.app.fields import MAX_TRACK_BYTES
-from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
-from tennislab.linecall.synth import synthetic_track as _synthetic_track
+from tennislab.linecall.synth import sample_serve
 
 
 def players() -> dict:
@@ -62,30 +61,13 @@ def linecall(v: dict, csv=None) -> dict:
     return linecall_adapter.call(v, csv)
 
 
-#: The example serve of the line-call page and the report: hard and flat down the T, landing
-#: about 6 mm beyond the far service line's outer edge (x = 6.40 m): a close call.
-SAMPLE_SERVE = {"position": (-11.8, 0.4, 2.85), "velocity": (48.0, -0.9, -4.257), "spin": (0.0, 60.0, 0.0)}
+def synthetic_track(seed: int = 7, sigma: float = 0.003, rate: float = 340.0):
+    """The example serve as a tracker near the line sees it (:func:`tennislab.linecall.synth.sample_serve`).
 
-
-def synthetic_track(
-    seed: int = 7,
-    sigma: float = 0.003,
-    rate: float = 340.0,
-    shot: dict | None = None,
-    params: FlightParams | None = None,
-):
-    """A synthetic track (t, x, y, z) [s, m] through the bounce, sampled at ``rate`` Hz with Gaussian
-    noise ``sigma`` [m] (:func:`tennislab.linecall.synth.synthetic_track`), keeping what a tracker
-    near the line sees (the last 0.35 s before the bounce and 0.15 s after).
-
-    Returns (samples (N, 4), true first contact (x, y)).
+    Returns (samples (N, 4): t, x, y, z [s, m], true first contact (x, y) [m]).
     """
-    shot = shot or SAMPLE_SERVE
-    tr = _synthetic_track(
-        shot["position"], shot["velocity"], shot["spin"], params, rate=rate, sigma=sigma, seed=seed, after=0.15
-    )
-    keep = tr.t >= tr.bounce.t - 0.35
-    return np.column_stack([tr.t[keep], tr.xyz[keep]]), (tr.bounce.x, tr.bounce.y)
+    tr = sample_serve(seed=seed, sigma=sigma, rate=rate)
+    return np.column_stack([tr.t, tr.xyz]), (tr.bounce.x, tr.bounce.y)
 
 
 def sample_track(v: dict | None = None) -> str:

@@ -445,21 +445,25 @@ async function runCall() {
     PAGES.linecall.clear(); setStatus($("#call-status"), `track file: the track file is larger than ${state.meta.limits.track_bytes / 1000} kB`, "error"); return;
   }
   const r = await post("linecall", "/api/linecall", {...body, csv: text}, $("#call-status")); if (!r) return;
+  const bo = r.bounce || {}, mk = r.mark || {}, fit = r.fit || {};
+  const why = r.reason || (r.review_reasons || []).join("; ") || null;
+  const mm = v => (typeof v === "number" ? v * 1000 : null);
   resultTable($("#call-result"), [
-    ["call", r.call, "call"], ["against", r.target || r.line || "–", "against"], ["line drawn", r.line ?? "–", "line"],
+    ["call", r.call, "call"], ["why", why, "reason"], ["against", r.target || r.line || "–", "against"],
+    ["line drawn", r.line ?? "–", "line"],
     ["distance of the mark to the line", r.distance_mm, "distance_mm", "mm", 1],
-    ["probability in", r.p_in, "p_in", "", 3], ["bounce x", r.bounce.x, "bounce.x", "m", 4], ["bounce y", r.bounce.y, "bounce.y", "m", 4],
-    ["bounce sigma", r.bounce.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", r.mark.length * 1000, "mark.length_mm", "mm", 1],
-    ["mark width", r.mark.width * 1000, "mark.width_mm", "mm", 1], ["fit rms", r.fit.rms_mm, "fit.rms_mm", "mm", 2],
-    ["outliers", r.fit.outliers, "fit.outliers", "", 0],
+    ["probability in", r.p_in, "p_in", "", 3], ["bounce x", bo.x, "bounce.x", "m", 4], ["bounce y", bo.y, "bounce.y", "m", 4],
+    ["bounce sigma", bo.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", mm(mk.length), "mark.length_mm", "mm", 1],
+    ["mark width", mm(mk.width), "mark.width_mm", "mm", 1], ["fit rms", fit.rms_mm, "fit.rms_mm", "mm", 2],
+    ["outliers", fit.outliers, "fit.outliers", "", 0],
   ], body);
   const court = state.meta.court;
-  const bx = r.mark.x, by = r.mark.y, half = 0.3;
-  const zoom = P.courtTop($("#call-zoom"), court, {window: [bx - half, bx + half, by - half * 0.6, by + half * 0.6], width: 520, height: 340, tick: 0.2, pad: [40, 8, 8, 28]});
+  const cx = mk.x ?? bo.x ?? (r.net && r.net.x) ?? 0, cy = mk.y ?? bo.y ?? (r.net && r.net.y) ?? 0, half = 0.3;
+  const zoom = P.courtTop($("#call-zoom"), court, {window: [cx - half, cx + half, cy - half * 0.6, cy + half * 0.6], width: 520, height: 340, tick: 0.2, pad: [40, 8, 8, 28]});
   if (r.line_rect) zoom.rect(r.line_rect[0], r.line_rect[1], r.line_rect[2], r.line_rect[3], {class: "cline called"}, "data");
-  const g = P.svgEl("g", {id: "call-mark", class: "mark " + (r.call === "in" ? "in" : "out")}, zoom.layers.front);
-  for (const d of r.mark.discs) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
-  zoom.dot(r.bounce.x, r.bounce.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
+  const g = P.svgEl("g", {id: "call-mark", class: "mark " + (r.call === "in" ? "in" : r.call === "out" ? "out" : "review")}, zoom.layers.front);
+  for (const d of (mk.discs || [])) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
+  if (typeof bo.x === "number") zoom.dot(bo.x, bo.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
   const sidePts = r.track.map(p => [p[1], p[3]]).concat(r.fitted.map(p => [p[0], p[2]]));
   const side = P.courtSide($("#call-side"), court, {points: sidePts});
   for (const p of r.track) side.dot(p[1], p[3], 1.2, {fill: "#888"});
