@@ -114,7 +114,7 @@ def test_flight_matches_python_api(client):
     t /= np.linalg.norm(t)
     u = np.cross(d, t)
     w = (math.cos(30 * DEG) * t + math.sin(30 * DEG) * u) * 2000 * RPM
-    tr = core_fly((-11.885, 0.5, 2.8), d * 180 * KMH, w)
+    tr = core_fly((-11.885, 0.5, 2.8), d * 180 * KMH, w, FlightParams.from_options(aero="stepanek1988"))
     assert out["landing"]["x"] == pytest.approx(tr.landing.x, abs=1e-9)
     assert out["landing"]["y"] == pytest.approx(tr.landing.y, abs=1e-9)
     assert out["net"]["clearance"] == pytest.approx(tr.net.clearance, abs=1e-9)

@@ -7,6 +7,7 @@ import json
 import pytest
 
 from tennislab.cli import main
+from tennislab.core.aero import DEFAULT_AERO
 from tennislab.serve.players import get_player
 
 FLY = ["fly", "--speed-kmh", "100", "--elevation-deg", "8", "--json"]
@@ -47,7 +48,7 @@ def physics(out):
 def test_no_configuration_gives_the_built_in_defaults(workdir, capsys):
     rc, out, err = run(capsys, *FLY)
     assert rc == 0, err
-    assert physics(out)["air_density"] == pytest.approx(1.199) and physics(out)["aero"] == "stepanek1988"
+    assert physics(out)["air_density"] == pytest.approx(1.199) and physics(out)["aero"] == DEFAULT_AERO
 
 
 def test_the_working_folders_file_gives_defaults_and_flags_win(workdir, capsys):
@@ -60,7 +61,7 @@ def test_the_working_folders_file_gives_defaults_and_flags_win(workdir, capsys):
     assert physics(out)["air_density"] == 1.3 and physics(out)["wind"] == [0.0, 0.0, 0.0]
     assert physics(out)["aero"] == "cross2014"
     rc, out, _ = run(capsys, "--no-config", *FLY)
-    assert physics(out)["aero"] == "stepanek1988"
+    assert physics(out)["aero"] == DEFAULT_AERO
 
 
 def test_config_flag_anywhere_on_the_line(workdir, capsys, tmp_path_factory):

@@ -168,6 +168,7 @@ def test_speed_elevation_heading_equal_the_velocity_vector(capsys):
 def test_named_spin_axes_equal_their_vectors(capsys, name, vector):
     """For a flat launch along +x the named axes are the conventions' vectors (docs/conventions.md)."""
     base = ["--speed-kmh", "100", "--elevation-deg", "0", "--position", "-11.885", "0", "1.2", "--spin-rpm", "2000"]
+    base += ["--net", "through"]  # (some of these balls drop into the net: compare where they would land)
     a = fly_json(capsys, *base, "--spin-axis", name)
     b = fly_json(capsys, *base, "--spin-axis", *map(str, vector))
     assert a["launch"]["spin"] == pytest.approx(b["launch"]["spin"], abs=1e-9)
@@ -196,9 +197,13 @@ def test_json_keys_launch_landing_bounce_caveats(capsys):
 
 def test_a_ball_into_the_net_says_so(capsys):
     rc, out, _ = run(capsys, "fly", "--speed-ms", "20", "--elevation-deg", "6")
-    assert rc == 0 and "net: HITS THE NET" in out and "note: The ball hits the net" in out
+    assert rc == 0 and "net: STOPPED BY THE NET (mesh)" in out and "note: The ball hits the net" in out
+    assert "landing:" not in out
     d = fly_json(capsys, "--speed-ms", "20", "--elevation-deg", "6")
     assert d["net"]["result"] == "net" and "hits the net" in d["caveats"][0]
+    assert d["landing"] is None and d["bounce"] is None and d["net_contact"]["part"] == "mesh"
+    rc, out, _ = run(capsys, "fly", "--speed-ms", "20", "--elevation-deg", "6", "--net", "through")
+    assert rc == 0 and "net: HITS THE NET" in out and "landing:" in out
 
 
 # ------------------------------------------------------------------ guard rails (issues 16, 17)

@@ -1,6 +1,6 @@
 """Calibration of the aero coefficients on measured serves, and the sensitivity of the misses.
 
-:func:`calibrate_serves` fits the family of :mod:`~.family` (C_D = cd + cd_s S, C_L = min(cl S,
+:func:`calibrate_serves` fits the family of :mod:`~.family` (C_D = cd + cd_s min(S, 0.5), C_L = min(cl S,
 0.5)) to the *fit* part of a split of the usable serves (:mod:`~.engine`: nearly least absolute
 deviations of the length and width misses, match-clustered uncertainties) and reports the misses
 before (the baseline model, by default :data:`~tennislab.core.aero.DEFAULT_AERO`, under the same

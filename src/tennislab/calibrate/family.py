@@ -2,7 +2,7 @@
 
 Family (the spin ratio S = r w / v, r the ball radius, w = |omega|, v the air speed)::
 
-    C_D = cd + cd_s S
+    C_D = cd + cd_s min(S, S_DRAG_MAX)     (S_DRAG_MAX = 0.5: held beyond the data)
     C_L = min(cl S, cl_max)
 
 * ``cd``: drag of a non-spinning ball; in-flight measurements give 0.507 +- 0.024 for new balls at
@@ -37,7 +37,10 @@ SPEED_GRID = np.unique(np.round(np.geomspace(2.0, 90.0, 50), 4))
 SPIN_GRID = np.arange(0.0, 10_000.0 + 1.0, 250.0)
 CL_MAX = 0.5  #: cap of C_L (Stepanek's C_L = 1/(2 + 1/S) tends to 1/2 as S grows)
 PARAMS = ("cd", "cl", "cd_s")  #: the family's parameters
-FORMULA = "C_D = cd + cd_s S, C_L = min(cl S, 0.5), S = r w / v"  #: the family, in words
+FORMULA = "C_D = cd + cd_s min(S, 0.5), C_L = min(cl S, 0.5), S = r w / v"  #: the family, in words
+#: spin ratio beyond which the drag term is held (the serves that calibrate it have S <= 0.35; beyond
+#: the data a linear term is an extrapolation, and at 2 m/s and 8,000 rpm it would leave any physical range)
+S_DRAG_MAX = 0.5
 #: allowed ranges of the parameters (wide: any physical ball lies inside)
 BOUNDS = {"cd": (0.05, 2.0), "cl": (-1.0, 3.0), "cd_s": (-2.0, 5.0)}
 
@@ -47,7 +50,7 @@ def family_coefficients(speed, spin, *, cd: float, cl: float, cd_s: float = 0.0,
     v = np.asarray(speed, dtype=float)
     w = np.asarray(spin, dtype=float)
     s = radius * w / np.maximum(v, 1e-9)
-    return cd + cd_s * s, np.minimum(cl * s, cl_max)
+    return cd + cd_s * np.minimum(s, S_DRAG_MAX), np.minimum(cl * s, cl_max)
 
 
 def family_table(cd: float, cl: float, cd_s: float = 0.0, *, radius: float, cl_max: float = CL_MAX):

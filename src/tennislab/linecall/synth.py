@@ -155,8 +155,8 @@ def shot_library() -> list[dict]:
 
 
 #: The example serve of the line-call page and the report: hard and flat down the T, landing
-#: about 6 mm beyond the far service line's outer edge (x = 6.40 m): a close call.
-SAMPLE_SERVE = {"position": (-11.8, 0.4, 2.85), "velocity": (48.0, -0.9, -4.257), "spin": (0.0, 60.0, 0.0)}
+#: about 6.6 mm beyond the far service line's outer edge (x = 6.40 m) with the default aero model: a close call.
+SAMPLE_SERVE = {"position": (-11.8, 0.4, 2.85), "velocity": (48.0, -0.9, -4.47), "spin": (0.0, 60.0, 0.0)}
 
 
 def sample_serve(
