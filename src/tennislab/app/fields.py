@@ -163,12 +163,11 @@ _form(
 
 PLAYERS = (*player_names(), "custom")
 
-#: The serve the explorer opens on: a topspin serve of the professional profile in the middle of
-#: the widest part of its alpha x beta window (seed-2d criteria), computed from the serve model of
-#: this version (``tennislab serve-window --player professional``: at beta 20 deg the successful
-#: alpha run from 40 to 63 deg, and beta 18-22 deg all succeed at alpha 52 deg).
-#: ``tests/app/test_api.py::test_default_serve_succeeds`` checks that it still succeeds.
-DEFAULT_SERVE = {"player": "professional", "impact_angle": 46.0, "face_angle": 21.0}  # = tennislab.serve.default_serve("professional")
+#: The serve the explorer opens on: the professional's topspin serve deepest inside its alpha x beta
+#: window (:func:`tennislab.serve.default_serve`, 2-D criteria of the paper); not computed at import
+#: (a window takes seconds on a cold cache): ``tests/app/test_api.py::test_default_serve_succeeds``
+#: checks that these are its values and that the serve succeeds.
+DEFAULT_SERVE = {"player": "professional", "impact_angle": 46.0, "face_angle": 21.0}
 
 _form(
     "serve",
