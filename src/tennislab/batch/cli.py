@@ -10,6 +10,7 @@ import argparse
 
 from tennislab.batch.schedulers import check_scheduler
 from tennislab.errors import InputError
+from tennislab.io.files import check_output_dir
 
 
 def _scheduler_arg(text: str) -> str:
@@ -27,6 +28,14 @@ def _positive_int(text: str) -> int:
     if v < 1:
         raise argparse.ArgumentTypeError(f"{v} is outside the allowed range [1, inf]")
     return v
+
+
+def _out_dir_arg(text: str) -> str:
+    """``--out-dir``: refused at parse time (before any work) when it cannot be a writable directory."""
+    try:
+        return check_output_dir("out_dir", text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).partition(": ")[2]) from None
 
 
 def add_scheduler_flag(parser) -> None:
@@ -49,6 +58,7 @@ def add_scheduler_flag(parser) -> None:
         "--out-dir",
         metavar="DIR",
         default=None,
+        type=_out_dir_arg,
         help="also stream results to DIR/part-*.parquet; rerunning resumes (finished chunks skipped)",
     )
     if "--workers" not in existing:

@@ -95,6 +95,10 @@ _PARAM = re.compile(r"^([a-z][a-z0-9_]*)(\[\d+\])?(?=[: ])")
 _INNER = re.compile(r"(?<![\w.\-/])([a-z][a-z0-9]*(?:_[a-z0-9]+)+)(?![\w\-/])")
 
 
+#: library parameters whose flag is not their name (``--out-dir`` writes the batch store ``out``)
+_ALIASES = {"out": "out_dir"}
+
+
 def flag_message(message: str, options: set[str]) -> str:
     """A library error names its parameter (``speed_kmh: ...``); the CLI says its flag (``--speed-kmh: ...``).
 
@@ -103,7 +107,7 @@ def flag_message(message: str, options: set[str]) -> str:
     """
     m = _PARAM.match(message)
     if m:
-        flag = "--" + m.group(1).replace("_", "-")
+        flag = "--" + _ALIASES.get(m.group(1), m.group(1)).replace("_", "-")
         if flag in options:
             message = flag + message[len(m.group(1)) :]
 

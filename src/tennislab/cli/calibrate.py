@@ -22,7 +22,7 @@ from tennislab.calibrate import (
     sensitivity_serves,
     validate_serves,
 )
-from tennislab.cli.common import atomic_write, emit_json, save_figure
+from tennislab.cli.common import atomic_write, emit_json, figure_file, output_file, save_figure
 from tennislab.core.aero import DEFAULT_AERO
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
@@ -58,7 +58,12 @@ def _common(p, *, serves: bool = True) -> None:
             "tournament:roland_garros, tour:atp, year:2020, event:australian_open_2020",
         )
     _physics_flags(p)
-    p.add_argument("--csv", metavar="FILE", help="write one row per serve (or track / grid point) as CSV")
+    p.add_argument(
+        "--csv",
+        metavar="FILE",
+        type=output_file((".csv",)),
+        help="write one row per serve (or track / grid point) as CSV",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
@@ -86,7 +91,9 @@ def register(sub) -> None:
         help="spin-axis assumption: topspin (default), none, sidespin, an angle [deg] (0 topspin, 90 sidespin "
         "curving left), or fitted (per serve family, on the fit part of --split)",
     )
-    v.add_argument("--plot", metavar="FILE.png", help="histograms of the length and width misses per model")
+    v.add_argument(
+        "--plot", metavar="FILE.png", type=figure_file(), help="histograms of the length and width misses per model"
+    )
     _common(v)
     v.set_defaults(func=run_validate)
 
@@ -107,8 +114,15 @@ def register(sub) -> None:
         help="fitted (default: per serve family, with cl fixed), topspin, none, sidespin or an angle [deg]",
     )
     s.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' figures (default {DEFAULT_AERO})")
-    s.add_argument("--out-table", metavar="CSV", help="write the calibrated model as an --aero table CSV")
-    s.add_argument("--plot", metavar="FILE.png", help="histograms of the misses before and after (held out)")
+    s.add_argument(
+        "--out-table",
+        metavar="CSV",
+        type=output_file((".csv",)),
+        help="write the calibrated model as an --aero table CSV",
+    )
+    s.add_argument(
+        "--plot", metavar="FILE.png", type=figure_file(), help="histograms of the misses before and after (held out)"
+    )
     _common(s)
     s.set_defaults(func=run_serves)
 
@@ -140,7 +154,12 @@ def register(sub) -> None:
         "--spin-axis", default="topspin", help="its axis relative to each track's direction (default topspin)"
     )
     t.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' residuals (default {DEFAULT_AERO})")
-    t.add_argument("--out-table", metavar="CSV", help="write the calibrated model as an --aero table CSV")
+    t.add_argument(
+        "--out-table",
+        metavar="CSV",
+        type=output_file((".csv",)),
+        help="write the calibrated model as an --aero table CSV",
+    )
     _common(t, serves=False)
     t.set_defaults(func=run_tracks)
 

@@ -7,7 +7,7 @@ physics flags it takes only the ball's ``--mass`` and ``--radius``.
 
 from __future__ import annotations
 
-from tennislab.cli.common import emit_json, save_figure
+from tennislab.cli.common import emit_json, figure_file, save_figure
 from tennislab.core.flight import PRESETS, FlightParams
 from tennislab.core.haake2003 import ball_model_names
 from tennislab.core.impact import FRICTION_MODELS, TANGENTIAL_DAMPING, ImpactParams
@@ -127,7 +127,12 @@ def register(sub) -> None:
     g = p.add_argument_group("ball")
     g.add_argument("--mass", type=float, help=f"ball mass [kg] (default {base['mass']}, the paper's)")
     g.add_argument("--radius", type=float, help=f"ball radius [m] (default {base['radius']}, the paper's)")
-    p.add_argument("--plot", metavar="FILE.png", help="force, velocity and spin histories (worksheet figs 2.2-2.6)")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        type=figure_file(),
+        help="force, velocity and spin histories (worksheet figs 2.2-2.6)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
