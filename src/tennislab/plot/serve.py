@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Ellipse
 
-from tennislab.plot.court import draw_court_side, draw_court_top
+from tennislab.plot.court import draw_court_side, draw_court_top, frame_views
 from tennislab.serve.published import PEAK_SPIN_ALPHA
 from tennislab.units import RPM
 
@@ -52,14 +52,15 @@ def plot_window(windows, published=True, optimum_trajectories=None):
     if optimum_trajectories:
         fig, (a5, a6, a7) = plt.subplots(1, 3, figsize=(21, 5.5))
         draw_court_side(a7)
+        drawn = []
         for k, (w, trs) in enumerate(zip(windows, optimum_trajectories)):
             c = PLAYER_COLORS.get(w.player.name, f"C{k}")
             for tr, ls, cat in zip(trs, ("-", "--"), ("flat", "topspin")):
                 if tr is not None:
                     _, ys = tr.sample(300)
+                    drawn.append(ys[:, 0:3])
                     a7.plot(ys[:, 0], ys[:, 2], ls, color=c, lw=1.6, label=f"{w.player.name} {cat}")
-        a7.set_ylim(0, 3.5)
-        a7.set_xlim(-13, 8)
+        frame_views(a7, None, np.vstack(drawn) if drawn else np.empty((0, 3)), margin=1.0, pad=0.5)
         a7.legend(fontsize=7, loc="upper right")
         a7.set_title("Figs 7-9: optimum flat (-) and topspin (--) serves")
     else:
@@ -106,10 +107,12 @@ def plot_optimum(player_name: str, trajectories, labels):
     """The paper's figs 7-9: side view of the optimum flat and topspin serves."""
     fig, ax = plt.subplots(figsize=(11, 4))
     draw_court_side(ax)
+    drawn = []
     for tr, lab, c in zip(trajectories, labels, ("tab:blue", "tab:green")):
         _, ys = tr.sample(300)
+        drawn.append(ys[:, 0:3])
         ax.plot(ys[:, 0], ys[:, 2], color=c, lw=1.8, label=lab)
-    ax.set_ylim(0, 3.5)
+    frame_views(ax, None, np.vstack(drawn) if drawn else np.empty((0, 3)), margin=1.0, pad=0.5)
     ax.legend(fontsize=8, loc="upper right")
     ax.set_title(f"{player_name}: optimum flat and topspin serves")
     fig.tight_layout()
