@@ -4,8 +4,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from tennislab.core.flight import FlightParams, fly  # noqa: E402
-from tennislab.plot.serve import plot_optimum  # noqa: E402
+from tennislab.core.flight import FlightParams, fly
+from tennislab.plot.serve import plot_optimum
 
 
 def test_optimum_view_holds_a_high_and_a_long_flight():
