@@ -1,9 +1,16 @@
-"""Lookups in the hits table: the settings whose landing is nearest a target.
+"""Lookups in the hits table: the stored hit nearest a target among those meeting a query.
 
-Split from :mod:`tennislab.launcher.db` (which re-exports these names): the
-R*Tree search when speed and spin are both given, the covering-index band
-search otherwise (schema 4), the brute-force reference :func:`scan_nearest`,
-and the checks of a target and of the table's ranges.
+A :class:`HitQuery` says which hits may answer: speed and spin windows (a tolerance around the
+asked values), launch height and spin axis windows, the trajectory branch (low/high), the
+highest apex, a net-clearance band and the longest flight.  :func:`nearest_hit` finds the hit
+whose landing is nearest the target among them, by the R*Tree ``hits_rtree`` when both a speed
+and a spin are given, else by the band indexes (schema 4+: ``hits_cell``, ``hits_speed_cell``,
+``hits_spin_cell``), which carry every column the query filters on (schema 5), so a lookup reads
+index entries only; :func:`scan_nearest` is the brute-force reference.
+
+Tie rule (every form, and the scan): landings within :data:`TIE_M` (1 mm) of the nearest are a
+tie; among them the smaller change from the asked speed wins, then from the asked spin, then the
+larger net clearance (a safer ball for the same landing), then the smaller hit id.
 """
 
 from __future__ import annotations
@@ -11,28 +18,108 @@ from __future__ import annotations
 import json
 import math
 import sqlite3
-import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, count_hits_fast
+from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column
+from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW, Preferences
 
-_COLS_SQL = (
-    "SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
-    "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits "
-)
-_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
-_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
-
-#: Two candidates whose misses differ by less than this are a tie [m]; the one
-#: with the larger net clearance wins (a safer ball for the same landing).
+#: Two candidates whose misses differ by less than this are a tie [m] (module docstring).
 TIE_M = 1e-3
+_INF = 1e30
 
 
-def _half_window(value, step):
-    """Match tolerance around a quantised setting: a third of the grid step (or 1e-6 absolute)."""
-    return max(1e-6, step / 3.0) if step else 1e-6
+@dataclass(frozen=True)
+class HitQuery:
+    """Which stored hits may answer a lookup (edge units; None = any).
+
+    ``speed_kmh`` and ``spin_rpm`` are the asked values (for the tie rule); ``speed_window`` and
+    ``spin_window`` (lo, hi) the stored values accepted; ``where`` {column: (lo, hi)} on other
+    settings (``height_m``, ``spin_axis_deg``); ``preferences`` the trajectory bounds.
+    """
+
+    speed_kmh: float | None = None
+    spin_rpm: float | None = None
+    speed_window: tuple[float, float] | None = None
+    spin_window: tuple[float, float] | None = None
+    where: dict = field(default_factory=dict)
+    preferences: Preferences | None = None
+
+    @classmethod
+    def exact(cls, speed_kmh=None, spin_rpm=None, tol: float = 1e-3, where=None, preferences=None) -> HitQuery:
+        """A query for these speed and spin (within ``tol``), as stored."""
+        return cls(
+            speed_kmh,
+            spin_rpm,
+            None if speed_kmh is None else (speed_kmh - tol, speed_kmh + tol),
+            None if spin_rpm is None else (spin_rpm - tol, spin_rpm + tol),
+            dict(where or {}),
+            preferences,
+        )
+
+    def conditions(self, skip: str | None = None, prefix: str = "") -> tuple[str, list]:
+        """SQL ``AND ...`` conditions on hit columns (all but the window of ``skip``) and their arguments."""
+        parts: list[str] = []
+        args: list = []
+        for col, win in (("speed_kmh", self.speed_window), ("spin_rpm", self.spin_window)):
+            if win is not None and col != skip:
+                parts.append(f"{prefix}{col} BETWEEN ? AND ?")
+                args += list(win)
+        for col, (lo, hi) in self.where.items():
+            if col not in HIT_SETTINGS:
+                raise InputError(f"{col}: not a setting of a hit; allowed: {', '.join(HIT_SETTINGS)}")
+            parts.append(f"{prefix}{col} BETWEEN ? AND ?")
+            args += [lo, hi]
+        p = self.preferences
+        if p is not None:
+            if p.trajectory != "any":
+                parts.append(f"{prefix}branch = ?")
+                args.append(BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH)
+            if p.max_apex_m is not None:
+                parts.append(f"{prefix}apex_z_m <= ?")
+                args.append(p.max_apex_m)
+            if p.max_flight_time_s is not None:
+                parts.append(f"{prefix}flight_time_s <= ?")
+                args.append(p.max_flight_time_s)
+            if p.net_clearance_m is not None:
+                parts.append(f"{prefix}net_clearance_m BETWEEN ? AND ?")
+                args += list(p.net_clearance_m)
+        return "".join(" AND " + c for c in parts), args
+
+    def needs_branch(self) -> bool:
+        return self.preferences is not None and self.preferences.trajectory != "any"
+
+    def mask(self, rows: dict) -> np.ndarray:
+        """The same conditions on arrays of hit columns (numpy; for the brute-force reference)."""
+        n = len(rows["id"])
+        m = np.ones(n, bool)
+        for col, win in (("speed_kmh", self.speed_window), ("spin_rpm", self.spin_window)):
+            if win is not None:
+                m &= (rows[col] >= win[0]) & (rows[col] <= win[1])
+        for col, (lo, hi) in self.where.items():
+            m &= (rows[col] >= lo) & (rows[col] <= hi)
+        p = self.preferences
+        if p is not None:
+            if p.trajectory != "any":
+                m &= rows["branch"] == (BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH)
+            m &= p.accepts(rows["apex_z_m"], rows["net_clearance_m"], rows["flight_time_s"])
+        return m
+
+
+def _columns_sql(conn) -> str:
+    cols = HIT_COLUMNS if has_column(conn, "hits", "branch") else HIT_COLUMNS[:-1]
+    return "SELECT " + ", ".join(cols) + " FROM hits "
+
+
+def _check_branch(conn, q: HitQuery) -> None:
+    if q.needs_branch() and not has_column(conn, "hits", "branch"):
+        raise DatabaseFileError(
+            "this file (schema older than 5) has no trajectory branches; rerun `launcher table` on it to migrate "
+            "it, or ask for trajectory any"
+        )
 
 
 def nearest_hit(
@@ -48,71 +135,82 @@ def nearest_hit(
     max_m: float = 64.0,
     tie_m: float = TIE_M,
     where: dict | None = None,
+    query: HitQuery | None = None,
 ):
-    """The stored hit whose landing is nearest (x, y) among those matching speed and spin.
+    """The stored hit whose landing is nearest (x, y) among those the query accepts (module docstring).
 
-    Ties (misses within ``tie_m``) go to the larger net clearance, then to the
-    smaller id.  Returns a dict (columns of ``hits`` plus ``miss_m``,
-    ``n_candidates`` (index entries read) and ``n_read`` (rows of ``hits``
-    read)) or None when no matching hit lands within ``max_m`` of the target.
-    ``where`` {column: (lo, hi)} filters on other settings (e.g. ``height_m``).
-    Speed and spin given: :func:`_box_candidates` on ``hits_rtree``; otherwise
-    :func:`_band_candidates` on ``hits_cell``, ``hits_speed_cell`` or
-    ``hits_spin_cell`` (a file of schema 3 has none: box queries on
-    ``hits_xy`` or ``hits_rtree``).  Both collect a superset of the hits that
-    can be nearest or tie; :func:`_pick` decides on their exact landings.
+    ``query`` (a :class:`HitQuery`) or, for short, ``speed_kmh``/``spin_rpm`` within
+    ``speed_tol``/``spin_tol`` and ``where`` {column: (lo, hi)}.  Returns a dict (columns of
+    ``hits`` plus ``miss_m``, ``n_candidates`` (index entries read) and ``n_read`` (rows of ``hits``
+    read)) or None when no such hit lands within ``max_m`` of the target.  Speed and spin given:
+    :func:`_box_candidates` on ``hits_rtree``; otherwise :func:`_band_candidates` on a band index
+    (a file of schema 3 has none: box queries on ``hits_xy`` or ``hits_rtree``).  Both collect a
+    superset of the hits that can be nearest or tie; :func:`_pick` decides on their exact landings.
     """
-    where = {c: lh for c, lh in (where or {}).items() if c in HIT_SETTINGS}
-    col, val, tol = ("speed_kmh", speed_kmh, speed_tol) if spin_rpm is None else ("spin_rpm", spin_rpm, spin_tol)
-    col = None if speed_kmh is None and spin_rpm is None else col
-    if (speed_kmh is None or spin_rpm is None) and conn.execute(
+    q = query or HitQuery(
+        speed_kmh,
+        spin_rpm,
+        None if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol),
+        None if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol),
+        {c: lh for c, lh in (where or {}).items() if c in HIT_SETTINGS},
+    )
+    _check_branch(conn, q)
+    sw, ww = q.speed_window, q.spin_window
+    col = None if sw is None and ww is None else ("spin_rpm" if sw is None else "speed_kmh")
+    if (sw is None or ww is None) and conn.execute(
         "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
     ).fetchone():
-        found = _band_candidates(conn, x, y, max_m, tie_m, where, col, val, tol)
+        win = sw if col == "speed_kmh" else ww
+        found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win)
     else:
-        found = _box_candidates(
-            conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, max_m + tie_m, tie_m, where
-        )
-    return None if found is None else _pick(conn, x, y, *found, max_m, tie_m)
+        found = _box_candidates(conn, x, y, q, start_m, max_m + tie_m, tie_m)
+    return None if found is None else _pick(conn, x, y, q, *found, max_m, tie_m)
 
 
-def _filters(where: dict, prefix: str = "") -> tuple[str, list]:
-    return ("".join(f" AND {prefix}{c} BETWEEN ? AND ?" for c in where), [v for lh in where.values() for v in lh])
+def _tie_order(q: HitQuery, speed, spin, clearance, ids) -> np.ndarray:
+    """Order of tied candidates by the tie rule (module docstring)."""
+    ds = np.abs(speed - q.speed_kmh) if q.speed_kmh is not None else np.zeros(len(ids))
+    dw = np.abs(spin - q.spin_rpm) if q.spin_rpm is not None else np.zeros(len(ids))
+    return np.lexsort((ids, -clearance, np.round(dw, 9), np.round(ds, 9)))
 
 
-def _pick(conn, x, y, rows, n_entries, n_read, max_m, tie_m):
-    """The answer among candidate rows (id, land_x, land_y, net_clearance_m); None if it misses by > max_m."""
+def _pick(conn, x, y, q, rows, n_entries, n_read, max_m, tie_m):
+    """The answer among candidate rows (id, land_x, land_y, net_clearance_m, speed, spin); None past max_m."""
     if not rows:
         return None
     a = np.array(rows, dtype=float)
-    a = a[np.argsort(a[:, 0], kind="stable")]  # ascending id: equal clearances go to the smaller id
     miss = np.hypot(a[:, 1] - x, a[:, 2] - y)
     dmin = float(miss.min())
     if dmin > max_m:
         return None
     cand = np.flatnonzero(miss <= dmin + tie_m)
-    best = int(cand[int(np.argmax(a[cand, 3]))])
-    out = dict(zip(HIT_COLUMNS, conn.execute(_COLS_SQL + "WHERE id = ?", (int(a[best, 0]),)).fetchone()))
+    best = int(cand[_tie_order(q, a[cand, 4], a[cand, 5], a[cand, 3], a[cand, 0])[0]])
+    row = conn.execute(_columns_sql(conn) + "WHERE id = ?", (int(a[best, 0]),)).fetchone()
+    out = dict(zip(HIT_COLUMNS, row))
     out.update(miss_m=float(miss[best]), n_candidates=int(n_entries), n_read=int(n_read))
     return out
 
 
-def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, lim, tie_m, where):
+_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
+_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
+
+
+def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
     """Box queries on an R*Tree (``hits_rtree``; ``hits_xy`` if neither speed nor spin is given).
 
-    The half-width starts at ``start_m`` and doubles until a hit matches; once
-    the nearest candidate is at most d_min away, a box of half-width d_min +
-    ``tie_m`` holds every point that could be nearer or tie, so one more query
-    at most makes the set complete.  The queries read the index alone (its
-    float32 boxes bound each distance from below and above); only the entries
-    that can be nearest or tie are read from ``hits``.  Returns (rows, index
-    entries of the last box, rows read) or None.
+    The half-width starts at ``start_m`` and doubles until a hit matches; once the nearest
+    candidate is at most d_min away, a box of half-width d_min + ``tie_m`` holds every point that
+    could be nearer or tie, so one more query at most makes the set complete.  The queries read
+    the index (its float32 boxes bound each distance from below and above) and, when the query
+    filters on other columns, the rows of those entries.  Returns (rows, index entries of the last
+    box, rows read) or None.
     """
-    extra, xargs = _filters(where, "h.")
-    inf = 1e30
-    s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    free = speed_kmh is None and spin_rpm is None
+    extra, xargs = _strip_windows(q)
+    sw = q.speed_window or (-_INF, _INF)
+    ww = q.spin_window or (-_INF, _INF)
+    free = q.speed_window is None and q.spin_window is None
+    if free and not conn.execute("SELECT 1 FROM sqlite_master WHERE name = 'hits_xy'").fetchone():
+        free = False  # a file with neither band indexes nor hits_xy: the 4-D tree over every speed and spin
     sql = (
         f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
         + (" JOIN hits h ON h.id = r.id" if extra else "")
@@ -121,7 +219,7 @@ def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_
         + ("" if free else _SPEED_SPIN)
         + extra
     )
-    fixed = ([] if free else [s_lo, s_hi, w_lo, w_hi]) + xargs
+    fixed = ([] if free else [sw[0], sw[1], ww[0], ww[1]]) + xargs
     d = min(start_m, lim)
     while True:
         rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
@@ -147,14 +245,21 @@ def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_
     for i in range(0, len(ids), 900):  # SQLite before 3.32 binds at most 999 variables
         part = ids[i : i + 900]
         cand += conn.execute(
-            f"SELECT id, land_x, land_y, net_clearance_m FROM hits WHERE id IN ({','.join('?' * len(part))})", part
+            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits "
+            f"WHERE id IN ({','.join('?' * len(part))})",
+            part,
         ).fetchall()
-    return cand, len(rows), len(cand)
+    return cand, len(rows), len(cand) + (len(rows) if extra else 0)
+
+
+def _strip_windows(q: HitQuery) -> tuple[str, list]:
+    """The query's conditions other than the speed and spin windows (the R*Tree holds those)."""
+    return HitQuery(None, None, None, None, q.where, q.preferences).conditions(prefix="h.")
 
 
 #: Band of a landing in the band indexes: 1 cm of landing y (the offset keeps it positive for y > -10 km).
 _BAND = "CAST(land_y * 100.0 + 1000000.0 AS INTEGER)"
-#: Covering index per lookup form: neither speed nor spin, speed only, spin only (schema 4).
+#: Covering index per lookup form: neither speed nor spin, speed only, spin only (schema 4+).
 _BAND_INDEX = {None: "hits_cell", "speed_kmh": "hits_speed_cell", "spin_rpm": "hits_spin_cell"}
 
 
@@ -168,28 +273,27 @@ def _band_dy(b: int, y: float) -> float:
     return 0.0 if y0 <= y <= y1 else min(abs(y0 - y), abs(y1 - y))
 
 
-def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
+def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window):
     """Hits within the nearest distance + ``tie_m`` of (x, y) from a band index: (rows, n, 1) or None.
 
-    The index (``col``, speed or spin, if given; 1 cm band of landing y; landing
-    x, y, net clearance) answers without reading ``hits``.  Index seeks find the
-    stored values of ``col`` within ``tol`` of ``value``, then bound the nearest
-    distance by d: in each band nearer than d, the landings next to x on either
-    side (bands outwards from y).  Then one index range per band, clipped to the
-    disc of radius d + ``tie_m``, reads every hit that can be nearest or tie
-    (a square box would read 10^4 entries of a dense ray of landings at 10^7
-    hits where the disc holds a few hundred).  n counts the index entries read.
+    The index (``col``, speed or spin, if given; 1 cm band of landing y; landing x, y, net
+    clearance and the query's other columns) answers without reading ``hits``.  Index seeks find
+    the stored values of ``col`` within ``window``, then bound the nearest distance by d: in each
+    band nearer than d, the accepted landings next to x on either side (bands outwards from y).
+    Then one index range per band, clipped to the disc of radius d + ``tie_m``, reads every hit
+    that can be nearest or tie (a square box would read 10^4 entries of a dense ray of landings
+    at 10^7 hits where the disc holds a few hundred).  n counts the index entries read.
     """
     idx, pre = _BAND_INDEX[col], [()]
     if col is not None:
         seek = f"SELECT {col} FROM hits INDEXED BY {idx} WHERE {col} {{}} ? ORDER BY {col} LIMIT 1"
-        pre, row = [], conn.execute(seek.format(">="), (value - tol,)).fetchone()
-        while row is not None and row[0] <= value + tol:
+        pre, row = [], conn.execute(seek.format(">="), (window[0],)).fetchone()
+        while row is not None and row[0] <= window[1] and len(pre) < 100_000:
             pre.append(row)
             row = conn.execute(seek.format(">"), (row[0],)).fetchone()
-    extra, xargs = _filters(where)
+    extra, xargs = q.conditions(skip=col)
     head = (
-        f"SELECT id, land_x, land_y, net_clearance_m FROM hits INDEXED BY {idx} WHERE "
+        f"SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits INDEXED BY {idx} WHERE "
         f"{'' if col is None else col + ' = ? AND '}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
     )
     probe = (
@@ -217,6 +321,54 @@ def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
         chunk = parts[i : i + 100]
         rows += conn.execute(" UNION ALL ".join([head] * len(chunk)), [v for p in chunk for v in p]).fetchall()
     return rows, n + len(rows), 1
+
+
+def scan_nearest(
+    conn: sqlite3.Connection,
+    x: float,
+    y: float,
+    *,
+    speed_kmh=None,
+    spin_rpm=None,
+    speed_tol: float = 1e-3,
+    spin_tol: float = 1e-3,
+    tie_m: float = TIE_M,
+    query: HitQuery | None = None,
+):
+    """The same answer as :func:`nearest_hit` by a full scan of ``hits`` (baseline for benchmarks/tests).
+
+    Reads the nearest 64 accepted rows; when all of them tie, scans again for 8 times as many.
+    """
+    q = query
+    if q is None:
+        q = HitQuery(
+            speed_kmh,
+            spin_rpm,
+            None if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol),
+            None if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol),
+        )
+    _check_branch(conn, q)
+    extra, args = q.conditions()
+    cols = _columns_sql(conn)[len("SELECT ") : -len(" FROM hits ")]
+    sql = (
+        f"SELECT {cols}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
+        f"FROM hits NOT INDEXED WHERE 1{extra} ORDER BY d2 LIMIT ?"
+    )
+    k = 64
+    while True:
+        rows = conn.execute(sql, [x, x, y, y] + args + [k]).fetchall()
+        if not rows:
+            return None
+        miss = np.hypot(np.array([r[7] for r in rows]) - x, np.array([r[8] for r in rows]) - y)
+        if len(rows) < k or miss[-1] > miss.min() + tie_m + 1e-9:
+            break
+        k *= 8
+    cand = np.flatnonzero(miss <= miss.min() + tie_m)
+    a = np.array([rows[i][:14] for i in cand], dtype=float)
+    best = int(cand[_tie_order(q, a[:, 2], a[:, 5], a[:, 9], a[:, 0])[0]])
+    out = dict(zip(HIT_COLUMNS, rows[best][:-1]))
+    out["miss_m"] = float(miss[best])
+    return out
 
 
 _STATS: dict = {}
@@ -253,13 +405,10 @@ def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float =
     return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
 
 
-def has_hits(
-    conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3, spin_tol: float = 1e-3
-) -> bool:
-    """True if any stored hit has this speed and spin (an R*Tree query, not a scan)."""
-    inf = 1e30
-    s = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
+def has_hits(conn: sqlite3.Connection, q: HitQuery) -> bool:
+    """True if any stored hit has the query's speed and spin (an R*Tree query, not a scan)."""
+    s = q.speed_window or (-_INF, _INF)
+    w = q.spin_window or (-_INF, _INF)
     return (
         conn.execute(
             "SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
@@ -270,62 +419,30 @@ def has_hits(
     )
 
 
-def scan_nearest(
-    conn: sqlite3.Connection,
-    x: float,
-    y: float,
-    *,
-    speed_kmh=None,
-    spin_rpm=None,
-    speed_tol: float = 1e-3,
-    spin_tol: float = 1e-3,
-    tie_m: float = TIE_M,
-):
-    """The same answer as :func:`nearest_hit` by a full scan of ``hits`` (baseline for benchmarks/tests).
-
-    Reads the nearest 64 rows; when all of them tie, scans again for 8 times as many.
-    """
-    where, args = [], []
-    if speed_kmh is not None:
-        where.append("speed_kmh BETWEEN ? AND ?")
-        args += [speed_kmh - speed_tol, speed_kmh + speed_tol]
-    if spin_rpm is not None:
-        where.append("spin_rpm BETWEEN ? AND ?")
-        args += [spin_rpm - spin_tol, spin_rpm + spin_tol]
-    sql = (
-        f"SELECT {', '.join(HIT_COLUMNS)}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
-        f"FROM hits NOT INDEXED {'WHERE ' + ' AND '.join(where) if where else ''} ORDER BY d2 LIMIT ?"
-    )
-    k = 64
-    while True:
-        rows = conn.execute(sql, [x, x, y, y] + args + [k]).fetchall()
-        if not rows:
-            return None
-        miss = np.hypot(np.array([r[7] for r in rows]) - x, np.array([r[8] for r in rows]) - y)
-        if len(rows) < k or miss[-1] > miss.min() + tie_m + 1e-9:
-            break
-        k *= 8
-    cand = np.flatnonzero(miss <= miss.min() + tie_m)
-    best = min(cand, key=lambda i: (-rows[i][9], rows[i][0]))  # larger clearance, then smaller id
-    out = dict(zip(HIT_COLUMNS, rows[best][:-1]))
-    out["miss_m"] = float(miss[best])
-    return out
+def grid_values(conn: sqlite3.Connection, spec_json: dict | None = None) -> dict:
+    """Per setting, the sorted values filled into the file (from ``fills``' grids, no scan of ``hits``)."""
+    spec = spec_json or json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
+    attrs = {
+        "height_m": "height",
+        "speed_kmh": "speed",
+        "spin_rpm": "spin",
+        "spin_axis_deg": "spin_axis",
+        "elevation_deg": "elevation",
+        "heading_deg": "heading",
+    }
+    out: dict[str, set] = {f: set() for f in attrs}
+    for (g,) in conn.execute("SELECT grid_json FROM fills"):
+        gj = json.loads(g)
+        for f, attr in attrs.items():
+            r = spec[attr]
+            out[f].update(round(r["lo"] + int(i) * r["step"], 9) for i in gj.get(f) or [])
+    return {f: sorted(v) for f, v in out.items()}
 
 
 def table_ranges(conn: sqlite3.Connection) -> dict:
-    """Speed [km/h] and spin [rpm] ranges of the grids filled into the file (from ``fills``, no scan)."""
-    spec = json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
-    out = {}
-    for field, attr in (("speed_kmh", "speed"), ("spin_rpm", "spin")):
-        lo, hi = math.inf, -math.inf
-        for (g,) in conn.execute("SELECT grid_json FROM fills"):
-            idx = json.loads(g).get(field) or []
-            if idx:
-                r = spec[attr]
-                lo = min(lo, r["lo"] + min(idx) * r["step"])
-                hi = max(hi, r["lo"] + max(idx) * r["step"])
-        out[field] = (lo, hi)
-    return out
+    """(min, max) per setting of the grids filled into the file ((inf, -inf) when none)."""
+    vals = grid_values(conn)
+    return {f: ((v[0], v[-1]) if v else (math.inf, -math.inf)) for f, v in vals.items()}
 
 
 def target_area(machine_x: float) -> str:
@@ -335,77 +452,14 @@ def target_area(machine_x: float) -> str:
 
 def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tuple[float, float]:
     """Validate a target in the doubles area (lines included) of the half opposite the machine."""
-    from tennislab.core.court import ITF_COURT
-
     court = court or ITF_COURT
-    x = check_finite("target x", x)
-    y = check_finite("target y", y)
+    x = check_finite("target", x)
+    y = check_finite("target", y)
     area = target_area(machine_x)
     if not court.contains(area, x, y):
         b = court.area_bounds(area)
         raise InputError(
-            f"--target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
+            f"target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
             f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m"
         )
     return x, y
-
-
-def lookup(
-    conn: sqlite3.Connection,
-    x: float,
-    y: float,
-    *,
-    speed_kmh=None,
-    spin_rpm=None,
-    steps: dict | None = None,
-    max_miss_m: float = 1.0,
-    path: str = "",
-    where: dict | None = None,
-) -> dict:
-    """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
-
-    ``steps`` (grid step per setting, from the machine spec) sets how close a
-    requested speed/spin must be to a stored one (a third of a step).  The first
-    R*Tree box (:func:`nearest_hit`) is sized from the table's density (:func:`first_box`;
-    the statistics are read once per connection, before the timed ``lookup_ms``).  Raises
-    :class:`InputError` when nothing matches or the nearest landing misses by
-    more than ``max_miss_m``.
-    """
-    steps = steps or {}
-    d0 = first_box(table_stats(conn), speed_kmh is not None, spin_rpm is not None)
-    t0 = time.perf_counter()
-    st = _half_window(speed_kmh, steps.get("speed_kmh"))
-    wt = _half_window(spin_rpm, steps.get("spin_rpm"))
-    hit = nearest_hit(
-        conn,
-        x,
-        y,
-        speed_kmh=speed_kmh,
-        spin_rpm=spin_rpm,
-        speed_tol=st,
-        spin_tol=wt,
-        max_m=max_miss_m,
-        where=where,
-        start_m=d0,
-    )
-    ms = (time.perf_counter() - t0) * 1e3
-    if hit is None:
-        if count_hits_fast(conn) == 0:
-            raise InputError(f"--db {path}: the table holds no hits; fill it with `launcher table`")
-        want = ", ".join(
-            [f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
-            + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()]
-        )
-        if not has_hits(conn, speed_kmh, spin_rpm, st, wt):
-            rng = table_ranges(conn)
-            raise InputError(
-                f"--target: no hit with {want} in the table (filled: speed "
-                f"{rng['speed_kmh'][0]:g}-{rng['speed_kmh'][1]:g} km/h, spin "
-                f"{rng['spin_rpm'][0]:g}-{rng['spin_rpm'][1]:g} rpm)"
-            )
-        raise InputError(
-            f"--target: no hit in range: nothing{' with ' + want if want else ''} lands within "
-            f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)"
-        )
-    hit["lookup_ms"] = ms
-    return hit
