@@ -293,9 +293,13 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
     check_not_truncated(path)
     ident = header_identity(path)
     if ident is not None:
-        err = _identity_error(*ident, has_tables=True) if ident != (0, 0) else DatabaseFileError("empty file")
-        if err is not None or ident[0] == 0:
-            raise err or DatabaseFileError("not a tennislab launcher database")
+        if os.path.getsize(path) == 0:
+            raise DatabaseFileError("empty file, not a tennislab launcher database")
+        err = _identity_error(*ident, has_tables=True)
+        if err is not None:
+            raise err
+        if ident[0] == 0:
+            raise DatabaseFileError("not a tennislab launcher database (no schema version)")
     uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if ident is None else "?mode=ro&immutable=1")
     conn = None
     try:

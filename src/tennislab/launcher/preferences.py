@@ -45,19 +45,19 @@ class Preferences:
         if self.trajectory not in TRAJECTORIES:
             raise InputError(f"trajectory: {self.trajectory!r} is not one of {', '.join(TRAJECTORIES)}")
         if self.max_apex_m is not None:
-            object.__setattr__(self, "max_apex_m", check_range("max_apex_m", self.max_apex_m, 0.0, 100.0, "m", True))
+            object.__setattr__(self, "max_apex_m", check_range("max_apex_m", self.max_apex_m, 0, 100, "m", True))
         if self.max_flight_time_s is not None:
             object.__setattr__(
                 self,
                 "max_flight_time_s",
-                check_range("max_flight_time_s", self.max_flight_time_s, 0.0, 60.0, "s", lo_open=True),
+                check_range("max_flight_time_s", self.max_flight_time_s, 0, 60, "s", lo_open=True),
             )
         if self.net_clearance_m is not None:
             band = tuple(self.net_clearance_m)
             if len(band) != 2:
                 raise InputError(f"net_clearance_m: expected MIN MAX [m], got {len(band)} values")
-            lo = check_range("net_clearance_m", band[0], 0.0, 50.0, "m")
-            hi = check_range("net_clearance_m", band[1], 0.0, 50.0, "m")
+            lo = check_range("net_clearance_m", band[0], 0, 50, "m")
+            hi = check_range("net_clearance_m", band[1], 0, 50, "m")
             if lo > hi:
                 raise InputError(f"net_clearance_m: MIN {lo:g} m is above MAX {hi:g} m")
             object.__setattr__(self, "net_clearance_m", (lo, hi))
@@ -143,10 +143,10 @@ class Tolerances:
     spin_axis_deg: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, "speed_kmh", check_range("speed_tolerance_kmh", self.speed_kmh, 0.0, 170.0, "km/h"))
-        object.__setattr__(self, "spin_rpm", check_range("spin_tolerance_rpm", self.spin_rpm, 0.0, 2000.0, "rpm"))
+        object.__setattr__(self, "speed_kmh", check_range("speed_tolerance_kmh", self.speed_kmh, 0, 170, "km/h"))
+        object.__setattr__(self, "spin_rpm", check_range("spin_tolerance_rpm", self.spin_rpm, 0, 2000, "rpm"))
         object.__setattr__(
-            self, "spin_axis_deg", check_range("spin_axis_tolerance_deg", self.spin_axis_deg, 0.0, 180.0, "deg")
+            self, "spin_axis_deg", check_range("spin_axis_tolerance_deg", self.spin_axis_deg, 0, 180, "deg")
         )
 
     def allows(self, spin_rpm, spin_axis_deg, asked_rpm: float, asked_axis_deg: float) -> np.ndarray:
