@@ -158,20 +158,66 @@ def check_not_truncated(path: str) -> None:
         )
 
 
-def header_identity(path: str) -> tuple[int, int] | None:
-    """(user_version, application_id) from a file's SQLite header, or None when a pending WAL may hold newer ones.
+def _wal_page1(path: str) -> bytes | None:
+    """The newest committed image of page 1 in a file's write-ahead log (its first 108 bytes), or None.
 
-    An empty file gives (0, 0); bytes that are not an SQLite file raise DatabaseFileError.
+    WAL format (sqlite.org/fileformat2.html#walformat): a 32-byte header (magic, version, page
+    size, checkpoint sequence, salts, checksums), then frames of a 24-byte header (page number,
+    database size after a commit frame or 0, salts, checksums) and one page.  Frames whose salts
+    differ from the header's are stale; frames after the last commit frame are not committed.
     """
-    if _wal_pending(path):
+    wal = path + "-wal"
+    try:
+        with open(wal, "rb") as fh:
+            head = fh.read(32)
+            if len(head) < 32 or int.from_bytes(head[0:4], "big") not in (0x377F0682, 0x377F0683):
+                return None
+            page = int.from_bytes(head[8:12], "big")
+            if page < 512 or page > 65536 or page & (page - 1):
+                return None
+            salts = head[16:24]
+            newest, pending = None, None
+            for _ in range(1 << 22):  # bounded: a WAL of at most 4 M frames is read
+                frame = fh.read(24)
+                if len(frame) < 24 or frame[8:16] != salts:
+                    break
+                pgno, commit = int.from_bytes(frame[0:4], "big"), int.from_bytes(frame[4:8], "big")
+                if pgno == 1:
+                    pending = fh.read(108)
+                    fh.seek(page - 108, os.SEEK_CUR)
+                else:
+                    fh.seek(page, os.SEEK_CUR)
+                if commit and pending is not None:
+                    newest = pending
+    except OSError:
         return None
-    with open(path, "rb") as fh:
-        head = fh.read(100)
-    if not head:
-        return 0, 0
-    if len(head) < 100 or not head.startswith(b"SQLite format 3\x00"):
+    return newest
+
+
+def header_identity(path: str) -> tuple[int, int, bool] | None:
+    """(user_version, application_id, has_tables) of a file from its bytes, without SQLite opening it.
+
+    From the SQLite header and the schema page's b-tree header (page 1, offsets 100-107: its cell
+    count is 0 for a file without tables) of the main file, or of the newest committed page 1 in
+    a pending write-ahead log; None when a pending log holds no committed page 1 (then only SQLite
+    can tell).  An empty file gives (0, 0, False); other bytes raise DatabaseFileError.
+    """
+    head = None
+    if _wal_pending(path):
+        head = _wal_page1(path)
+        if head is None:
+            return None
+    else:
+        with open(path, "rb") as fh:
+            head = fh.read(108)
+        if not head:
+            return 0, 0, False
+    if len(head) < 108 or not head.startswith(b"SQLite format 3\x00"):
         raise DatabaseFileError("not a usable tennislab launcher database (file is not a database)")
-    return int.from_bytes(head[60:64], "big", signed=True), int.from_bytes(head[68:72], "big", signed=True)
+    version = int.from_bytes(head[60:64], "big", signed=True)
+    app = int.from_bytes(head[68:72], "big", signed=True)
+    has_tables = head[100] != 0x0D or int.from_bytes(head[103:105], "big") > 0
+    return version, app, has_tables
 
 
 def _identity_error(version: int, app: int, has_tables: bool) -> DatabaseFileError | None:
@@ -293,14 +339,14 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
     check_not_truncated(path)
     ident = header_identity(path)
     if ident is not None:
-        if os.path.getsize(path) == 0:
+        if os.path.getsize(path) == 0 and not _wal_pending(path):
             raise DatabaseFileError("empty file, not a tennislab launcher database")
-        err = _identity_error(*ident, has_tables=True)
+        err = _identity_error(*ident)
         if err is not None:
             raise err
         if ident[0] == 0:
             raise DatabaseFileError("not a tennislab launcher database (no schema version)")
-    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if ident is None else "?mode=ro&immutable=1")
+    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
     conn = None
     try:
         conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
@@ -333,11 +379,11 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
 def _identify(path: str) -> int:
     """Schema version of an existing file, read without writing (DatabaseFileError if not ours)."""
     ident = header_identity(path)
-    if ident is not None and ident[0] != 0:
-        err = _identity_error(*ident, has_tables=True)
+    if ident is not None:
+        err = _identity_error(*ident)
         if err is not None:
             raise err
-    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if ident is None else "?mode=ro&immutable=1")
+    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
     conn = None
     try:
         conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
@@ -356,7 +402,7 @@ def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERS
     or damaged file is refused before anything could write to it.
     """
     _check_path(path, must_exist=not create)
-    if os.path.exists(path) and os.path.getsize(path) > 0:
+    if os.path.exists(path) and (os.path.getsize(path) > 0 or _wal_pending(path)):
         check_not_truncated(path)
         _identify(path)
     conn = None

@@ -723,7 +723,7 @@ class HitsDB:
 
     def check_writable(self, spec, params) -> None:
         """Refuse, before any work, a foreign file or one built for another machine/physics (nothing written)."""
-        if os.path.exists(self.path) and os.path.getsize(self.path) > 0:
+        if os.path.exists(self.path) and (os.path.getsize(self.path) > 0 or os.path.exists(self.path + "-wal")):
             with self._errors():
                 conn = _db.open_readonly(self.path, min_version=0, check=False)
             try:

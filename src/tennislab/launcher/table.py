@@ -460,6 +460,18 @@ def _grid_rows(grid: TableGrid, flat: np.ndarray) -> dict:
     return {f: out[f] for f in AXES}
 
 
+def check_out_dir(path: str) -> None:
+    """Refuse an output folder that is a file or lies under one (before anything is created)."""
+    p = os.path.abspath(path)
+    if os.path.exists(p) and not os.path.isdir(p):
+        raise InputError(f"out_dir: {path} is a file, not a folder")
+    d = os.path.dirname(p)
+    while d and not os.path.exists(d):
+        d = os.path.dirname(d)
+    if d and not os.path.isdir(d):
+        raise InputError(f"out_dir: {path} lies under {d}, which is a file")
+
+
 def _remove_new_file(path: str) -> None:
     """Remove a database file this run created (and its -wal/-shm) after a failed start."""
     for p in (path, path + "-wal", path + "-shm"):
@@ -507,6 +519,8 @@ def fill_table(
     if max_chunks is not None and int(max_chunks) < 1:
         raise InputError(f"max_chunks: {max_chunks} is outside the allowed range [1, inf]")
     check_finite("keep_margin", keep_margin)
+    if out_dir is not None:
+        check_out_dir(out_dir)
     if runner is not None:
         scheduler = getattr(runner, "client", None) or "local"
     t0 = time.perf_counter()
