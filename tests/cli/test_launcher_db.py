@@ -304,8 +304,20 @@ def test_lookup_prefers_a_drive_and_meets_preferences(built, capsys):
     )
     assert rc == 0 and hi["branch"] == "high" and hi["settings"]["elevation_deg"] > 45
     rc, capped, err = _lookup(
-        capsys, built, "--target", 9, 2, "--speed-kmh", 100, "--max-apex-m", 2.5, "--net-clearance-m", 0.3, 2.0,
-        "--trajectory", "any"
+        capsys,
+        built,
+        "--target",
+        9,
+        2,
+        "--speed-kmh",
+        100,
+        "--max-apex-m",
+        2.5,
+        "--net-clearance-m",
+        0.3,
+        2.0,
+        "--trajectory",
+        "any",
     )
     assert rc == 0, err
     assert capped["apex_z_m"] <= 2.5 and 0.3 <= capped["net_clearance_m"] <= 2.0

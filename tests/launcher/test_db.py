@@ -29,6 +29,7 @@ def _import(conn, path):
     data = open(path, "rb").read()
     return db.import_drill(conn, drill_record(parse_drill(data, str(path))), data, str(path))
 
+
 SPEEDS = (80.0, 120.0)
 EXACT_KW = {"speed_tolerance_kmh": 0, "spin_tolerance_rpm": 0}
 SPINS = (0.0, 1500.0)

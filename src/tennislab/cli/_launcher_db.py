@@ -379,8 +379,9 @@ def run_drills(args) -> int:
     if len(files) > 2:
         raise InputError("drills export: give [NAME] [OUT] or FILE")
     jobs = db.export_sources(files[0] if files else None)
-    outs = []
-    for name, rev, safe, data in jobs:
+    outs: list[tuple[str, int, str, bytes]] = []
+    for dname, drev, safe, data in jobs:
+        out: str
         if len(files) == 2:  # NAME OUT: where the user said
             out = files[1]
         elif files and os.path.splitext(files[0])[1].lower() in (".yaml", ".yml", ".json"):  # FILE: as named
@@ -389,15 +390,15 @@ def run_drills(args) -> int:
             out = safe
         if out != "-":
             _check_out(out)
-        outs.append((name, rev, out, data))
+        outs.append((dname, drev, out, data))
     done = []
-    for name, rev, out, data in outs:
+    for dname, drev, out, data in outs:
         if out == "-":
             sys.stdout.buffer.write(data)
             sys.stdout.flush()
             continue
         atomic_write(out, lambda fh, d=data: fh.write(d), mode="wb")
-        done.append({"name": name, "revision": rev, "path": out})
+        done.append({"name": dname, "revision": drev, "path": out})
     if args.json:
         emit_json({"exported": done})
     else:

@@ -133,7 +133,7 @@ def run_aim(args) -> int:
     res = aim(
         tuple(args.target),
         spin_rpm=args.spin_rpm,
-        spin_axis_deg=spin_axis_deg(args, 0.0),
+        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
         height_m=args.height,
         spec=spec,
         params=params,

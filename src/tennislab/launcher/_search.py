@@ -128,7 +128,7 @@ def _trust_step(J: np.ndarray, r: np.ndarray, tol: float) -> np.ndarray:
     return d
 
 
-def _spin_newton(shoot, A, B, V, target, o0, tol, wmax) -> np.ndarray:
+def _spin_newton(shoot, A, B, V, target, o0, tol, wmax) -> tuple[np.ndarray, np.ndarray]:
     """Per combination (A, B, V), the spin vector (n, 2) [rpm] within tolerance landing nearest the target.
 
     Gauss-Newton on the two spin components with a finite-difference Jacobian; each step is the
@@ -164,11 +164,12 @@ def _spin_newton(shoot, A, B, V, target, o0, tol, wmax) -> np.ndarray:
     return W, pred
 
 
-def _spin_box_newton(shoot, A, B, V, target, box) -> np.ndarray:
+def _spin_box_newton(shoot, A, B, V, target, box) -> tuple[np.ndarray, np.ndarray]:
     """Per combination, spin (rate [rpm], axis [deg]) within the box ((w_lo, w_hi), (g_lo, g_hi)) landing nearest.
 
     Gauss-Newton in (rate, axis) with a finite-difference Jacobian, each step clipped to the box.
-    Returns (n, 2) spin vectors [rpm] (components about the flight, as :func:`_spin_newton`).
+    Returns (n, 2) spin vectors [rpm] (components about the flight, as :func:`_spin_newton`) and the
+    linearised miss [m] of each.
     """
     n = A.size
     (w_lo, w_hi), (g_lo, g_hi) = box

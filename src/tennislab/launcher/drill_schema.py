@@ -166,7 +166,7 @@ def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, wh
             except InputError as exc:
                 raise InputError(f"{where}.zone: {exc}") from None
         else:
-            b = tuple(float(v) for v in zone)
+            b = tuple(float(v) for v in zone)  # type: ignore[assignment]
             if len(b) != 4 or not (b[0] < b[1] and b[2] < b[3]):
                 raise InputError(f"{where}.zone: expected [xmin, xmax, ymin, ymax] with xmin < xmax, ymin < ymax")
             zone = b
@@ -179,6 +179,7 @@ def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, wh
             )
     else:
         zone = "full-doubles"
+    assert target is not None  # given, or the zone's centre
     return ShotSpec(
         name,
         tname,

@@ -134,12 +134,12 @@ class ShotSpec:
     def zone_bounds(self, court=ITF_COURT) -> tuple:
         if isinstance(self.zone, str):
             return court.area_bounds(self.zone)
-        return tuple(self.zone)
+        return tuple(self.zone)  # type: ignore[arg-type]
 
     def zone_label(self) -> str:
         if isinstance(self.zone, str):
             return self.zone
-        return "[" + ", ".join(f"{v:g}" for v in self.zone) + "]"
+        return "[" + ", ".join(f"{v:g}" for v in self.zone) + "]"  # type: ignore[attr-defined]
 
 
 @dataclass(frozen=True)

@@ -164,7 +164,10 @@ def nearest_hit(
         found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win)
     else:
         found = _box_candidates(conn, x, y, q, start_m, max_m + tie_m, tie_m)
-    return None if found is None else _pick(conn, x, y, q, *found, max_m, tie_m)
+    if found is None:
+        return None
+    rows, n_entries, n_read = found
+    return _pick(conn, x, y, q, rows, n_entries, n_read, max_m, tie_m)
 
 
 def _tie_order(q: HitQuery, speed, spin, clearance, ids) -> np.ndarray:

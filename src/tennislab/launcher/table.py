@@ -460,6 +460,15 @@ def _grid_rows(grid: TableGrid, flat: np.ndarray) -> dict:
     return {f: out[f] for f in AXES}
 
 
+@dataclass
+class _Tally:
+    """What a fill has done so far (chunks run, hits inserted, its fill id once registered)."""
+
+    run: int = 0
+    inserted: int = 0
+    fid: int | None = None
+
+
 def check_out_dir(path: str) -> None:
     """Refuse an output folder that is a file or lies under one (before anything is created)."""
     p = os.path.abspath(path)
@@ -526,7 +535,7 @@ def fill_table(
     t0 = time.perf_counter()
     created = not os.path.exists(path)
     conn = None
-    tally = {"inserted": 0, "run": 0, "fid": None}
+    tally = _Tally()
     try:
         conn = _db.open_db(path)
         cfg = _db.config_dict(spec, params)
@@ -535,17 +544,20 @@ def fill_table(
         # a new grid is registered with its first stored chunk: a run that fails before (e.g. no
         # scheduler, another job in out_dir) leaves no trace in the file
         fid, done = begin_fill(conn, grid_json, grid.size, chunk_size, register=False)
-        tally["fid"] = fid
+        tally.fid = fid
         n_chunks = -(-grid.size // chunk_size)
         axes = axis_values(spec.range_of("spin_axis_deg"), grid.indices["spin_axis_deg"])
         axis0 = float(axes[np.argmin(np.abs(axes))])  # the one rotation stored for zero spin
 
+        c = conn
+
         def insert(ci: int, row0: int, rows: dict) -> None:  # called by run_batch in this process
             hits = select_hits(rows, spec, params.court, keep_margin, axis0, params)
-            if tally["fid"] is None:
-                tally["fid"] = begin_fill(conn, grid_json, grid.size, chunk_size)[0]
-            tally["inserted"] += store_chunk(conn, int(tally["fid"]), ci, hits)
-            tally["run"] += 1
+            fid = tally.fid if tally.fid is not None else begin_fill(c, grid_json, grid.size, chunk_size)[0]
+            assert fid is not None  # registered now
+            tally.fid = fid
+            tally.inserted += store_chunk(c, fid, ci, hits)
+            tally.run += 1
             if on_chunk is not None:
                 on_chunk(ci, len(hits["id"]))
 
@@ -564,14 +576,14 @@ def fill_table(
             skip=done,
             max_chunks=max_chunks,
         )
-        if tally["fid"] is not None:
-            finish_fill(conn, int(tally["fid"]))
+        if tally.fid is not None:
+            finish_fill(conn, int(tally.fid))
         total = _db.count_hits(conn)
     except BaseException:
         if conn is not None:
             conn.close()
             conn = None
-        if created and tally["run"] == 0:
+        if created and tally.run == 0:
             _remove_new_file(path)
         raise
     finally:
@@ -583,8 +595,8 @@ def fill_table(
         grid.size,
         n_chunks,
         res.skipped - res.restored,
-        int(tally["run"]),
-        int(tally["inserted"]),
+        tally.run,
+        tally.inserted,
         total,
         time.perf_counter() - t0,
         res.restored,
