@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import tennislab.launcher._search as _search
 from tennislab.core.flight import FlightParams, fly, fly_batch
 from tennislab.core.launch import spin_axis_angle
 from tennislab.errors import InputError, check_vector
-from tennislab.launcher import _search
 from tennislab.launcher.machine import (
     DEFAULT_SPEC,
     MachineSpec,

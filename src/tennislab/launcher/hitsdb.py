@@ -25,13 +25,13 @@ import sqlite3
 import time
 from dataclasses import dataclass, field, replace
 
+import tennislab.launcher.db as _db
+import tennislab.launcher.lookup as lk
+import tennislab.launcher.table as T
 from tennislab.core.ball import Ball
 from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError
 from tennislab.io.drill import drill_format, read_drill_bytes
-from tennislab.launcher import db as _db
-from tennislab.launcher import lookup as lk
-from tennislab.launcher import table as T
 from tennislab.launcher.aim import machine_dict
 from tennislab.launcher.drill_schema import (
     drill_record,

@@ -39,12 +39,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import tennislab.launcher.db as _db
 from tennislab.batch import run_batch
 from tennislab.batch.grid import GridSpec
 from tennislab.core.events import NET_OVER, STATUS_OK
 from tennislab.core.flight import fly_batch
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher import db as _db
 from tennislab.launcher.machine import launch_states
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW
 from tennislab.results import Result
