@@ -34,7 +34,7 @@ from tennislab.cli._launcher_args import (
 )
 from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError
-from tennislab.launcher import HitsDB
+from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
 from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, format_duration, make_grid
 from tennislab.results import jsonable
@@ -204,18 +204,29 @@ def _ranges_from_args(spec, args) -> tuple[dict, dict]:
     return ranges, strides
 
 
-def _drill_grids(spec, args, ranges, strides) -> list:
-    """One grid per distinct (height, speed, spin, axis) of a drill's shots, every elevation and heading."""
+def _drill_grids(spec, params, args, ranges, strides) -> list:
+    """One grid per distinct (height, speed, spin, axis) a drill needs, every elevation and heading: the
+    settings its shots ask for and those ``launcher drill`` aims them with (within their tolerances)."""
     data, source, fmt = find_drill_source(args.drill, stored=HitsDB(args.db) if os.path.exists(args.db) else None)
     d = parse_drill(data, source, fmt)
+    comp = compile_drill(d, params)
     if tuple(d.spec.position) != tuple(spec.position):
         raise InputError(
             f"--drill: {d.key} is set up for a machine at ({d.spec.position[0]:g}, {d.spec.position[1]:g}) m; "
             f"give --machine-position {d.spec.position[0]:g} {d.spec.position[1]:g}"
         )
-    combos = sorted(
-        {(s.height_m, s.speed_kmh, s.spin_rpm, 0.0 if s.spin_rpm == 0 else s.spin_axis_deg) for s in d.shots.values()}
-    )
+    wanted = {(s.height_m, s.speed_kmh, s.spin_rpm, s.spin_axis_deg) for s in d.shots.values()}
+    wanted |= {
+        (
+            u.solution.settings.height_m,
+            u.solution.settings.speed_kmh,
+            u.solution.settings.spin_rpm,
+            u.solution.settings.spin_axis_deg,
+        )
+        for u in comp.unique
+        if u.solution is not None
+    }
+    combos = sorted({(h, v, w, 0.0 if w == 0 else g) for h, v, w, g in wanted})
     grids = []
     for h, v, w, g in combos:
         r = dict(ranges)
@@ -231,7 +242,7 @@ def run_table(args) -> int:
     if args.max_chunks is not None and args.max_chunks < 1:
         raise InputError(f"--max-chunks: {args.max_chunks} is outside the allowed range [1, inf]")
     if args.drill:
-        grids = _drill_grids(spec, args, ranges, strides)
+        grids = _drill_grids(spec, params, args, ranges, strides)
     elif not ranges and not strides:
         full = make_grid(spec)
         raise InputError(

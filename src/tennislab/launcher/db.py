@@ -309,6 +309,15 @@ def _branch_from_neighbours(conn: sqlite3.Connection) -> None:
     )
 
 
+def ensure_math(conn: sqlite3.Connection) -> None:
+    """``cos`` and ``radians`` in SQL (built into SQLite >= 3.35 with its math functions; else Python's)."""
+    try:
+        conn.execute("SELECT cos(radians(0.0))").fetchone()
+    except sqlite3.OperationalError:
+        conn.create_function("cos", 1, math.cos, deterministic=True)
+        conn.create_function("radians", 1, math.radians, deterministic=True)
+
+
 def _statements(script: str):
     buf = ""
     for line in script.splitlines(keepends=True):
@@ -367,6 +376,7 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
         if check if check is not None else os.path.getsize(path) <= QUICK_CHECK_MAX_BYTES:
             quick_check(conn)
         conn.execute("SELECT count(*) FROM machine").fetchone()
+        ensure_math(conn)
     except (sqlite3.DatabaseError, InputError) as exc:
         if conn is not None:
             conn.close()

@@ -411,18 +411,21 @@ class HitsDB:
         max_flight_time_s: float | None = None,
         speed_tolerance_kmh: float = 3.0,
         spin_tolerance_rpm: float = 100.0,
+        spin_axis_tolerance_deg: float = 0.0,
         max_miss_m: float = 1.0,
     ) -> LookupResult:
         """The stored hit nearest the target among those meeting the request (the ``launcher lookup`` workflow).
 
         Speed (km/h, or ``speed_ms``/``speed_mph``) and spin rate [rpm] are optional (None: any), each
-        matched within its tolerance (0 = the machine step nearest the asked value); ``spin_axis_deg``
-        and ``height_m`` keep only hits of that rotation / height; the trajectory preferences filter
-        the hits (default: the low branch).  Ties: :mod:`tennislab.launcher.lookup`.  InputError
+        matched within its tolerance (0 = the machine step nearest the asked value); with a spin
+        axis too, the spin tolerance bounds the change of the spin vector as in ``aim``
+        (``spin_axis_tolerance_deg`` lets the axis turn further); ``height_m`` keeps only hits of that
+        height; the trajectory preferences filter the hits (default: the low branch).
+        Ties: :mod:`tennislab.launcher.lookup`.  InputError
         (naming the parameter) when nothing in the file meets the request within ``max_miss_m``.
         """
         prefs = Preferences(trajectory, max_apex_m, net_clearance_m, max_flight_time_s)
-        tols = Tolerances(speed_tolerance_kmh, spin_tolerance_rpm)
+        tols = Tolerances(speed_tolerance_kmh, spin_tolerance_rpm, spin_axis_tolerance_deg)
         if not (isinstance(max_miss_m, int | float) and 0 < max_miss_m <= 100):
             raise InputError(f"max_miss_m: {max_miss_m} m is outside the allowed range (0, 100] m")
         with self._read() as conn:
@@ -434,14 +437,21 @@ class HitsDB:
             speed = None if speed is None else spec.speed.quantise(speed)
             spin = None if spin_rpm is None else spec.spin.quantise(spec.spin.check("spin_rpm", spin_rpm))
             where = {}
-            for fname, v in (("height_m", height_m), ("spin_axis_deg", spin_axis_deg)):
-                if v is not None:
-                    rng = spec.range_of(fname)
-                    q = rng.quantise(rng.check(fname, v))
-                    where[fname] = (q - rng.step / 3, q + rng.step / 3)
+            vector = None
+            axis = None if spin_axis_deg is None else spec.spin_axis.check("spin_axis_deg", spin_axis_deg)
+            if height_m is not None:
+                rng = spec.height
+                q = rng.quantise(rng.check("height_m", height_m))
+                where["height_m"] = (q - rng.step / 3, q + rng.step / 3)
+            if axis is not None and spin is not None and tols.spin_rpm > 0:
+                vector = (spin, axis, tols.spin_rpm, tols.spin_axis_deg)  # aim's rule: the spin vector
+            elif axis is not None and spin != 0:  # zero spin is stored once, about the axis nearest 0 deg
+                rng = spec.spin_axis
+                q = rng.quantise(axis)
+                where["spin_axis_deg"] = (q - rng.step / 3, q + rng.step / 3)
             sw = None if speed is None else _window(spec.speed, speed, tols.speed_kmh)
             ww = None if spin is None else _window(spec.spin, spin, tols.spin_rpm)
-            query = lk.HitQuery(speed, spin, sw, ww, where, prefs)
+            query = lk.HitQuery(speed, spin, sw, ww, where, prefs, vector)
             d0 = lk.first_box(lk.table_stats(conn), sw is not None, ww is not None)
             t0 = time.perf_counter()
             hit = lk.nearest_hit(conn, x, y, query=query, max_m=max_miss_m, start_m=d0)
@@ -693,7 +703,7 @@ class HitsDB:
             shot.target,
             shot.speed_kmh,
             shot.spin_rpm,
-            spin_axis_deg=None if shot.spin_rpm == 0 else shot.spin_axis_deg,
+            spin_axis_deg=shot.spin_axis_deg,
             height_m=shot.height_m,
             trajectory=p.trajectory,
             max_apex_m=p.max_apex_m,
@@ -701,6 +711,7 @@ class HitsDB:
             max_flight_time_s=p.max_flight_time_s,
             speed_tolerance_kmh=shot.speed_tolerance_kmh,
             spin_tolerance_rpm=shot.spin_tolerance_rpm,
+            spin_axis_tolerance_deg=shot.spin_axis_tolerance_deg,
             max_miss_m=max_miss_m,
         )
 

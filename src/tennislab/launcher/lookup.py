@@ -38,7 +38,10 @@ class HitQuery:
 
     ``speed_kmh`` and ``spin_rpm`` are the asked values (for the tie rule); ``speed_window`` and
     ``spin_window`` (lo, hi) the stored values accepted; ``where`` {column: (lo, hi)} on other
-    settings (``height_m``, ``spin_axis_deg``); ``preferences`` the trajectory bounds.
+    settings (``height_m``, ``spin_axis_deg``); ``preferences`` the trajectory bounds;
+    ``spin_vector`` (rate [rpm], axis [deg], tolerance [rpm], axis tolerance [deg]) keeps the hits
+    whose spin vector lies within the tolerance of the asked one, or (axis tolerance > 0) whose rate
+    lies within it about an axis turned by at most the axis tolerance (``aim``'s rule).
     """
 
     speed_kmh: float | None = None
@@ -47,6 +50,7 @@ class HitQuery:
     spin_window: tuple[float, float] | None = None
     where: dict = field(default_factory=dict)
     preferences: Preferences | None = None
+    spin_vector: tuple[float, float, float, float] | None = None
 
     @classmethod
     def exact(cls, speed_kmh=None, spin_rpm=None, tol: float = 1e-3, where=None, preferences=None) -> HitQuery:
@@ -73,6 +77,19 @@ class HitQuery:
                 raise InputError(f"{col}: not a setting of a hit; allowed: {', '.join(HIT_SETTINGS)}")
             parts.append(f"{prefix}{col} BETWEEN ? AND ?")
             args += [lo, hi]
+        if self.spin_vector is not None:
+            w0, g0, tol, gtol = self.spin_vector
+            vec = (
+                f"{prefix}spin_rpm * {prefix}spin_rpm + ? - 2.0 * ? * {prefix}spin_rpm * "
+                f"cos(radians({prefix}spin_axis_deg - ?)) <= ?"
+            )
+            dg = f"min(abs({prefix}spin_axis_deg - ?), 360.0 - abs({prefix}spin_axis_deg - ?))"
+            if gtol > 0:
+                parts.append(f"({vec} OR (abs({prefix}spin_rpm - ?) <= ? AND {dg} <= ?))")
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6, w0, tol + 1e-9, g0, g0, gtol + 1e-9]
+            else:
+                parts.append(vec)
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6]
         p = self.preferences
         if p is not None:
             if p.trajectory != "any":
@@ -101,6 +118,14 @@ class HitQuery:
                 m &= (rows[col] >= win[0]) & (rows[col] <= win[1])
         for col, (lo, hi) in self.where.items():
             m &= (rows[col] >= lo) & (rows[col] <= hi)
+        if self.spin_vector is not None:
+            w0, g0, tol, gtol = self.spin_vector
+            w, g = np.asarray(rows["spin_rpm"], float), np.radians(np.asarray(rows["spin_axis_deg"], float) - g0)
+            ok = w * w + w0 * w0 - 2.0 * w0 * w * np.cos(g) <= tol * tol + 1e-6
+            if gtol > 0:
+                dg = np.abs(np.asarray(rows["spin_axis_deg"], float) - g0)
+                ok |= (np.abs(w - w0) <= tol + 1e-9) & (np.minimum(dg, 360.0 - dg) <= gtol + 1e-9)
+            m &= ok
         p = self.preferences
         if p is not None:
             if p.trajectory != "any":
@@ -257,7 +282,7 @@ def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
 
 def _strip_windows(q: HitQuery) -> tuple[str, list]:
     """The query's conditions other than the speed and spin windows (the R*Tree holds those)."""
-    return HitQuery(None, None, None, None, q.where, q.preferences).conditions(prefix="h.")
+    return HitQuery(None, None, None, None, q.where, q.preferences, q.spin_vector).conditions(prefix="h.")
 
 
 #: Band of a landing in the band indexes: 1 cm of landing y (the offset keeps it positive for y > -10 km).
