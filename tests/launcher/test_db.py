@@ -728,3 +728,140 @@ def test_schema_3_file_stays_readable(ray_dbs):
     assert res.miss_mm < 100 and res.hits_read >= 1
     with pytest.raises(InputError, match="no trajectory branches.*migrate"):
         hdb.lookup((8.0, 0.05))
+
+
+# ------------------------------------------------------- preferences in every form
+def _rows_with_flights(seed=9):
+    rows = _ray_rows()
+    rng = np.random.default_rng(seed)
+    n = len(rows["id"])
+    rows["branch"] = rng.integers(0, 2, n)
+    rows["apex_z_m"] = rng.uniform(1.0, 12.0, n)
+    rows["flight_time_s"] = rng.uniform(0.6, 4.0, n)
+    return rows
+
+
+@pytest.fixture(scope="module")
+def pref_db(tmp_path_factory, params):
+    rows = _rows_with_flights()
+    path = str(tmp_path_factory.mktemp("prefs") / "prefs.sqlite")
+    conn = db.open_db(path)
+    db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params))
+    conn.execute("BEGIN")
+    db.insert_hits(conn, rows)
+    conn.execute("COMMIT")
+    conn.close()
+    return rows, path
+
+
+def _brute_query(rows, x, y, q, max_m=1.0, tie_m=lk.TIE_M):
+    idx = np.flatnonzero(q.mask(rows))
+    if idx.size == 0:
+        return None
+    miss = np.hypot(rows["land_x"][idx] - x, rows["land_y"][idx] - y)
+    if miss.min() > max_m:
+        return None
+    cand = idx[miss <= miss.min() + tie_m]
+    ds = np.abs(rows["speed_kmh"][cand] - q.speed_kmh) if q.speed_kmh is not None else np.zeros(cand.size)
+    dw = np.abs(rows["spin_rpm"][cand] - q.spin_rpm) if q.spin_rpm is not None else np.zeros(cand.size)
+    order = np.lexsort((rows["id"][cand], -rows["net_clearance_m"][cand], dw, ds))
+    return int(rows["id"][cand[order[0]]])
+
+
+PREF_FORMS = {
+    "speed+spin low": lambda s, w: lk.HitQuery.exact(s, w, preferences=Preferences("low")),
+    "speed high": lambda s, w: lk.HitQuery.exact(s, None, preferences=Preferences("high")),
+    "spin, apex<=6": lambda s, w: lk.HitQuery.exact(None, w, preferences=Preferences("any", max_apex_m=6.0)),
+    "any, band, time": lambda s, w: lk.HitQuery(
+        preferences=Preferences("low", net_clearance_m=(0.02, 0.3), max_flight_time_s=2.5)
+    ),
+    "windows +-1.5/150": lambda s, w: lk.HitQuery(s, w, (s - 1.5, s + 1.5), (w - 150, w + 150), {}, Preferences("any")),
+    "spin vector 60 rpm": lambda s, w: lk.HitQuery(
+        s, w, (s - 0.4, s + 0.4), (w - 60, w + 60), {}, Preferences("any"), (w, 180.0, 60.0, 0.0)
+    ),
+    "axis tolerance": lambda s, w: lk.HitQuery(
+        None, w, None, (w - 120, w + 120), {}, Preferences("low"), (w, 0.0, 120.0, 10.0)
+    ),
+}
+
+
+@pytest.mark.parametrize("form", PREF_FORMS)
+def test_every_preference_form_equals_brute_force(pref_db, form):
+    """Trajectory branch, apex, net-clearance band, flight time, tolerance windows and the spin-vector rule:
+    the index answer is the brute force's, ties included (the tie rule of lookup.py)."""
+    rows, path = pref_db
+    conn = db.open_readonly(path)
+    rng = np.random.default_rng(13)
+    found = 0
+    for _ in range(40):
+        x, y = rng.uniform(1.0, 12.0), rng.uniform(-2.5, 2.5)
+        s, w = float(rng.choice([60.0, 61.0, 62.0, 63.0])), float(rng.choice([0.0, 100.0, 200.0]))
+        q = PREF_FORMS[form](s, w)
+        want = _brute_query(rows, x, y, q)
+        hit = lk.nearest_hit(conn, x, y, query=q, max_m=1.0)
+        assert (hit is None) == (want is None), (form, x, y, s, w)
+        if hit is not None:
+            found += 1
+            assert hit["id"] == want, (form, x, y, s, w)
+            assert q.mask({k: np.array([v]) for k, v in hit.items() if k in rows})[0]
+            scan = lk.scan_nearest(conn, x, y, query=q)
+            assert scan["id"] == want
+    conn.close()
+    assert found >= 10
+
+
+def test_hitsdb_lookup_never_breaks_preferences(table_db):
+    hdb = HitsDB(table_db)
+    rng = np.random.default_rng(4)
+    for _ in range(25):
+        x, y = rng.uniform(4.0, 11.5), rng.uniform(-4.0, 4.0)
+        kw = dict(
+            trajectory=str(rng.choice(["low", "high", "any"])),
+            max_apex_m=float(rng.choice([3.0, 6.0, 30.0])),
+            max_flight_time_s=float(rng.choice([1.5, 5.0])),
+        )
+        try:
+            res = hdb.lookup((x, y), float(rng.choice([80.0, 100.0, 120.0])), **kw)
+        except InputError as exc:
+            assert str(exc).split(":")[0] in ("trajectory", "max_apex_m", "max_flight_time_s", "target"), exc
+            continue
+        h = res.hit
+        assert h["apex_z_m"] <= kw["max_apex_m"] and h["flight_time_s"] <= kw["max_flight_time_s"]
+        if kw["trajectory"] != "any":
+            assert res.branch == kw["trajectory"]
+
+
+def test_stored_branches_match_the_aims(table_db, params):
+    """A hit's branch is the aiming branch: aim's low and high solutions are stored as low and high."""
+    conn = db.open_readonly(table_db)
+    for target in ((9.0, 2.0), (6.0, -1.0), (10.5, 3.0)):
+        sols, _ = aim_all(target, 100.0, 0.0, 0.0, 1.0, DEFAULT_SPEC, params, tolerances=EXACT)
+        for name, sol in sols.items():
+            s = sol.settings
+            row = conn.execute(
+                "SELECT branch FROM hits WHERE speed_kmh = 100 AND spin_rpm = 0 AND elevation_deg = ? "
+                "AND heading_deg = ? AND height_m = 1",
+                (s.elevation_deg, s.heading_deg),
+            ).fetchone()
+            assert row is not None and row[0] == (0 if name == "low" else 1), (target, name)
+    conn.close()
+
+
+def test_migration_5_gives_stored_hits_their_branch(tmp_path, params, table_db):
+    """A schema-4 file migrated to 5 derives each hit's branch from its neighbours: the flown ones agree."""
+    src = db.open_readonly(table_db)
+    flown = {r[0]: r[1] for r in src.execute("SELECT id, branch FROM hits")}
+    rows = src.execute(f"SELECT {', '.join(db.HIT_COLUMNS_V4)} FROM hits").fetchall()
+    src.close()
+    path = str(tmp_path / "v4.sqlite")
+    conn = db.open_db(path, target_version=4)
+    db.bind_config(conn, db.config_dict(DEFAULT_SPEC, params))
+    conn.execute("BEGIN")
+    conn.executemany(f"INSERT INTO hits VALUES ({','.join('?' * len(db.HIT_COLUMNS_V4))})", rows)
+    conn.execute("COMMIT")
+    conn.close()
+    conn = db.open_db(path)  # migrates to 5
+    derived = dict(conn.execute("SELECT id, branch FROM hits").fetchall())
+    conn.close()
+    agree = np.mean([derived[i] == b for i, b in flown.items()])
+    assert agree > 0.99
