@@ -36,7 +36,7 @@ from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, phy
 from tennislab.errors import InputError
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
-from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, format_duration, make_grid
+from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, format_duration, make_grid, plan_fill
 from tennislab.results import jsonable
 
 _RANGE_FLAGS = (
@@ -54,6 +54,8 @@ _STEP_NAMES = {
     "elevation": "elevation_deg",
     "heading": "heading_deg",
 }
+#: Bytes a stored hit takes in the file, indexes included (docs/database.md).
+BYTES_PER_HIT = 420
 #: A practical first table (docs/database.md: 2.4e7 settings, ~3 min on 2 cores).
 PRACTICAL = "--height 1 --spin-rpm 0 2000 --step spin 250 --spin-axis-deg 0 180 --step spin-axis 180"
 
@@ -244,10 +246,11 @@ def run_table(args) -> int:
     if args.drill:
         grids = _drill_grids(spec, params, args, ranges, strides)
     elif not ranges and not strides:
-        full = make_grid(spec)
+        full = plan_fill(spec, params, make_grid(spec))
         raise InputError(
-            f"table: no ranges given: the machine's whole grid is {full.size:.3g} settings (about 7 years on 2 "
-            f"cores, 750 TB); give ranges, e.g. {PRACTICAL} (2.4e7 settings, ~3 min), or --drill NAME"
+            f"table: no ranges given: the machine's whole grid is {full.grid_rows:.3g} settings, ~"
+            f"{full.estimated_hits * BYTES_PER_HIT / 1e12:.3g} TB, estimated {format_duration(full.estimated_s)} here; "
+            f"give ranges, e.g. {PRACTICAL} (2.4e7 settings, minutes), or --drill NAME"
         )
     else:
         grids = [make_grid(spec, ranges, strides)]
@@ -370,6 +373,8 @@ def run_drills(args) -> int:
             return 0
         for r in lst.drills:
             rev = f"  rev {r['revision']}" if r.get("revision") else ""
+            if r.get("shadowed"):
+                rev = "  (the stored one answers this name)"
             print(
                 f"{r['key']:<22} {r['name']!r:<26} {r['source']:<8}{rev}  {r['n_shots']} shots "
                 f"({r['n_distinct']} distinct)"

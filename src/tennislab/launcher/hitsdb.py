@@ -564,7 +564,7 @@ class HitsDB:
         if os.path.exists(self.path):
             with self._read() as conn:
                 for r in _db.list_drills(conn):
-                    out.append({**r, "key": drill_key(r["name"]), "source": "stored"})
+                    out.append({**r, "key": drill_key(r["name"]), "source": "stored", "shadowed": False})
         if shipped:
             have = {d["key"] for d in out}
             for key in shipped_drills():
@@ -577,7 +577,8 @@ class HitsDB:
                     {
                         "name": d.name,
                         "key": d.key,
-                        "source": "shipped" if d.key not in have else "shipped (a stored drill has its name)",
+                        "source": "shipped",
+                        "shadowed": d.key in have,  # a stored drill of the same key answers its name
                         "filename": os.path.basename(path),
                         "format_version": d.version,
                         "revision": None,
