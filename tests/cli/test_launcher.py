@@ -199,6 +199,9 @@ def test_aim_text_output(capsys):
         ),
         (["launcher", "drill", "no_such_drill"], "--drill: 'no_such_drill' is not a file"),
         (["launcher", "rollers", "--speed-ms", 100], "--speed-ms: 100 m/s"),
+        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"], "--plot: unknown figure format"),
+        (["launcher", "drill", "lobs", "--csv", "/dev/null/x.csv"], "--csv: /dev/null/x.csv lies under"),
+        (["launcher", "drill", "lobs", "--csv", "x" * 300 + ".csv"], "--csv: the file name is 304 characters"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, frag):

@@ -5,7 +5,10 @@ tolerances and trajectory preferences.  Parse only; the launcher's workflows che
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import replace
+
+from matplotlib.backend_bases import FigureCanvasBase
 
 from tennislab.cli.common import add_speed_flags, parse_spin_axis
 from tennislab.errors import InputError
@@ -44,6 +47,27 @@ def spec_from_args(args) -> MachineSpec:
     if getattr(args, "roller_axis_distance", None) is not None:
         kw["roller_axis_distance"] = args.roller_axis_distance
     return replace(DEFAULT_SPEC, **kw) if kw else DEFAULT_SPEC
+
+
+def check_output(path: str | None, flag: str, figure: bool = False) -> None:
+    """Refuse, before any work, an output path that is a folder, lies under a file, or (``figure``) has an
+    extension Matplotlib cannot write; one line naming the flag."""
+    if path is None or path == "-":
+        return
+    if os.path.isdir(path):
+        raise InputError(f"{flag}: {path} is a folder")
+    if len(os.path.basename(path).encode()) > 255:
+        raise InputError(f"{flag}: the file name is {len(os.path.basename(path))} characters, more than 255")
+    d = os.path.dirname(os.path.abspath(path))
+    while d and not os.path.exists(d):
+        d = os.path.dirname(d)
+    if d and not os.path.isdir(d):
+        raise InputError(f"{flag}: {path} lies under {d}, which is a file")
+    if figure:
+        ext = os.path.splitext(path)[1][1:].lower() or "png"
+        kinds = FigureCanvasBase.get_supported_filetypes()
+        if ext not in kinds:
+            raise InputError(f"{flag}: unknown figure format .{ext}; allowed: {', '.join(sorted(kinds))}")
 
 
 def given_flags(args) -> tuple[str, ...]:

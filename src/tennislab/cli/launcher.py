@@ -15,6 +15,7 @@ from tennislab.cli._launcher_args import (
     add_speed,
     add_spin_flags,
     add_tolerance_flags,
+    check_output,
     preference_kwargs,
     spec_from_args,
     speed_kwargs,
@@ -22,6 +23,7 @@ from tennislab.cli._launcher_args import (
     tolerance_kwargs,
 )
 from tennislab.cli.common import add_output_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
+from tennislab.errors import InputError
 from tennislab.io.drill import write_csv
 from tennislab.launcher import HitsDB, aim, compile_drill, power_report, roller_report
 from tennislab.launcher.aim import fly_settings
@@ -128,6 +130,7 @@ def register(sub) -> None:
 
 
 def run_aim(args) -> int:
+    check_output(args.plot, "--plot", figure=True)
     params = physics_from_args(args)
     spec = spec_from_args(args)
     res = aim(
@@ -255,13 +258,13 @@ def run_power(args) -> int:
 
 
 def run_drill(args) -> int:
-    from tennislab.errors import InputError
-
     if args.file and args.drill and args.file != args.drill:
         raise InputError("--drill: give the drill once (DRILL or --drill NAME)")
     name = args.drill or args.file
     if not name:
         raise InputError("--drill: give a drill (a file, a stored drill with --db, or a shipped drill)")
+    check_output(args.csv, "--csv")
+    check_output(args.plot, "--plot", figure=True)
     params = physics_from_args(args)
     data, source, fmt = find_drill_source(name, stored=HitsDB(args.db) if args.db else None)
     drill = parse_drill(data, source, fmt)

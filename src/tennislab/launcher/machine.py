@@ -1,7 +1,6 @@
-"""The two-roller ball launcher of seed 002: its settings, ranges and launch states.
+"""The two-roller ball launcher of Wojcicki, Pucilowski & Kulesza (2010; seed 002): settings, ranges, launch states.
 
-Seed 002 (Wojcicki, Pucilowski & Kulesza 2010, Acta Mech. Autom., section 2
-"Brief for design") fixes the ranges and steps of every setting:
+The paper (Acta Mech. Autom., section 2 "Brief for design") fixes the ranges and steps of every setting:
 
 ==================  ===============  ==========  ===================================
 setting             range            step        field of :class:`Settings`
