@@ -199,19 +199,16 @@ def header_identity(path: str) -> tuple[int, int, bool] | None:
 
     From the SQLite header and the schema page's b-tree header (page 1, offsets 100-107: its cell
     count is 0 for a file without tables) of the main file, or of the newest committed page 1 in
-    a pending write-ahead log; None when a pending log holds no committed page 1 (then only SQLite
-    can tell).  An empty file gives (0, 0, False); other bytes raise DatabaseFileError.
+    a pending write-ahead log (the main file's when the log holds no committed page 1); None for an
+    empty main file with a pending log (only SQLite can tell).  An empty file gives (0, 0, False);
+    other bytes raise DatabaseFileError.
     """
-    head = None
-    if _wal_pending(path):
-        head = _wal_page1(path)
-        if head is None:
-            return None
-    else:
+    head = _wal_page1(path) if _wal_pending(path) else None
+    if head is None:  # no committed page 1 in a log: the main file's page 1 is the current one
         with open(path, "rb") as fh:
             head = fh.read(108)
         if not head:
-            return 0, 0, False
+            return None if _wal_pending(path) else (0, 0, False)
     if len(head) < 108 or not head.startswith(b"SQLite format 3\x00"):
         raise DatabaseFileError("not a usable tennislab launcher database (file is not a database)")
     version = int.from_bytes(head[60:64], "big", signed=True)
