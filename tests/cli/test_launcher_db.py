@@ -363,8 +363,11 @@ def test_table_refuses_the_whole_grid_and_estimates_every_fill(tmp_path, capsys)
     assert "3.03e+13 settings" in err and "--height 1" in err and not path.exists()
     rc, out, err = run(capsys, "launcher", "table", "--db", str(path), "--height", "1", "--no-progress")
     assert rc == 2 and "estimated" in err and "--yes" in err and not path.exists()
-    rc, out, err = run(capsys, "launcher", "table", "--db", str(path), *GRID[:-1], "--speed-kmh", "90", "90")
-    assert rc == 2 or "settings" in err  # --speed-kmh given twice: argparse keeps the last
+    rc, out, err = run(capsys, "launcher", "table", "--db", str(path), *GRID)
+    assert rc == 0, err
+    assert err.startswith("table: 49,086 settings (1 x 3 x 2 x 1 x 101 x 81)") and "estimated" in err
+    rc, out, err = run(capsys, "launcher", "table", "--db", str(path), *GRID, "--json")  # resumed: nothing left
+    assert rc == 0 and "0 to fly" in err and json.loads(out)["chunks_run"] == 0
 
 
 def test_play_emits_the_timed_settings_without_flying(tmp_path, capsys, monkeypatch):
