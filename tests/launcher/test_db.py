@@ -14,10 +14,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tennislab.errors import InputError
-from tennislab.launcher import db
+from tennislab.launcher import HitsDB, db
 from tennislab.launcher import lookup as lk
 from tennislab.launcher import table as T
-from tennislab.launcher import HitsDB
 from tennislab.launcher.aim import aim_all, launcher_params
 from tennislab.launcher.drill_schema import drill_record, parse_drill
 from tennislab.launcher.machine import DEFAULT_SPEC
