@@ -89,6 +89,7 @@ def test_migration_from_version_1_and_newer_refused(tmp_path, params):
     names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
     assert "drills" not in names and "hits" in names and "hits_xy" not in names
     conn.executemany("INSERT INTO hits VALUES (?,1,100,10,0,0,0,?,?,0.5,1,20,0,2)", [(7, 8.0, 1.0), (9, 9.0, -2.0)])
+    conn.executemany("INSERT INTO hits_rtree VALUES (?,?,?,?,?,100,100,0,0)", [(7, 8, 8, 1, 1), (9, 9, 9, -2, -2)])
     conn.close()
     with pytest.raises(InputError, match="older"):
         db.open_readonly(path)  # a reader never migrates
@@ -98,7 +99,7 @@ def test_migration_from_version_1_and_newer_refused(tmp_path, params):
     # v3 indexed the hits already stored, v4 replaced that index by the band indexes
     assert "hits_xy" not in {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
     assert conn.execute("SELECT id FROM hits INDEXED BY hits_cell WHERE land_x > 8.5").fetchall() == [(9,)]
-    for kw in ({}, {"speed_kmh": 100.0}, {"spin_rpm": 0.0}):  # (rows written to hits alone: not in hits_rtree)
+    for kw in ({}, {"speed_kmh": 100.0}, {"spin_rpm": 0.0}):  # the band indexes, built by the migration
         assert lk.nearest_hit(conn, 8.1, 1.0, **kw)["id"] == 7
     assert db.check_config(conn, cfg) == db.config_hash(cfg)  # a migration keeps the table valid
     assert db.has_column(conn, "hits", "branch")

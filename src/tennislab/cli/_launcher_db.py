@@ -55,7 +55,7 @@ _STEP_NAMES = {
     "heading": "heading_deg",
 }
 #: Bytes a stored hit takes in the file, indexes included (docs/database.md).
-BYTES_PER_HIT = 420
+BYTES_PER_HIT = 460
 #: A practical first table (docs/database.md: 2.4e7 settings, ~3 min on 2 cores).
 PRACTICAL = "--height 1 --spin-rpm 0 2000 --step spin 250 --spin-axis-deg 0 180 --step spin-axis 180"
 

@@ -502,7 +502,9 @@ class HitsDB:
             )
         p = q.preferences
         free = replace(q, preferences=None)
-        near = lk.nearest_hit(conn, x, y, query=free, max_m=max_m) if p is not None else None
+        near = None
+        if p is not None and lk.any_near(conn, x, y, q, max_m):  # something lands there: say which bound
+            near = lk.nearest_hit(conn, x, y, query=free, max_m=max_m)
         if near is not None and p is not None:
             where = f"within {max_m:g} m of ({x:g}, {y:g}) m"
             if p.trajectory != "any" and int(near.get("branch") or 0) != (0 if p.trajectory == "low" else 1):

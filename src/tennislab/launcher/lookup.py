@@ -167,10 +167,14 @@ def nearest_hit(
     ``query`` (a :class:`HitQuery`) or, for short, ``speed_kmh``/``spin_rpm`` within
     ``speed_tol``/``spin_tol`` and ``where`` {column: (lo, hi)}.  Returns a dict (columns of
     ``hits`` plus ``miss_m``, ``n_candidates`` (index entries read) and ``n_read`` (rows of ``hits``
-    read)) or None when no such hit lands within ``max_m`` of the target.  Speed and spin given:
-    :func:`_box_candidates` on ``hits_rtree``; otherwise :func:`_band_candidates` on a band index
-    (a file of schema 3 has none: box queries on ``hits_xy`` or ``hits_rtree``).  Both collect a
-    superset of the hits that can be nearest or tie; :func:`_pick` decides on their exact landings.
+    read)) or None when no such hit lands within ``max_m`` of the target.  An index-only R*Tree
+    check answers None at once when no hit of the speed and spin windows lands near.  One speed and
+    one spin (windows narrower than 1 km/h and 1 rpm): :func:`_box_candidates` on ``hits_rtree``;
+    otherwise (tolerance windows over several stored values, one or neither given)
+    :func:`_band_candidates` on a band index keyed by the speed if given, else the spin, which
+    carries every other condition (a file of schema 3 has none: box queries on ``hits_xy`` or
+    ``hits_rtree``).  Both collect a superset of the hits that can be nearest or tie; :func:`_pick`
+    decides on their exact landings.
     """
     q = query or HitQuery(
         speed_kmh,
@@ -182,9 +186,17 @@ def nearest_hit(
     _check_branch(conn, q)
     sw, ww = q.speed_window, q.spin_window
     col = None if sw is None and ww is None else ("spin_rpm" if sw is None else "speed_kmh")
-    if (sw is None or ww is None) and conn.execute(
-        "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
-    ).fetchone():
+    # the 4-D R*Tree for one speed and one spin; windows over several stored values (tolerances) read
+    # the speed band index, which carries the spin and every other condition (no row reads)
+    exact = sw is not None and ww is not None and sw[1] - sw[0] < 1.0 and ww[1] - ww[0] < 1.0
+    if not any_near(conn, x, y, q, max_m + tie_m):  # nothing of these speeds and spins lands near (index only)
+        return None
+    if (
+        not exact
+        and conn.execute(
+            "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
+        ).fetchone()
+    ):
         win = sw if col == "speed_kmh" else ww
         found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win)
     else:
@@ -226,12 +238,13 @@ _SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AN
 def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
     """Box queries on an R*Tree (``hits_rtree``; ``hits_xy`` if neither speed nor spin is given).
 
-    The half-width starts at ``start_m`` and doubles until a hit matches; once the nearest
-    candidate is at most d_min away, a box of half-width d_min + ``tie_m`` holds every point that
-    could be nearer or tie, so one more query at most makes the set complete.  The queries read
-    the index (its float32 boxes bound each distance from below and above) and, when the query
-    filters on other columns, the rows of those entries.  Returns (rows, index entries of the last
-    box, rows read) or None.
+    The half-width starts at ``start_m`` and doubles until the box holds an accepted hit; once the
+    nearest accepted candidate is d_min away, a box of half-width d_min + ``tie_m`` holds every
+    point that could be nearer or tie, so one more query at most makes the set complete.  The box
+    queries read the index alone (its float32 boxes bound each distance from below and above);
+    when the query filters on other columns, the entries' rows are read nearest first, in batches,
+    only until the nearest accepted hit is known (:func:`_accepted_nearest`).  Returns (rows, index
+    entries of the last box, rows read) or None.
     """
     extra, xargs = _strip_windows(q)
     sw = q.speed_window or (-_INF, _INF)
@@ -240,15 +253,13 @@ def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
     if free and not conn.execute("SELECT 1 FROM sqlite_master WHERE name = 'hits_xy'").fetchone():
         free = False  # a file with neither band indexes nor hits_xy: the 4-D tree over every speed and spin
     sql = (
-        f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
-        + (" JOIN hits h ON h.id = r.id" if extra else "")
-        + " WHERE "
+        f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r WHERE "
         + _BOX
         + ("" if free else _SPEED_SPIN)
-        + extra
     )
-    fixed = ([] if free else [sw[0], sw[1], ww[0], ww[1]]) + xargs
+    fixed = [] if free else [sw[0], sw[1], ww[0], ww[1]]
     d = min(start_m, lim)
+    n_read = 0
     while True:
         rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
         if rows:
@@ -260,24 +271,56 @@ def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
             hi = np.hypot(
                 np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)), np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y))
             )
-            dmin_hi = float(hi.min())
-            if dmin_hi + tie_m <= d or d >= lim:
-                break
-            d = min(dmin_hi + tie_m, lim)
-            continue
+            if not extra:
+                dmin = float(hi.min())
+                if dmin + tie_m <= d or d >= lim:
+                    ids = [int(i) for i in b[lo <= dmin + tie_m, 0]]
+                    cand = _rows_by_id(conn, ids, "", [])
+                    return cand, len(rows), len(cand)
+                d = min(dmin + tie_m, lim)
+                continue
+            cand, dmin, k = _accepted_nearest(conn, x, y, b[:, 0], lo, extra, xargs, tie_m)
+            n_read += k
+            if cand:
+                if dmin + tie_m <= d or d >= lim:
+                    return cand, len(rows), n_read
+                d = min(dmin + tie_m, lim)
+                continue
         if d >= lim:
             return None
         d = min(2.0 * d, lim)
-    ids = [int(i) for i in b[lo <= dmin_hi + tie_m, 0]]
-    cand = []
-    for i in range(0, len(ids), 900):  # SQLite before 3.32 binds at most 999 variables
-        part = ids[i : i + 900]
-        cand += conn.execute(
-            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits "
-            f"WHERE id IN ({','.join('?' * len(part))})",
-            part,
+
+
+def _rows_by_id(conn, ids: list, extra: str, xargs: list) -> list:
+    out = []
+    for i in range(0, len(ids), 500):  # SQLite before 3.32 binds at most 999 variables
+        part = ids[i : i + 500]
+        out += conn.execute(
+            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits AS h "
+            f"WHERE id IN ({','.join('?' * len(part))}){extra}",
+            part + xargs,
         ).fetchall()
-    return cand, len(rows), len(cand) + (len(rows) if extra else 0)
+    return out
+
+
+def _accepted_nearest(conn, x, y, ids, lo, extra, xargs, tie_m, batch: int = 64):
+    """The accepted rows among index entries, read nearest first (by the boxes' lower bounds) in batches
+    until no unread entry can be nearer than the nearest accepted one + ``tie_m``.
+
+    Returns (accepted rows within the nearest + ``tie_m``, the nearest distance, rows read)."""
+    order = np.argsort(lo, kind="stable")
+    best, found, n = math.inf, [], 0
+    for i in range(0, order.size, batch):
+        part = order[i : i + batch]
+        if lo[part[0]] > best + tie_m:
+            break
+        got = _rows_by_id(conn, [int(v) for v in ids[part]], extra, xargs)
+        n += part.size
+        for r in got:
+            best = min(best, math.hypot(r[1] - x, r[2] - y))
+        found += got
+    near = [r for r in found if math.hypot(r[1] - x, r[2] - y) <= best + tie_m]
+    return near, best, n
 
 
 def _strip_windows(q: HitQuery) -> tuple[str, list]:
@@ -405,29 +448,44 @@ FIRST_BOX_ROWS = 8.0
 
 
 def table_stats(conn: sqlite3.Connection) -> dict:
-    """Hits stored and speed/spin values per grid (from ``fill_chunks``/``fills``; cached per connection)."""
+    """Hits stored and the speed/spin values filled (from ``fill_chunks``/``fills``; cached per connection)."""
     key = id(conn)
     if key in _STATS and _STATS[key][0] is conn:
         return _STATS[key][1]
     n = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
-    ns = nw = 1
-    for (g,) in conn.execute("SELECT grid_json FROM fills"):
-        gj = json.loads(g)
-        ns, nw = max(ns, len(gj.get("speed_kmh", ()))), max(nw, len(gj.get("spin_rpm", ())))
-    stats = {"n": int(n), "n_speed": ns, "n_spin": nw}
+    vals = grid_values(conn) if conn.execute("SELECT 1 FROM machine").fetchone() else {}
+    speeds, spins = vals.get("speed_kmh") or [], vals.get("spin_rpm") or []
+    stats = {
+        "n": int(n),
+        "n_speed": max(1, len(speeds)),
+        "n_spin": max(1, len(spins)),
+        "speeds": np.asarray(speeds, float),
+        "spins": np.asarray(spins, float),
+    }
     if len(_STATS) > 16:
         _STATS.clear()
     _STATS[key] = (conn, stats)
     return stats
 
 
-def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float = 170.0) -> float:
+def first_box(stats: dict, speed_window=None, spin_window=None, area_m2: float = 170.0) -> float:
     """Half-width [m] of a box expected to hold :data:`FIRST_BOX_ROWS` matching hits.
 
-    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin);
-    a given speed (spin) keeps about 1/``n_speed`` (1/``n_spin``) of them.
+    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin); a speed
+    (spin) window keeps the share of the filled speed (spin) values inside it (``True`` for a
+    window of one value).
     """
-    n = stats["n"] / (stats["n_speed"] if speed_given else 1) / (stats["n_spin"] if spin_given else 1)
+
+    def share(window, values, count):
+        if window is None or window is False:
+            return 1.0
+        if window is True or not len(values):
+            return 1.0 / count
+        inside = np.count_nonzero((values >= window[0]) & (values <= window[1]))
+        return max(inside, 1) / count
+
+    n = stats["n"] * share(speed_window, stats.get("speeds", ()), stats["n_speed"])
+    n *= share(spin_window, stats.get("spins", ()), stats["n_spin"])
     if n <= 0:
         return 0.05
     return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
@@ -445,6 +503,14 @@ def has_hits(conn: sqlite3.Connection, q: HitQuery) -> bool:
         ).fetchone()
         is not None
     )
+
+
+def any_near(conn: sqlite3.Connection, x: float, y: float, q: HitQuery, d: float) -> bool:
+    """True if any hit of the query's speed and spin windows lands in the box of half-width ``d`` (index only)."""
+    s = q.speed_window or (-_INF, _INF)
+    w = q.spin_window or (-_INF, _INF)
+    sql = "SELECT 1 FROM hits_rtree r WHERE " + _BOX + _SPEED_SPIN + " LIMIT 1"
+    return conn.execute(sql, (x - d, x + d, y - d, y + d, s[0], s[1], w[0], w[1])).fetchone() is not None
 
 
 def grid_values(conn: sqlite3.Connection, spec_json: dict | None = None) -> dict:
