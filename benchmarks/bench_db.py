@@ -197,6 +197,7 @@ def main(argv=None) -> int:
         "speed+spin, high": lambda s, w: {"speed_kmh": s, "spin_rpm": w, "trajectory": "high", **exact},
         "speed+spin, any": lambda s, w: {"speed_kmh": s, "spin_rpm": w, "trajectory": "any", **exact},
         "speed+spin +-3/100": lambda s, w: {"speed_kmh": s, "spin_rpm": w},
+        "speed+spin+axis (vector)": lambda s, w: {"speed_kmh": s, "spin_rpm": w, "spin_axis_deg": 0.0},
         "speed, apex<=3 m": lambda s, w: {"speed_kmh": s, "max_apex_m": 3.0, **exact},
         "spin, net 0.3-1.5 m": lambda s, w: {"spin_rpm": w, "net_clearance_m": (0.3, 1.5), **exact},
         "any, flight<=1.2 s": lambda s, w: {"max_flight_time_s": 1.2},
@@ -217,7 +218,7 @@ def main(argv=None) -> int:
                 ms.append((time.perf_counter() - t) * 1e3)
             results[label] = _stats(ms)
             print(
-                f"lookup ({label:20s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
+                f"lookup ({label:24s}): median {results[label][0]:7.3f} ms, p95 {results[label][1]:7.3f} ms, "
                 f"index entries read median {int(np.median(reads)) if reads else 0}, no hit within 1 m: {misses}  "
                 f"[{args.lookups} lookups]",
                 flush=True,

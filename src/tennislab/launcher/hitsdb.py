@@ -502,6 +502,12 @@ class HitsDB:
             )
         p = q.preferences
         free = replace(q, preferences=None)
+        if q.speed_kmh is not None and q.spin_rpm is not None:  # explain with the asked speed and spin (fast)
+            free = replace(
+                free,
+                speed_window=(q.speed_kmh - 0.3, q.speed_kmh + 0.3),
+                spin_window=(q.spin_rpm - 0.3, q.spin_rpm + 0.3),
+            )
         near = None
         if p is not None and lk.any_near(conn, x, y, q, max_m):  # something lands there: say which bound
             near = lk.nearest_hit(conn, x, y, query=free, max_m=max_m)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 import math
 import sqlite3
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -198,7 +198,17 @@ def nearest_hit(
         ).fetchone()
     ):
         win = sw if col == "speed_kmh" else ww
-        found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win)
+        bound = math.inf
+        if sw is not None and ww is not None and q.speed_kmh is not None and q.spin_rpm is not None:
+            # tolerance windows: the nearest accepted hit of the asked speed and spin themselves (R*Tree)
+            # bounds the distance, so the band walk reads only the bands nearer than it
+            seed = replace(
+                q, speed_window=(q.speed_kmh - 0.3, q.speed_kmh + 0.3), spin_window=(q.spin_rpm - 0.3, q.spin_rpm + 0.3)
+            )
+            got = _box_candidates(conn, x, y, seed, min(start_m, 0.05), max_m + tie_m, tie_m)
+            if got is not None and got[0]:
+                bound = min(math.hypot(r[1] - x, r[2] - y) for r in got[0]) * (1 + 1e-12) + 1e-9
+        found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win, bound)
     else:
         found = _box_candidates(conn, x, y, q, start_m, max_m + tie_m, tie_m)
     if found is None:
@@ -328,6 +338,8 @@ def _strip_windows(q: HitQuery) -> tuple[str, list]:
     return HitQuery(None, None, None, None, q.where, q.preferences, q.spin_vector).conditions(prefix="h.")
 
 
+#: Bound arguments per batched probe statement (SQLite before 3.32 binds at most 999).
+_PROBE_ARGS = 800
 #: Band of a landing in the band indexes: 1 cm of landing y (the offset keeps it positive for y > -10 km).
 _BAND = "CAST(land_y * 100.0 + 1000000.0 AS INTEGER)"
 #: Covering index per lookup form: neither speed nor spin, speed only, spin only (schema 4+).
@@ -344,7 +356,7 @@ def _band_dy(b: int, y: float) -> float:
     return 0.0 if y0 <= y <= y1 else min(abs(y0 - y), abs(y1 - y))
 
 
-def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window):
+def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window, bound: float = math.inf):
     """Hits within the nearest distance + ``tie_m`` of (x, y) from a band index: (rows, n, 1) or None.
 
     The index (``col``, speed or spin, if given; 1 cm band of landing y; landing x, y, net
@@ -370,13 +382,17 @@ def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window):
     probe = (
         f"SELECT * FROM ({head} ORDER BY land_x LIMIT 1) UNION ALL SELECT * FROM ({head} ORDER BY land_x DESC LIMIT 1)"
     )
-    best, lim, n, k, band = math.inf, max_m + tie_m, 0, 0, _band(y)
+    best, lim, n, k, band = bound, max_m + tie_m, 0, 0, _band(y)
     while pre:
         todo = [b for b in {band - k, band + k} if _band_dy(b, y) < min(best, lim)]
         if not todo:
             break
-        for b, p in ((b, p) for b in todo for p in pre):
-            for r in conn.execute(probe, [*p, b, x, x + lim, *xargs, *p, b, x - lim, x, *xargs]).fetchall():
+        probes = [(*p, b, x, x + lim, *xargs, *p, b, x - lim, x, *xargs) for b in todo for p in pre]
+        per = max(1, _PROBE_ARGS // len(probes[0]))
+        for i in range(0, len(probes), per):  # the probes of these bands, a few statements at most
+            part = probes[i : i + per]
+            sql = " UNION ALL ".join([probe] * len(part))
+            for r in conn.execute(sql, [v for pr in part for v in pr]).fetchall():
                 best, n = min(best, math.hypot(r[1] - x, r[2] - y)), n + 1
         k += 1
     if best > lim:
