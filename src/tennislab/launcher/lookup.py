@@ -77,19 +77,6 @@ class HitQuery:
                 raise InputError(f"{col}: not a setting of a hit; allowed: {', '.join(HIT_SETTINGS)}")
             parts.append(f"{prefix}{col} BETWEEN ? AND ?")
             args += [lo, hi]
-        if self.spin_vector is not None:
-            w0, g0, tol, gtol = self.spin_vector
-            vec = (
-                f"{prefix}spin_rpm * {prefix}spin_rpm + ? - 2.0 * ? * {prefix}spin_rpm * "
-                f"cos(radians({prefix}spin_axis_deg - ?)) <= ?"
-            )
-            dg = f"min(abs({prefix}spin_axis_deg - ?), 360.0 - abs({prefix}spin_axis_deg - ?))"
-            if gtol > 0:
-                parts.append(f"({vec} OR (abs({prefix}spin_rpm - ?) <= ? AND {dg} <= ?))")
-                args += [w0 * w0, w0, g0, tol * tol + 1e-6, w0, tol + 1e-9, g0, g0, gtol + 1e-9]
-            else:
-                parts.append(vec)
-                args += [w0 * w0, w0, g0, tol * tol + 1e-6]
         p = self.preferences
         if p is not None:
             if p.trajectory != "any":
@@ -104,6 +91,24 @@ class HitQuery:
             if p.net_clearance_m is not None:
                 parts.append(f"{prefix}net_clearance_m BETWEEN ? AND ?")
                 args += list(p.net_clearance_m)
+        if self.spin_vector is not None:  # last: the dearest test, on the rows the others let through
+            w0, g0, tol, gtol = self.spin_vector
+            vec = (
+                f"{prefix}spin_rpm * {prefix}spin_rpm + ? - 2.0 * ? * {prefix}spin_rpm * "
+                f"cos(radians({prefix}spin_axis_deg - ?)) <= ?"
+            )
+            dg = f"min(abs({prefix}spin_axis_deg - ?), 360.0 - abs({prefix}spin_axis_deg - ?))"
+            if gtol > 0:
+                parts.append(f"({vec} OR (abs({prefix}spin_rpm - ?) <= ? AND {dg} <= ?))")
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6, w0, tol + 1e-9, g0, g0, gtol + 1e-9]
+            else:
+                if w0 > tol:  # a cheap necessary test first: the axis turns by at most asin(tol / w0)
+                    delta = math.degrees(math.asin(tol / w0)) + 1e-6
+                    if -180.0 <= g0 - delta and g0 + delta <= 180.0:
+                        parts.append(f"{prefix}spin_axis_deg BETWEEN ? AND ?")
+                        args += [g0 - delta, g0 + delta]
+                parts.append(vec)
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6]
         return "".join(" AND " + c for c in parts), args
 
     def needs_branch(self) -> bool:
@@ -387,7 +392,11 @@ def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window, bound: 
         todo = [b for b in {band - k, band + k} if _band_dy(b, y) < min(best, lim)]
         if not todo:
             break
-        probes = [(*p, b, x, x + lim, *xargs, *p, b, x - lim, x, *xargs) for b in todo for p in pre]
+        probes = []
+        for b in todo:  # each probe clipped to the disc that can still hold a nearer landing
+            r = min(best, lim)
+            h = math.sqrt(max(r * r - _band_dy(b, y) ** 2, 0.0)) * (1.0 + 1e-12) + 1e-9
+            probes += [(*p, b, x, x + h, *xargs, *p, b, x - h, x, *xargs) for p in pre]
         per = max(1, _PROBE_ARGS // len(probes[0]))
         for i in range(0, len(probes), per):  # the probes of these bands, a few statements at most
             part = probes[i : i + per]
