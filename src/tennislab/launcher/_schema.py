@@ -86,7 +86,8 @@ CREATE INDEX hits_spin_cell ON hits (spin_rpm, CAST(land_y * 100.0 + 1000000.0 A
                                      net_clearance_m);
 """
 
-# v5: the trajectory branch of every hit (low/high) and band indexes that carry what the trajectory
+# v5: the trajectory branch of every hit (low/high) and band indexes keyed by it (after the speed or spin) that
+# carry what the trajectory
 # preferences filter on (branch, apex, flight time; speed and spin in each other's index for tolerance
 # windows; height and spin axis).  Stored hits get their branch from their neighbours in elevation
 # (:func:`_branch_from_neighbours`, run by :func:`migrate`); new fills fly it (table.fly_chunk).
@@ -95,13 +96,13 @@ ALTER TABLE hits ADD COLUMN branch INTEGER NOT NULL DEFAULT 0;
 DROP INDEX hits_cell;
 DROP INDEX hits_speed_cell;
 DROP INDEX hits_spin_cell;
-CREATE INDEX hits_cell ON hits (CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y, net_clearance_m,
-                                branch, apex_z_m, flight_time_s, height_m, spin_axis_deg, speed_kmh, spin_rpm);
-CREATE INDEX hits_speed_cell ON hits (speed_kmh, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
-                                      net_clearance_m, branch, apex_z_m, flight_time_s, spin_rpm, height_m,
+CREATE INDEX hits_cell ON hits (branch, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
+                                net_clearance_m, apex_z_m, flight_time_s, height_m, spin_axis_deg, speed_kmh, spin_rpm);
+CREATE INDEX hits_speed_cell ON hits (speed_kmh, branch, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x,
+                                      land_y, net_clearance_m, apex_z_m, flight_time_s, spin_rpm, height_m,
                                       spin_axis_deg);
-CREATE INDEX hits_spin_cell ON hits (spin_rpm, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
-                                     net_clearance_m, branch, apex_z_m, flight_time_s, speed_kmh, height_m,
+CREATE INDEX hits_spin_cell ON hits (spin_rpm, branch, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x,
+                                     land_y, net_clearance_m, apex_z_m, flight_time_s, speed_kmh, height_m,
                                      spin_axis_deg);
 """
 

@@ -256,10 +256,12 @@ def migrate(conn: sqlite3.Connection, target: int = SCHEMA_VERSION) -> int:
     for v in range(version + 1, target + 1):
         conn.execute("BEGIN IMMEDIATE")
         try:
+            branched = v != 5
             for stmt in _statements(MIGRATIONS[v]):
+                if not branched and stmt.startswith("CREATE INDEX"):  # before the indexes that carry it
+                    _branch_from_neighbours(conn)
+                    branched = True
                 conn.execute(stmt)
-            if v == 5:
-                _branch_from_neighbours(conn)
             conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             conn.execute(f"PRAGMA user_version = {v}")
             conn.execute("COMMIT")

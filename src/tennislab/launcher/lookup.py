@@ -64,8 +64,9 @@ class HitQuery:
             preferences,
         )
 
-    def conditions(self, skip: str | None = None, prefix: str = "") -> tuple[str, list]:
-        """SQL ``AND ...`` conditions on hit columns (all but the window of ``skip``) and their arguments."""
+    def conditions(self, skip: str | None = None, prefix: str = "", branch: bool = True) -> tuple[str, list]:
+        """SQL ``AND ...`` conditions on hit columns (all but the window of ``skip``; the trajectory branch
+        only with ``branch``) and their arguments."""
         parts: list[str] = []
         args: list = []
         for col, win in (("speed_kmh", self.speed_window), ("spin_rpm", self.spin_window)):
@@ -79,7 +80,7 @@ class HitQuery:
             args += [lo, hi]
         p = self.preferences
         if p is not None:
-            if p.trajectory != "any":
+            if p.trajectory != "any" and branch:
                 parts.append(f"{prefix}branch = ?")
                 args.append(BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH)
             if p.max_apex_m is not None:
@@ -275,6 +276,7 @@ def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
     fixed = [] if free else [sw[0], sw[1], ww[0], ww[1]]
     d = min(start_m, lim)
     n_read = 0
+    seen: dict = {}  # id -> accepted row, or None when rejected: a growing box reads each row once
     while True:
         rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
         if rows:
@@ -294,7 +296,7 @@ def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
                     return cand, len(rows), len(cand)
                 d = min(dmin + tie_m, lim)
                 continue
-            cand, dmin, k = _accepted_nearest(conn, x, y, b[:, 0], lo, extra, xargs, tie_m)
+            cand, dmin, k = _accepted_nearest(conn, x, y, b[:, 0], lo, extra, xargs, tie_m, seen)
             n_read += k
             if cand:
                 if dmin + tie_m <= d or d >= lim:
@@ -311,27 +313,35 @@ def _rows_by_id(conn, ids: list, extra: str, xargs: list) -> list:
     for i in range(0, len(ids), 500):  # SQLite before 3.32 binds at most 999 variables
         part = ids[i : i + 500]
         out += conn.execute(
-            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits AS h "
+            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits AS h NOT INDEXED "
             f"WHERE id IN ({','.join('?' * len(part))}){extra}",
             part + xargs,
         ).fetchall()
     return out
 
 
-def _accepted_nearest(conn, x, y, ids, lo, extra, xargs, tie_m, batch: int = 64):
+def _accepted_nearest(conn, x, y, ids, lo, extra, xargs, tie_m, seen: dict, batch: int = 64):
     """The accepted rows among index entries, read nearest first (by the boxes' lower bounds) in batches
-    until no unread entry can be nearer than the nearest accepted one + ``tie_m``.
+    until no unread entry can be nearer than the nearest accepted one + ``tie_m``; ``seen`` remembers
+    the rows read (accepted row or None) across calls.
 
     Returns (accepted rows within the nearest + ``tie_m``, the nearest distance, rows read)."""
     order = np.argsort(lo, kind="stable")
-    best, found, n = math.inf, [], 0
+    found = [r for r in seen.values() if r is not None]
+    best = min((math.hypot(r[1] - x, r[2] - y) for r in found), default=math.inf)
+    n = 0
     for i in range(0, order.size, batch):
         part = order[i : i + batch]
         if lo[part[0]] > best + tie_m:
             break
-        got = _rows_by_id(conn, [int(v) for v in ids[part]], extra, xargs)
-        n += part.size
+        new = [int(v) for v in ids[part] if int(v) not in seen]
+        if not new:
+            continue
+        got = _rows_by_id(conn, new, extra, xargs)
+        n += len(new)
+        seen.update(dict.fromkeys(new))
         for r in got:
+            seen[int(r[0])] = r
             best = min(best, math.hypot(r[1] - x, r[2] - y))
         found += got
     near = [r for r in found if math.hypot(r[1] - x, r[2] - y) <= best + tie_m]
@@ -379,10 +389,18 @@ def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window, bound: 
         while row is not None and row[0] <= window[1] and len(pre) < 100_000:
             pre.append(row)
             row = conn.execute(seek.format(">"), (row[0],)).fetchone()
-    extra, xargs = q.conditions(skip=col)
+    keyed = has_column(conn, "hits", "branch")  # schema 5: the band indexes are keyed by the branch too
+    if keyed:
+        p = q.preferences
+        branches = (
+            (0, 1) if p is None or p.trajectory == "any" else ((BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH),)
+        )
+        pre = [(*v, b) for v in pre for b in branches]
+    extra, xargs = q.conditions(skip=col, branch=not keyed)
+    key = ("" if col is None else col + " = ? AND ") + ("branch = ? AND " if keyed else "")
     head = (
         f"SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits INDEXED BY {idx} WHERE "
-        f"{'' if col is None else col + ' = ? AND '}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
+        f"{key}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
     )
     probe = (
         f"SELECT * FROM ({head} ORDER BY land_x LIMIT 1) UNION ALL SELECT * FROM ({head} ORDER BY land_x DESC LIMIT 1)"
