@@ -382,7 +382,8 @@ def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window, bound: 
     that can be nearest or tie (a square box would read 10^4 entries of a dense ray of landings
     at 10^7 hits where the disc holds a few hundred).  n counts the index entries read.
     """
-    idx, pre = _BAND_INDEX[col], [()]
+    idx = _BAND_INDEX[col]
+    pre: list[tuple] = [()]
     if col is not None:
         seek = f"SELECT {col} FROM hits INDEXED BY {idx} WHERE {col} {{}} ? ORDER BY {col} LIMIT 1"
         pre, row = [], conn.execute(seek.format(">="), (window[0],)).fetchone()
