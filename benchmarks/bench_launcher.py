@@ -5,9 +5,10 @@
 2. ``aim`` (scan + Newton + quantised neighbours, both solutions) per target vs one
    reference flight with ``fly`` (SciPy DOP853, rtol 1e-10) of the same shot, measured
    in this run: "an aim costs X reference flights".
-3. Quantisation: over a grid of targets in the far singles court (groundstroke
-   speeds and spins), the miss of the quantised low solution (1 degree steps):
-   median, 95th percentile, maximum [mm], and the share within the first-order bound.
+3. Aiming on the machine's steps (issue 15): over a grid of targets in the far court, for every
+   drill shot type, the miss of ``aim``'s answer [mm] (median, 95th percentile) with exact
+   tolerances (only the angles searched: the old behaviour), the default tolerances (3 km/h,
+   100 rpm) and with the spin axis free to turn by 20 deg; time per aim.
 4. Drill compilation time of every shipped drill.
 
 Run: ``python benchmarks/bench_launcher.py [--quick]``.
@@ -102,31 +103,75 @@ def bench_aim(n_targets):
     )
 
 
-def bench_quantisation(n):
+def bench_aiming_grid(step: float, variants=("exact", "default", "axis 20 deg")):
+    """Miss of ``aim`` over a grid of targets in the far court for every shot type (issue 15).
+
+    Targets: x from 1.5 to 11.5 m and y from -4.5 to 4.5 m in steps of ``step``; shots: the drill
+    shot types (speed, spin, axis, trajectory of :data:`tennislab.launcher.drills.SHOT_TYPES`,
+    serve-return from 3 m into the service boxes only), launched from the default position.
+    "Reachable" = aim answers; targets where the net keeps the ball from landing nearer
+    (``net_limited``) are counted apart.  Variants: ``exact`` (tolerances 0: only the angles are
+    searched, as before), ``default`` (3 km/h, 100 rpm as a spin vector), ``axis 20 deg``
+    (the spin axis may also turn by 20 deg).
+    """
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim
+    from tennislab.launcher.drills import SHOT_TYPES
 
-    rng = np.random.default_rng(3)
-    miss, ratio = [], []
-    for _ in range(n):
-        x, y = rng.uniform(6.5, 11.5), rng.uniform(-3.8, 3.8)
-        v, w = int(rng.integers(60, 130)), int(rng.integers(0, 2000))
-        try:
-            s = aim((x, y), v, w, 0)
-        except InputError:
-            continue
-        miss.append(s.miss_mm)
-        ratio.append(s.miss_mm / s.quantisation_bound_mm)
-    m = np.array(miss)
-    print(
-        f"quantisation (1 deg steps, {len(m)} targets, 60-130 km/h, topspin 0-2000 rpm): miss median "
-        f"{np.median(m):.0f} mm, 95 % {np.percentile(m, 95):.0f} mm, max {m.max():.0f} mm; "
-        f"within first-order bound: {np.mean(np.array(ratio) <= 1.0):.0%}"
-    )
+    kw = {
+        "exact": dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0),
+        "default": {},
+        "axis 20 deg": dict(spin_axis_tolerance_deg=20),
+    }
+    xs = np.arange(1.5, 11.5 + 1e-9, step)
+    ys = np.arange(-4.5, 4.5 + 1e-9, step)
+    aim((9.0, 2.0), 80, 1500)  # compile / warm up
+    for name in variants:
+        rows = {}
+        t_all, n_all, limited = 0.0, 0, 0
+        for t in SHOT_TYPES.values():
+            height = t.height_m or 1.0
+            miss = []
+            for x in xs:
+                for y in ys:
+                    if t.name == "serve-return" and not (x <= 6.4 and abs(y) <= 4.115):
+                        continue
+                    t0 = time.perf_counter()
+                    try:
+                        r = aim(
+                            (x, y),
+                            t.speed_kmh,
+                            t.spin_rpm,
+                            t.spin_axis_deg,
+                            height,
+                            trajectory=t.trajectory,
+                            **kw[name],
+                        )
+                    except InputError:
+                        continue
+                    t_all += time.perf_counter() - t0
+                    n_all += 1
+                    if r.solution.net_limited:
+                        limited += 1
+                        continue
+                    miss.append(r.miss_mm)
+            rows[t.name] = np.array(miss)
+        allm = np.concatenate([m for m in rows.values() if m.size])
+        print(
+            f"aim [{name}] over {allm.size} reachable targets (+{limited} net-limited, apart): miss median "
+            f"{np.median(allm):.1f} mm, p95 {np.percentile(allm, 95):.1f} mm; share < 20 mm "
+            f"{np.mean(allm < 20):.0%}; {1e3 * t_all / max(1, n_all):.0f} ms per aim"
+        )
+        for tname, m in rows.items():
+            if m.size:
+                print(
+                    f"    {tname:<13} {m.size:4d} targets: median {np.median(m):6.1f} mm, "
+                    f"p95 {np.percentile(m, 95):6.1f} mm, max {m.max():6.1f} mm"
+                )
 
 
 def bench_drills():
-    from tennislab.io.drill import load_drill, shipped_drills
+    from tennislab.launcher.drill_schema import load_drill, shipped_drills
     from tennislab.launcher.drills import compile_drill
 
     for name in shipped_drills():
@@ -144,7 +189,7 @@ def main(argv=None):
     args = ap.parse_args(argv if argv is not None else [])
     bench_states(200_000 if args.quick else 1_000_000)
     bench_aim(10 if args.quick else 40)
-    bench_quantisation(40 if args.quick else 200)
+    bench_aiming_grid(2.0 if args.quick else 1.0)
     bench_drills()
 
 

@@ -37,15 +37,69 @@ def test_aim_json_contract(capsys, tmp_path):
         "--plot",
         png,
     )
+    assert d_exact_keys_present(out)
     assert rc == 0 and png.stat().st_size > 10_000
     d = json.loads(out)
     s = d["settings"]
-    assert (s["height_m"], s["speed_kmh"], s["spin_rpm"], s["spin_axis_deg"]) == (1.2, 80, 1500, 0)
+    assert s["height_m"] == 1.2 and abs(s["speed_kmh"] - 80) <= 3 and d["deviation"]["spin_vector_rpm"] <= 100
+    assert d["asked"] == {"height_m": 1.2, "speed_kmh": 80, "spin_rpm": 1500, "spin_axis_deg": 0}
     assert isinstance(s["elevation_deg"], float) and isinstance(s["heading_deg"], float)
     assert d["rollers"]["rpm1"] < d["rollers"]["rpm2"]
     assert math.hypot(d["landing"]["x"] - 8, d["landing"]["y"] - 2) * 1e3 == pytest.approx(d["miss_mm"], abs=1e-6)
     assert d["net_clearance_m"] > 0 and d["solution"] == "low"
     assert d["other_solution"]["solution"] == "high" and d["other_solution"]["elevation_deg"] > 45
+
+
+def d_exact_keys_present(out):
+    d = json.loads(out)
+    return {"tolerances", "preferences", "deviation", "asked", "trajectory", "other_solution"} <= set(d)
+
+
+def test_aim_exact_tolerances_keep_the_asked_settings(capsys):
+    rc, out, _ = run(
+        capsys,
+        "launcher",
+        "aim",
+        "--target",
+        8,
+        2,
+        "--speed-kmh",
+        80,
+        "--spin-rpm",
+        1500,
+        "--speed-tolerance-kmh",
+        0,
+        "--spin-tolerance-rpm",
+        0,
+        "--json",
+    )
+    s = json.loads(out)["settings"]
+    assert rc == 0 and (s["speed_kmh"], s["spin_rpm"], s["spin_axis_deg"]) == (80, 1500, 0)
+
+
+def test_aim_speed_units_and_named_axis(capsys):
+    outs = []
+    for args in (
+        ["--speed-kmh", 90, "--spin-axis-deg", 180],
+        ["--speed-ms", 25, "--spin-axis", "slice"],
+        ["--speed-mph", 90 / 1.609344, "--spin-axis", "backspin"],
+    ):
+        rc, out, err = run(capsys, "launcher", "aim", "--target", 9, -2, "--spin-rpm", 1000, *args, "--json")
+        assert rc == 0, err
+        outs.append(json.loads(out)["settings"])
+    assert outs[0] == outs[1] == outs[2]
+
+
+def test_aim_text_names_the_changes(capsys):
+    rc, out, _ = run(capsys, "launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--spin-rpm", 1500)
+    assert rc == 0 and "from what was asked: speed" in out and "apex" in out
+
+
+def test_help_names_the_paper(capsys):
+    from tennislab.cli import build_parser
+
+    text = build_parser()._subparsers._group_actions[0].choices["launcher"].format_help()
+    assert "Wójcicki, Puciłowski & Kulesza 2010" in text and "seed 002" not in text
 
 
 def test_aim_high_machine_position_and_physics_flags(capsys):
@@ -121,6 +175,33 @@ def test_aim_text_output(capsys):
         (["launcher", "power", "--speed-kmh", 100, "--roller-mass", -1], "--roller-mass"),
         (["launcher", "power", "--speed-kmh", 100, "--motor-power", 0], "--motor-power"),
         (["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--aero", "nope"], "aero"),
+        (
+            ["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--speed-tolerance-kmh", -1],
+            "--speed-tolerance-kmh: -1",
+        ),
+        (
+            ["launcher", "aim", "--target", 8, 0, "--speed-kmh", 80, "--spin-tolerance-rpm", -5],
+            "--spin-tolerance-rpm: -5",
+        ),
+        (
+            ["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--max-apex-m", 1.5],
+            "--max-apex-m: the low flights",
+        ),
+        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--net-clearance-m", 3, 2], "--net-clearance-m: MIN"),
+        (["launcher", "aim", "--target", 9, 2, "--speed-ms", 70], "--speed-ms: 70 m/s is outside"),
+        (
+            ["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--spin-axis", "wobble"],
+            "--spin-axis: unknown axis",
+        ),
+        (
+            ["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--solution", "high", "--trajectory", "low"],
+            "--trajectory",
+        ),
+        (["launcher", "drill", "no_such_drill"], "--drill: 'no_such_drill' is not a file"),
+        (["launcher", "rollers", "--speed-ms", 100], "--speed-ms: 100 m/s"),
+        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"], "--plot: unknown figure format"),
+        (["launcher", "drill", "lobs", "--csv", "/dev/null/x.csv"], "--csv: /dev/null/x.csv lies under"),
+        (["launcher", "drill", "lobs", "--csv", "x" * 300 + ".csv"], "--csv: the file name is 304 characters"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, frag):
@@ -181,8 +262,8 @@ def test_drill_cli(capsys, tmp_path):
 def test_drill_failed_check_exit_1(capsys, tmp_path):
     f = tmp_path / "tight.yaml"  # a 10 cm zone cannot be hit at the machine's 1-degree steps
     f.write_text(
-        "name: tight\nshots: {a: {type: drive, target: [9.0, 0.3], zone: [8.95, 9.05, 0.25, 0.35]}}\n"
-        "program: [{shot: a}]\n"
+        "name: tight\nshots: {a: {type: drive, target: [9.0, 0.3], zone: [8.995, 9.005, 0.295, 0.305],\n"
+        "  speed_tolerance_kmh: 0, spin_tolerance_rpm: 0}}\nprogram: [{shot: a}]\n"
     )
     rc, out, _ = run(capsys, "launcher", "drill", f)
     assert rc == 1 and "FAILED" in out
@@ -209,3 +290,23 @@ def test_material_cli(capsys, tmp_path):
     assert rc == 2 and "missing column friction_angle_deg" in err
     rc, out, err = run(capsys, "material", "young", "--csv", tmp_path / "nope.csv")
     assert rc == 2
+    rc, out, err = run(capsys, "material", "young", "--csv", y, "--diameter", "nan")
+    assert rc == 2 and "--diameter" in err and err.count("\n") == 1
+    y.write_bytes(b"load_kg,deformation_m\n\xff\xfe,1\n")
+    rc, out, err = run(capsys, "material", "young", "--csv", y)
+    assert rc == 2 and "UTF-8" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("flag", [["--wind", "1", "0", "0"], ["--aero", "cross2014"], ["--mass", "0.058"]])
+def test_material_rejects_flags_it_ignores(tmp_path, flag):
+    import subprocess
+    import sys
+
+    f = tmp_path / "f.csv"
+    f.write_text("friction_angle_deg\n30\n")
+    p = subprocess.run(
+        [sys.executable, "-m", "tennislab", "material", "friction", "--csv", str(f), *flag],
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 2 and "unrecognized arguments" in p.stderr and p.stderr.count("\n") == 1

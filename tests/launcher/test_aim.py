@@ -1,4 +1,5 @@
-"""Inverse aiming of the launcher (issue 5): round trips against the reference integrator."""
+"""Inverse aiming of the launcher: exact solutions against the reference integrator, the joint search
+on the machine's steps within tolerances, trajectory preferences, one-line errors."""
 
 import math
 
@@ -9,16 +10,21 @@ from hypothesis import strategies as st
 
 from tennislab.core.flight import fly
 from tennislab.errors import InputError
+from tennislab.launcher import AimResult
+from tennislab.launcher import aim as aim_workflow
 from tennislab.launcher.aim import aim, aim_all, aim_result_dict, fly_settings, launcher_params
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, Settings, launch_states
+from tennislab.launcher.preferences import Tolerances, spin_change_rpm
 
 PARAMS = launcher_params()
+EXACT = dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0)
 
 
 def _fly_exact(sol, spec=DEFAULT_SPEC):
-    s = sol.settings
+    """The continuous solution: the asked speed, spin and axis at the exact elevation and heading."""
+    a = sol.asked
     y0 = launch_states(
-        spec, s.height_m, s.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, s.spin_rpm, s.spin_axis_deg
+        spec, a.height_m, a.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, a.spin_rpm, a.spin_axis_deg
     )[0]
     return fly(y0[0:3], y0[3:6], y0[6:9], PARAMS)
 
@@ -31,31 +37,46 @@ CASES = [
 ]
 
 
+def test_workflow_is_exported_and_returns_a_result():
+    res = aim_workflow((9.0, 2.0), 80, 1500)
+    assert isinstance(res, AimResult)
+    d = res.to_dict()
+    for k in ("settings", "rollers", "landing", "miss_mm", "net_clearance_m", "asked", "deviation", "tolerances"):
+        assert k in d
+    assert d == aim_result_dict(res)
+
+
 @pytest.mark.parametrize("target,kw", CASES)
 def test_aim_round_trip_low_and_high(target, kw):
     sols, reasons = aim_all(target, **kw)
     assert set(sols) == {"low", "high"}, reasons
     lo, hi = sols["low"], sols["high"]
     assert lo.exact_elevation_deg < hi.exact_elevation_deg
+    tol = Tolerances()
     for sol in (lo, hi):
-        # the exact (continuous) solution lands on the target (reference DOP853 integrator)
+        # the exact (continuous) solution at the asked settings lands on the target (reference DOP853)
         tr = _fly_exact(sol)
         assert math.hypot(tr.landing.x - target[0], tr.landing.y - target[1]) < 1e-3
-        # the quantised settings: on the machine's steps, landing as reported, miss within the bound
+        # the chosen settings: on the machine's steps, within the tolerances, landing as reported
         DEFAULT_SPEC.validate(sol.settings, require_steps=True)
+        s, a = sol.settings, sol.asked
+        assert abs(s.speed_kmh - a.speed_kmh) <= tol.speed_kmh + 1e-9
+        assert spin_change_rpm(s.spin_rpm, s.spin_axis_deg, a.spin_rpm, a.spin_axis_deg) <= tol.spin_rpm + 1e-6
+        assert s.height_m == a.height_m  # height as given
         tq = fly_settings(sol.settings, DEFAULT_SPEC, PARAMS)
         assert math.hypot(tq.landing.x - sol.landing[0], tq.landing.y - sol.landing[1]) < 1e-3
         miss = math.hypot(tq.landing.x - target[0], tq.landing.y - target[1]) * 1e3
         assert miss == pytest.approx(sol.miss_mm, abs=1.0)
         assert sol.miss_mm <= 1.05 * sol.quantisation_bound_mm + 1.0
         assert tq.net.result == "over" and tq.net.clearance == pytest.approx(sol.net_clearance_m, abs=1e-3)
-        assert abs(sol.settings.elevation_deg - sol.exact_elevation_deg) <= 2
-        assert abs(sol.settings.heading_deg - sol.exact_heading_deg) <= 2
+        assert abs(s.elevation_deg - sol.exact_elevation_deg) <= 4
+        assert abs(s.heading_deg - sol.exact_heading_deg) <= 3
 
 
-def test_quantised_is_best_of_neighbours():
-    sol = aim((9.0, 1.5), 85, 1000, 0)
+def test_exact_tolerances_keep_the_rounded_settings_and_pick_the_best_neighbour():
+    sol = aim((9.0, 1.5), 85, 1000, 0, **EXACT).solution
     base = dict(height_m=1.0, speed_kmh=85, spin_rpm=1000, spin_axis_deg=0)
+    assert {k: getattr(sol.settings, k) for k in base} == base
     best = math.inf
     for da in (-1, 0, 1):
         for db in (-1, 0, 1):
@@ -67,8 +88,32 @@ def test_quantised_is_best_of_neighbours():
     assert sol.miss_mm == pytest.approx(best, abs=0.5)
 
 
+@pytest.mark.parametrize("target,v,w,g", [((9.0, 2.0), 80, 1500, 0), ((7.5, -3.0), 100, 1000, 0), ((10, 1), 65, 0, 0)])
+def test_tolerances_never_land_farther_and_report_the_changes(target, v, w, g):
+    exact = aim(target, v, w, g, **EXACT)
+    loose = aim(target, v, w, g)
+    assert loose.miss_mm <= exact.miss_mm + 1e-6
+    dev = loose.to_dict()["deviation"]
+    s = loose.settings
+    assert dev["speed_kmh"] == pytest.approx(s.speed_kmh - v)
+    assert dev["spin_rpm"] == pytest.approx(s.spin_rpm - w)
+    assert abs(dev["speed_kmh"]) <= 3 and dev["spin_vector_rpm"] <= 100 + 1e-6
+    # the issue's example: 249 mm when only the angles were rounded
+    if target == (9.0, 2.0):
+        assert exact.miss_mm > 150 and loose.miss_mm < 0.5 * exact.miss_mm
+
+
+def test_axis_tolerance_lets_the_axis_turn():
+    r = aim((9.0, 2.0), 80, 1500, 0, spin_axis_tolerance_deg=20)
+    s = r.settings
+    assert abs(s.spin_rpm - 1500) <= 100 and abs(s.spin_axis_deg) <= 20
+    assert r.miss_mm < aim((9.0, 2.0), 80, 1500, 0).miss_mm
+    assert r.miss_mm < 10
+
+
 def test_inputs_are_quantised_and_result_dict_keys():
-    sol = aim((8.0, 0.0), 80.4, 1499.6, 0.3, 1.04)
+    r = aim((8.0, 0.0), 80.4, 1499.6, 0.3, 1.04, **EXACT)
+    sol = r.solution
     assert (sol.settings.speed_kmh, sol.settings.spin_rpm, sol.settings.spin_axis_deg, sol.settings.height_m) == (
         80,
         1500,
@@ -80,11 +125,63 @@ def test_inputs_are_quantised_and_result_dict_keys():
         assert k in d["settings"]
     assert d["rollers"]["rpm1"] < d["rollers"]["rpm2"]  # topspin: roller 2 faster
     assert {"x", "y"} <= set(d["landing"]) and "miss_mm" in d and "net_clearance_m" in d
+    assert d["asked"]["speed_kmh"] == 80.4
+
+
+def test_speed_units_and_named_axes_are_the_same_request():
+    a = aim((9.0, -2.0), 90, 1000, 180)
+    b = aim((9.0, -2.0), speed_ms=25.0, spin_rpm=1000, spin_axis="slice")
+    c = aim((9.0, -2.0), speed_mph=90 / 1.609344, spin_rpm=1000, spin_axis="backspin")
+    assert a.settings == b.settings == c.settings
+    with pytest.raises(InputError, match=r"^speed_ms: 70 m/s is outside the allowed range \[8.333, 55.56\] m/s"):
+        aim((9.0, 0.0), speed_ms=70)
+    with pytest.raises(InputError, match="^speed_kmh: give the ball speed once"):
+        aim((9.0, 0.0), 90, speed_ms=25)
+
+
+def test_preferences_are_met_or_refused_naming_the_parameter():
+    low = aim((9.0, 2.0), 80, 1500)
+    assert low.solution.solution == "low" and low.solution.apex_z_m < 4
+    high = aim((9.0, 2.0), 80, 1500, trajectory="high")
+    assert high.solution.solution == "high" and high.solution.apex_z_m > 8
+    anyone = aim((9.0, 2.0), 80, 1500, trajectory="any")
+    assert anyone.miss_mm == pytest.approx(min(low.miss_mm, high.miss_mm), abs=0.01)
+    capped = aim((9.0, 2.0), 80, 1500, max_apex_m=2.8)
+    assert capped.solution.apex_z_m <= 2.8 < low.solution.apex_z_m
+    with pytest.raises(InputError, match=r"^max_apex_m: the low flights to \(9, 2\) m peak at"):
+        aim((9.0, 2.0), 80, 1500, max_apex_m=1.5)
+    with pytest.raises(InputError, match="^max_apex_m: 0.5 m is below the launch height 1 m"):
+        aim((9.0, 2.0), 80, 1500, max_apex_m=0.5)
+    with pytest.raises(InputError, match="^max_flight_time_s: "):
+        aim((9.0, 2.0), 80, 1500, max_flight_time_s=0.5)
+    band = aim((9.0, 2.0), 80, 1500, net_clearance_m=(1.5, 2.5))
+    assert 1.5 <= band.solution.net_clearance_m <= 2.5
+    with pytest.raises(InputError, match="^net_clearance_m: "):
+        aim((9.0, 2.0), 80, 1500, net_clearance_m=(0.1, 0.2))
+    with pytest.raises(InputError, match="^net_clearance_m: MIN 2 m is above MAX 1 m"):
+        aim((9.0, 2.0), 80, 1500, net_clearance_m=(2, 1))
+
+
+@pytest.mark.parametrize(
+    "kw,frag",
+    [
+        (dict(speed_tolerance_kmh=-1), "speed_tolerance_kmh: -1 km/h is outside the allowed range [0, 170] km/h"),
+        (dict(spin_tolerance_rpm=-0.5), "spin_tolerance_rpm: -0.5 rpm is outside the allowed range [0, 2000] rpm"),
+        (dict(spin_axis_tolerance_deg=400), "spin_axis_tolerance_deg: 400 deg is outside"),
+        (dict(trajectory="loopy"), "trajectory: 'loopy' is not one of low, high, any"),
+        (dict(solution="high", trajectory="low"), "trajectory: 'low' contradicts solution 'high'"),
+        (dict(spin_axis="wobble"), "spin_axis: unknown axis 'wobble'"),
+    ],
+)
+def test_bad_requests_are_one_line(kw, frag):
+    with pytest.raises(InputError) as e:
+        aim((9.0, 2.0), 80, 1500, **kw)
+    assert frag in str(e.value) and "\n" not in str(e.value)
 
 
 def test_machine_position_and_sidespin_heading():
     spec = MachineSpec(position=(-12.0, 3.0))
-    sol = aim((8.0, -1.0), 90, 1500, 90, spec=spec)  # curves to +y: must aim right of the line
+    sol = aim((8.0, -1.0), 90, 1500, 90, spec=spec).solution  # curves to +y: must aim right of the line
     geometric = math.degrees(math.atan2(-4.0, 20.0))
     assert sol.exact_heading_deg < geometric - 1.0
     tr = fly_settings(sol.settings, spec, PARAMS)
@@ -92,7 +189,7 @@ def test_machine_position_and_sidespin_heading():
 
 
 def test_same_half_target_needs_no_net():
-    sol = aim((-5.0, 0.0), 40, 0, 0)
+    sol = aim((-5.0, 0.0), 40, 0, 0).solution
     assert sol.net_result == "none" and math.isnan(sol.net_clearance_m)
 
 
@@ -132,30 +229,34 @@ def test_high_missing_reason():
 
 
 def test_other_aero_model_changes_the_aim():
-    a = aim((9.0, 0.0), 90, 1000, 0)
-    b = aim((9.0, 0.0), 90, 1000, 0, params=launcher_params(aero="cross2014"))
+    a = aim((9.0, 0.0), 90, 1000, 0).solution
+    b = aim((9.0, 0.0), 90, 1000, 0, params=launcher_params(aero="cross2014")).solution
     assert b.exact_elevation_deg < a.exact_elevation_deg  # less drag -> flatter
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.floats(2.0, 11.5), st.floats(-4.0, 4.0), st.integers(50, 140), st.integers(0, 2000), st.integers(-180, 180))
-def test_aim_property_either_error_or_within_bound(x, y, speed, spin, axis):
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.floats(2.0, 11.5),
+    st.floats(-4.0, 4.0),
+    st.integers(50, 140),
+    st.integers(0, 2000),
+    st.integers(-180, 180),
+    st.sampled_from([None, 2.5, 4.0]),
+)
+def test_aim_property_never_breaks_tolerances_or_preferences(x, y, speed, spin, axis, max_apex):
     try:
-        sols, _ = aim_all((x, y), speed, spin, axis)
+        sols, _ = aim_all((x, y), speed, spin, axis, preferences=None)
+        res = aim((x, y), speed, spin, axis, trajectory="any", max_apex_m=max_apex)
     except InputError:
         return
-    for sol in sols.values():
-        assert sol.miss_mm <= 1.05 * sol.quantisation_bound_mm + 1.0
-        assert sol.net_clearance_m >= 0
-        DEFAULT_SPEC.validate(sol.settings, require_steps=True)
-        s = launch_states(
-            DEFAULT_SPEC,
-            sol.settings.height_m,
-            sol.settings.speed_kmh,
-            sol.exact_elevation_deg,
-            sol.exact_heading_deg,
-            spin,
-            axis,
-        )[0]
-        tr = fly(s[0:3], s[3:6], s[6:9], PARAMS, rtol=1e-9, atol=1e-10)
-        assert np.hypot(tr.landing.x - x, tr.landing.y - y) < 2e-3
+    sol = res.solution
+    assert sol.miss_mm <= 1.05 * sol.quantisation_bound_mm + 1.0
+    assert sol.net_clearance_m >= 0
+    if max_apex is not None:
+        assert sol.apex_z_m <= max_apex
+    DEFAULT_SPEC.validate(sol.settings, require_steps=True)
+    s = sol.settings
+    assert abs(s.speed_kmh - speed) <= 3 + 1e-9
+    assert spin_change_rpm(s.spin_rpm, s.spin_axis_deg, spin, axis) <= 100 + 1e-6
+    tr = fly_settings(s, DEFAULT_SPEC, PARAMS, rtol=1e-9, atol=1e-10)
+    assert np.hypot(tr.landing.x - x, tr.landing.y - y) * 1e3 == pytest.approx(sol.miss_mm, abs=0.5)

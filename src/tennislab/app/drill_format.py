@@ -1,17 +1,19 @@
-"""The drill file the launcher planner downloads, in the launcher's format (``tennislab.io.drill``).
+"""The drill file the launcher planner downloads, in the launcher's format (docs/launcher.md).
 
-Each clicked shot becomes a named shot with its target, a zone, and every setting
-given explicitly (speed, spin, spin axis, height, solution), so the shot type only
-labels it.  The zone is the smallest court area holding both the target and the
-quantised landing point (deuce/ad box, singles, doubles half), else a rectangle
-0.3 m around both.  The text is checked by ``parse_drill`` + ``compile_drill``,
-the code behind ``tennislab launcher drill FILE``.
+Each clicked shot becomes a named shot with its target, a zone, and every setting given
+explicitly (speed, spin, spin axis, height, trajectory), so the shot type only labels it.  The
+zone is the smallest court area holding both the target and the landing point of the aimed shot
+(deuce/ad box, singles, doubles half), else a rectangle 0.3 m around both.  The text is checked by
+the launcher's own reader and compiler (:func:`tennislab.launcher.parse_drill`,
+:func:`tennislab.launcher.compile_drill`), the code behind ``tennislab launcher drill FILE``.
+This module only builds and checks documents: the aiming is done by the caller
+(:mod:`tennislab.app.launcher_adapter`), which passes each shot's solution in.
 """
 
 from __future__ import annotations
 
 from tennislab.core.court import ITF_COURT
-from tennislab.errors import InputError
+from tennislab.launcher import compile_drill, parse_drill
 
 #: page shot type -> drill shot type (tennislab.launcher.drills.SHOT_TYPES)
 TYPE_MAP = {
@@ -42,16 +44,10 @@ def zone_for(target, landing) -> object:
     ]
 
 
-def document(name: str, forms: list[dict], spin_axis) -> dict:
-    """The drill mapping for validated aim forms (each aimed here, never trusting the page's result)."""
-    from tennislab.app.launcher_adapter import solve
-
+def document(name: str, forms: list[dict], solutions: list) -> dict:
+    """The drill mapping for validated aim forms and their aim solutions (one per form, same order)."""
     shots, program = {}, []
-    for i, v in enumerate(forms, 1):
-        try:
-            sol, _, _ = solve(v)
-        except InputError as exc:
-            raise InputError(f"shots[{i - 1}]: {exc}") from None
+    for i, (v, sol) in enumerate(zip(forms, solutions), 1):
         key = f"shot-{i}"
         shots[key] = {
             "type": TYPE_MAP[v["shot"]],
@@ -62,7 +58,9 @@ def document(name: str, forms: list[dict], spin_axis) -> dict:
             "spin_rpm": sol.settings.spin_rpm,
             "spin_axis_deg": sol.settings.spin_axis_deg,
             "height_m": sol.settings.height_m,
-            "solution": v["solution"],
+            "trajectory": v["solution"],
+            "speed_tolerance_kmh": 0,
+            "spin_tolerance_rpm": 0,
         }
         program.append({"shot": key})
     return {
@@ -77,9 +75,6 @@ def document(name: str, forms: list[dict], spin_axis) -> dict:
 
 def check(text: str) -> dict:
     """Compile the drill text as ``tennislab launcher drill`` would; ``{"ok", "n_shots", "problems"}``."""
-    from tennislab.io.drill import parse_drill
-    from tennislab.launcher.drills import compile_drill
-
     comp = compile_drill(parse_drill(text, source="drill", fmt="json"))
     return {
         "ok": bool(comp.ok),

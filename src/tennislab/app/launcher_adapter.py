@@ -1,9 +1,9 @@
-"""Launcher planner: the app's bridge to :mod:`tennislab.launcher` (aim, rollers, drills).
+"""Launcher planner: the app's bridge to :mod:`tennislab.launcher` (aim, drills).
 
-Uses ``tennislab.launcher.aim.aim`` / ``aim_result_dict`` (the JSON of
-``tennislab launcher aim``) and, for the drill download, the launcher's drill
-reader (``tennislab.io.drill``) so that the file the page downloads is checked
-by the same code as ``tennislab launcher drill FILE``.
+:func:`aim` answers the aim form with the workflow :func:`tennislab.launcher.aim` (its
+``to_dict()`` is the JSON of ``tennislab launcher aim``) plus the flight to draw; :func:`drill`
+builds the drill file the page downloads (:mod:`tennislab.app.drill_format`) from shots aimed
+here, and checks it with the launcher's own reader, as ``tennislab launcher drill FILE`` would.
 """
 
 from __future__ import annotations
@@ -11,14 +11,16 @@ from __future__ import annotations
 import json
 import re
 
+from tennislab.app import drill_format
 from tennislab.app import services as S
 from tennislab.app.fields import MAX_DRILL_SHOTS, SHOT_AXIS, validate
 from tennislab.errors import InputError
+from tennislab.launcher import DEFAULT_SPEC, AimResult, launcher_params
+from tennislab.launcher import aim as aim_workflow
+from tennislab.launcher.aim import fly_settings
 
 
 def _spec(v: dict):
-    from tennislab.launcher.machine import DEFAULT_SPEC
-
     return DEFAULT_SPEC.with_position(v["machine_x"], v["machine_y"])
 
 
@@ -27,34 +29,28 @@ def spin_axis(v: dict) -> float:
     return SHOT_AXIS.get(v["shot"], v["spin_axis_deg"])
 
 
-def solve(v: dict):
-    """The quantised :class:`AimSolution` of an aim form, with the machine spec and flight params."""
-    from tennislab.launcher.aim import aim, launcher_params
-
-    spec = _spec(v)
-    params = launcher_params()
-    spin = 0.0 if v["shot"] == "flat" else v["spin_rpm"]
-    sol = aim(
+def solve(v: dict) -> AimResult:
+    """The aim of a validated aim form (the tolerances of ``launcher aim``; a ``flat`` shot keeps no spin)."""
+    flat = v["shot"] == "flat"
+    spin = 0.0 if flat else v["spin_rpm"]
+    return aim_workflow(
         (v["target_x"], v["target_y"]),
         v["speed_kmh"],
         spin,
         spin_axis(v),
         v["height"],
-        spec=spec,
-        params=params,
+        spec=_spec(v),
+        params=launcher_params(),
         solution=v["solution"],
+        spin_tolerance_rpm=0.0 if flat else 100.0,
     )
-    return sol, spec, params
 
 
 def aim(v: dict) -> dict:
     """``launcher aim`` JSON (settings, rollers, landing, miss_mm, net_clearance_m, ...) plus the flight."""
-    from tennislab.launcher.aim import aim_result_dict, fly_settings
-
-    sol, spec, params = solve(v)
-    out = aim_result_dict(sol, spec, params)
-    tr = fly_settings(sol.settings, spec, params)
-    out["flight"] = S.flight_result(tr)
+    res = solve(v)
+    out = res.to_dict()
+    out["flight"] = S.flight_result(fly_settings(res.settings, res.spec, res.params))
     return out
 
 
@@ -88,9 +84,15 @@ def drill(shots, name=None) -> dict:
     for i, f in enumerate(forms):
         if (f["machine_x"], f["machine_y"], f["height"]) != m0:
             raise InputError(f"shots[{i}]: every shot of a drill must use the same machine position and height")
-    doc = drill_document(name, forms)
+    solutions = []
+    for i, f in enumerate(forms):  # each shot aimed here, never trusting the page's result
+        try:
+            solutions.append(solve(f).solution)
+        except InputError as exc:
+            raise InputError(f"shots[{i}]: {exc}") from None
+    doc = drill_format.document(name, forms, solutions)
     text = json.dumps(doc, indent=2)
-    check = check_drill_text(text)
+    check = drill_format.check(text)
     return {
         "name": name,
         "filename": _slug(name) + ".json",
@@ -102,14 +104,10 @@ def drill(shots, name=None) -> dict:
 
 
 def drill_document(name: str, forms: list[dict]) -> dict:
-    """The drill file's content (the launcher's drill format; see ``docs/launcher.md``)."""
-    from tennislab.app import drill_format
-
-    return drill_format.document(name, forms, spin_axis)
+    """The drill file's content for validated aim forms (the launcher's drill format)."""
+    return drill_format.document(name, forms, [solve(f).solution for f in forms])
 
 
 def check_drill_text(text: str) -> dict:
     """Compile a drill file's text with the launcher's own reader."""
-    from tennislab.app import drill_format
-
     return drill_format.check(text)

@@ -1,28 +1,45 @@
-"""``tennislab launcher``: the two-roller launcher of seed 002 (aim, rollers, power, drill).
+"""``tennislab launcher``: the two-roller launcher of Wójcicki, Puciłowski & Kulesza (2010).
 
-Every sub-command accepts the physics flags of ``tennislab fly`` (default aero
-``launcher2015``).  JSON keys named in the issue are a contract (extend, never
-rename).  Other helpers add sub-commands through ``tennislab.cli._launcher_db``.
+Sub-commands: ``aim``, ``rollers``, ``power``, ``drill`` (here) and the database's ``table``,
+``lookup``, ``info``, ``play``, ``drills`` (:mod:`tennislab.cli._launcher_db`).  Each parses its
+flags, calls a workflow of :mod:`tennislab.launcher` and prints its result (``--json``: the
+result's ``to_dict()``).  JSON keys named in the issues are a contract (extend, never rename).
 """
 
 from __future__ import annotations
 
-from tennislab.cli.common import (
+from tennislab.cli import _launcher_db
+from tennislab.cli._launcher_args import (
     add_machine_flags,
-    add_output_flags,
-    add_physics_flags,
-    atomic_write,
-    emit_json,
-    physics_from_args,
-    save_figure,
+    add_preference_flags,
+    add_speed,
+    add_spin_flags,
+    add_tolerance_flags,
+    check_output,
+    preference_kwargs,
+    spec_from_args,
+    speed_kwargs,
+    spin_axis_deg,
+    tolerance_kwargs,
 )
+from tennislab.cli.common import add_output_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
+from tennislab.errors import InputError
+from tennislab.io.drill import write_csv
+from tennislab.launcher import HitsDB, aim, compile_drill, power_report, roller_report
+from tennislab.launcher.aim import fly_settings
+from tennislab.launcher.drill_schema import find_drill_source, parse_drill
+from tennislab.launcher.drills import CSV_COLUMNS, drill_trajectories
+from tennislab.launcher.machine import DEFAULT_SPEC, PAPER, speed_in_kmh
+from tennislab.launcher.power import DEFAULT_MOTOR_POWER, DEFAULT_ROLLER_MASS, DEFAULT_THROW_TIME
+from tennislab.plot.launcher import plot_aim, plot_drill
+from tennislab.plot.save import save_figure
 from tennislab.units import KMH, RPM
 
 # (flag, help) of the optional model constants; each is a float, None = the model's default
 _ROLLER_FLAGS = (
     ("--friction", "ball-roller friction coefficient (default 2.05)"),
     ("--young-modulus-mpa", "ball Young's modulus [MPa] (default 4.2)"),
-    ("--contact-area-m2", "contact area s of eq 13 [m^2] (default 2.12e-4, implied by seed Tables 1-2)"),
+    ("--contact-area-m2", "contact area s of eq 13 [m^2] (default 2.12e-4, implied by the paper's Tables 1-2)"),
 )
 _POWER_FLAGS = (
     ("--roller-mass", "mass of each roller [kg] (default 2.0)"),
@@ -31,83 +48,58 @@ _POWER_FLAGS = (
 )
 
 
-def _speed_spin_flags(p, speed_note: str = "(30-200)", spin_note: str = "(0-2000)") -> None:
-    """``--speed-kmh`` [km/h] (required) and ``--spin-rpm`` [rpm] (default 0); the notes end their help."""
-    p.add_argument("--speed-kmh", type=float, required=True, help=f"ball speed [km/h] {speed_note}")
-    p.add_argument("--spin-rpm", type=float, default=0.0, help=f"spin [rpm] {spin_note}")
-
-
 def _float_flags(p, flags) -> None:
     """One optional float flag (default None) per (flag, help) pair."""
     for flag, text in flags:
         p.add_argument(flag, type=float, default=None, help=text)
 
 
-def _model_flags(p, func, machine: bool = True, position: bool = True) -> None:
-    """The machine flags (if *machine*; ``--machine-position`` if *position*), the physics flags
-    (default aero ``launcher2015``), and *func* as the sub-command's action."""
+def _model_flags(p, func, machine: bool = True, position: bool = True, physics: bool = True) -> None:
+    """The machine flags (``--machine-position`` if *position*), the physics flags (the paper's preset,
+    aero ``launcher2015``) and *func* as the sub-command's action."""
     if machine:
         add_machine_flags(p, position=position)
-    add_physics_flags(p, preset="seed002")
+    if physics:
+        add_physics_flags(p, preset="seed002")
     p.set_defaults(func=func)
-
-
-def spec_from_args(args):
-    """:class:`MachineSpec` from the machine flags (defaults where not given)."""
-    from dataclasses import replace
-
-    from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
-
-    kw = {}
-    if getattr(args, "machine_position", None) is not None:
-        kw["position"] = tuple(args.machine_position)
-    if getattr(args, "roller_radius", None) is not None:
-        kw["roller_radius"] = args.roller_radius
-    if getattr(args, "roller_axis_distance", None) is not None:
-        kw["roller_axis_distance"] = args.roller_axis_distance
-    if not kw:
-        return DEFAULT_SPEC
-    spec = replace(DEFAULT_SPEC, **kw)
-    assert isinstance(spec, MachineSpec)
-    return spec
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "launcher",
-        help="two-roller ball launcher (seed 002): aim, rollers, power, drills",
-        description="The two-roller tennis-ball launcher of seed 002.",
+        help=f"two-roller ball launcher ({PAPER}): aim, rollers, power, drills, database",
+        description=f"The two-roller tennis-ball launcher of {PAPER}.",
     )
-    launcher_subparsers = p.add_subparsers(dest="launcher_command", metavar="SUBCOMMAND", parser_class=type(p))
-    launcher_subparsers.required = True
+    lsub = p.add_subparsers(dest="launcher_command", metavar="SUBCOMMAND", parser_class=type(p))
+    lsub.required = True
 
-    a = launcher_subparsers.add_parser(
+    a = lsub.add_parser(
         "aim",
         help="machine settings that land a ball on a target",
-        description="Inverse aiming: elevation and heading for a target bounce "
-        "point, quantised to the machine's steps.",
+        description="Inverse aiming: settings on the machine's steps (elevation, heading, speed within "
+        "--speed-tolerance-kmh, spin within --spin-tolerance-rpm; height as given) that land nearest the "
+        "target and meet the trajectory preferences.",
     )
     a.add_argument("--target", type=float, nargs=2, required=True, metavar=("X", "Y"), help="bounce point on court [m]")
-    _speed_spin_flags(a, "(30-200, 1 km/h steps)", "(0-2000, default 0)")
-    a.add_argument(
-        "--spin-axis-deg",
-        type=float,
-        default=0.0,
-        help="spin-axis rotation [deg]: 0 topspin, 180 backspin, +90 curve to +y (default 0)",
-    )
+    add_speed(a, required=True, note="(30-200, 1 km/h steps)")
+    add_spin_flags(a)
     a.add_argument("--height", type=float, default=1.0, help="launch height [m] (0.1-3.0, default 1.0)")
-    a.add_argument("--solution", choices=("low", "high"), default="low", help="low or high (lob) solution")
+    a.add_argument("--solution", choices=("low", "high"), default=None, help="low or high (lob): as --trajectory")
+    add_preference_flags(a, trajectory_default=None)
+    add_tolerance_flags(a, speed=3.0, spin=100.0)
     add_output_flags(a, plot="draw the shot on the court", json_first=True)
     _model_flags(a, run_aim)
 
-    r = launcher_subparsers.add_parser("rollers", help="roller speeds, pull-in and no-slip checks (eqs 8-17)")
-    _speed_spin_flags(r)
+    r = lsub.add_parser("rollers", help="roller speeds, pull-in and no-slip checks (the paper's eqs 8-17)")
+    add_speed(r, required=True, note="(30-200)")
+    add_spin_flags(r, axis=False)
     _float_flags(r, _ROLLER_FLAGS)
     add_output_flags(r)
     _model_flags(r, run_rollers, position=False)
 
-    w = launcher_subparsers.add_parser("power", help="energy per throw, motor power, start-up time (eqs 18-31)")
-    _speed_spin_flags(w)
+    w = lsub.add_parser("power", help="energy per throw, motor power, start-up time (the paper's eqs 18-31)")
+    add_speed(w, required=True, note="(30-200)")
+    add_spin_flags(w, axis=False)
     _float_flags(w, _POWER_FLAGS)
     w.add_argument(
         "--slip", action="store_true", help="ball starts at rest and slips (rollers give twice the ball's energy)"
@@ -115,14 +107,15 @@ def register(sub) -> None:
     add_output_flags(w)
     _model_flags(w, run_power, position=False)
 
-    d = launcher_subparsers.add_parser(
+    d = lsub.add_parser(
         "drill",
         help="compile a training program to machine settings",
-        description="Compile and check a drill file (YAML or JSON; schema in "
-        "docs/launcher.md).  FILE may name a shipped drill "
-        "(e.g. baseline_rally).",
+        description="Compile and check a drill (YAML or JSON; schema in docs/launcher.md).  The drill is "
+        "named once: a file, a drill stored in --db, or a shipped drill (see `launcher drills list`).",
     )
-    d.add_argument("file", metavar="FILE", help="drill file (.yaml/.yml/.json) or name of a shipped drill")
+    d.add_argument("file", metavar="DRILL", nargs="?", help="drill file or name (as --drill)")
+    d.add_argument("--drill", metavar="NAME", help="drill: a file, a stored drill (with --db) or a shipped drill")
+    d.add_argument("--db", metavar="FILE", help="database whose stored drills the name may mean")
     add_output_flags(
         d,
         csv="write the compiled shot list as CSV",
@@ -133,65 +126,59 @@ def register(sub) -> None:
     d.add_argument("--no-check", action="store_true", help="report failed checks without exit code 1")
     _model_flags(d, run_drill, machine=False)
 
-    try:
-        from tennislab.cli._launcher_db import register_launcher
-    except ImportError:
-        register_launcher = None
-    if register_launcher is not None:
-        register_launcher(launcher_subparsers)  # the add_subparsers() object of `launcher`
+    _launcher_db.register(lsub)
 
 
 def run_aim(args) -> int:
-    from tennislab.launcher.aim import aim_all, aim_result_dict, pick_solution
-
+    check_output(args.plot, "--plot", figure=True)
     params = physics_from_args(args)
     spec = spec_from_args(args)
-    sols, reasons = aim_all(
-        tuple(args.target), args.speed_kmh, args.spin_rpm, args.spin_axis_deg, args.height, spec, params
+    res = aim(
+        tuple(args.target),
+        spin_rpm=args.spin_rpm,
+        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
+        height_m=args.height,
+        spec=spec,
+        params=params,
+        solution=args.solution,
+        **speed_kwargs(args),
+        **tolerance_kwargs(args),
+        **preference_kwargs(args),
     )
-    sol = pick_solution(sols, reasons, args.solution)
-    out = aim_result_dict(sol, spec, params)
-    other_name = "high" if args.solution == "low" else "low"
-    if other_name in sols:
-        o = sols[other_name]
-        out["other_solution"] = {
-            "solution": other_name,
-            "elevation_deg": o.settings.elevation_deg,
-            "heading_deg": o.settings.heading_deg,
-            "miss_mm": o.miss_mm,
-            "net_clearance_m": o.net_clearance_m,
-        }
-    else:
-        out["other_solution"] = {"solution": other_name, "unavailable": reasons[other_name]}
+    sol = res.solution
+    out = res.to_dict()
     if args.plot:
-        from tennislab.launcher.aim import fly_settings
-        from tennislab.plot.launcher import plot_aim
-
-        tr = fly_settings(sol.settings, spec, params)
-        save_figure(plot_aim(sol, tr), args.plot)
+        save_figure(plot_aim(sol, fly_settings(sol.settings, spec, params)), args.plot)
     if args.json:
         emit_json(out)
         return 0
-    s = out["settings"]
+    s, dv = out["settings"], out["deviation"]
     print(f"{sol.solution} solution for target ({sol.target[0]:g}, {sol.target[1]:g}) m:")
     print(
         f"  elevation {s['elevation_deg']:g} deg, heading {s['heading_deg']:g} deg "
         f"(exact {sol.exact_elevation_deg:.3f}, {sol.exact_heading_deg:.3f}); height {s['height_m']:g} m, "
         f"speed {s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, spin axis {s['spin_axis_deg']:g} deg"
     )
+    print(
+        f"  from what was asked: speed {dv['speed_kmh']:+g} km/h, spin {dv['spin_rpm']:+g} rpm, axis "
+        f"{dv['spin_axis_deg']:+g} deg (spin vector {dv['spin_vector_rpm']:.0f} rpm); tolerances "
+        f"{res.tolerances.speed_kmh:g} km/h, {res.tolerances.spin_rpm:g} rpm"
+    )
     print(f"  rollers: {out['rollers']['rpm1']:.0f} / {out['rollers']['rpm2']:.0f} rpm")
     print(
         f"  lands at ({sol.landing[0]:.3f}, {sol.landing[1]:.3f}) m, miss {sol.miss_mm:.0f} mm "
-        f"(quantisation bound {sol.quantisation_bound_mm:.0f} mm); net {sol.net_result}"
+        f"(rounding the angles alone: up to {sol.quantisation_bound_mm:.0f} mm); net {sol.net_result}"
         + ("" if sol.net_result == "none" else f", clearance {sol.net_clearance_m:.3f} m")
+        + ("; the net keeps it from landing nearer" if sol.net_limited else "")
     )
+    print(f"  apex {sol.apex_z_m:.2f} m, {sol.flight_time_s:.2f} s in the air")
     o = out["other_solution"]
     if "unavailable" in o:
         print(f"  {o['solution']} solution: {o['unavailable']}")
     else:
         print(
             f"  {o['solution']} solution: elevation {o['elevation_deg']:g} deg, heading {o['heading_deg']:g} deg, "
-            f"miss {o['miss_mm']:.0f} mm"
+            f"miss {o['miss_mm']:.0f} mm, apex {o['apex_z_m']:.1f} m"
         )
     if args.plot:
         print(f"figure: {args.plot}")
@@ -199,16 +186,12 @@ def run_aim(args) -> int:
 
 
 def _checked_speed_spin(args):
-    from tennislab.launcher.machine import DEFAULT_SPEC
-
-    v = DEFAULT_SPEC.speed.check("speed_kmh", args.speed_kmh)
+    v = speed_in_kmh(DEFAULT_SPEC, **speed_kwargs(args))
     w = DEFAULT_SPEC.spin.check("spin_rpm", args.spin_rpm)
     return v * KMH, w * RPM
 
 
 def run_rollers(args) -> int:
-    from tennislab.launcher.rollers import roller_report
-
     params = physics_from_args(args)
     spec = spec_from_args(args)
     v, w = _checked_speed_spin(args)
@@ -241,8 +224,6 @@ def run_rollers(args) -> int:
 
 
 def run_power(args) -> int:
-    from tennislab.launcher.power import DEFAULT_MOTOR_POWER, DEFAULT_ROLLER_MASS, DEFAULT_THROW_TIME, power_report
-
     params = physics_from_args(args)
     spec = spec_from_args(args)
     v, w = _checked_speed_spin(args)
@@ -277,24 +258,29 @@ def run_power(args) -> int:
 
 
 def run_drill(args) -> int:
-    from tennislab.io.drill import load_drill, write_drill_csv
-    from tennislab.launcher.drills import compile_drill
-
+    if args.file and args.drill and args.file != args.drill:
+        raise InputError("--drill: give the drill once (DRILL or --drill NAME)")
+    name = args.drill or args.file
+    if not name:
+        raise InputError("--drill: give a drill (a file, a stored drill with --db, or a shipped drill)")
+    check_output(args.csv, "--csv")
+    check_output(args.plot, "--plot", figure=True)
     params = physics_from_args(args)
-    drill = load_drill(args.file)
+    data, source, fmt = find_drill_source(name, stored=HitsDB(args.db) if args.db else None)
+    drill = parse_drill(data, source, fmt)
     comp = compile_drill(drill, params)
-    out = comp.as_dict()
+    out = comp.to_dict()
+    if args.plot:  # figures and files only once the drill compiled
+        fig = plot_drill(comp, drill_trajectories(comp, params))
     if args.csv:
-        atomic_write(args.csv, lambda fh: write_drill_csv(comp, fh))
+        atomic_write(args.csv, lambda fh: write_csv(comp.rows(), CSV_COLUMNS, fh))
     if args.plot:
-        from tennislab.plot.launcher import plot_drill
-
-        save_figure(plot_drill(comp, params), args.plot)
+        save_figure(fig, args.plot)
     if args.json:
         emit_json(out)
     else:
         print(
-            f"drill {drill.name!r}: {len(comp.shots)} shots, {len(comp.unique)} distinct, "
+            f"drill {drill.name!r} ({drill.key}): {len(comp.shots)} shots, {len(comp.unique)} distinct, "
             f"{comp.duration_s:g} s; checks {'passed' if comp.ok else 'FAILED'}"
         )
         for u in comp.unique:

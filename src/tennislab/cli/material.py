@@ -1,21 +1,26 @@
-"""``tennislab material``: ball material parameters from test tables (seed 002 section 5).
+"""``tennislab material``: ball material parameters from test tables (Wójcicki, Puciłowski & Kulesza 2010, section 5).
 
 ``young --csv FILE``: Young's modulus per row from a load-deformation table
 (columns ``load_n`` or ``load_kg``, ``deformation_m``), its mean and the slope
 modulus; ``friction --csv FILE``: friction coefficient mu = tan(eta) per row
 (column ``friction_angle_deg``, optional ``contact_length_m``) and the mean.
+No flight is computed here, so the physics flags of ``fly`` are not accepted.
 """
 
 from __future__ import annotations
 
-from tennislab.cli.common import add_physics_flags, emit_json
+from tennislab.cli.common import emit_json
+from tennislab.errors import check_range
+from tennislab.io.material_csv import read_friction_angles, read_load_deformation
+from tennislab.launcher.machine import PAPER
+from tennislab.launcher.materials import SEED_BALL_RADIUS, SEED_CONTACT_AREA, friction_coefficient, young_modulus
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "material",
-        help="Young's modulus and friction coefficient from test tables (seed 002)",
-        description="Ball material parameters from test tables (seed 002 section 5).",
+        help=f"Young's modulus and friction coefficient from test tables ({PAPER})",
+        description=f"Ball material parameters from test tables ({PAPER}, section 5).",
     )
     ms = p.add_subparsers(dest="material_command", metavar="SUBCOMMAND", parser_class=type(p))
     ms.required = True
@@ -25,34 +30,31 @@ def register(sub) -> None:
         "--diameter",
         type=float,
         default=None,
-        help="ball diameter 2r [m] (default: 2 x --radius if given, else the seed's 0.0666)",
+        help=f"ball diameter 2r [m] (default: 2 x --radius if given, else the paper's {2 * SEED_BALL_RADIUS:g})",
     )
+    y.add_argument("--radius", type=float, default=None, help="ball radius r [m] (instead of --diameter)")
     y.add_argument(
         "--contact-area-m2",
         type=float,
         default=None,
-        help="contact area s [m^2] (default 2.12e-4, implied by seed 002 Tables 1-2)",
+        help="contact area s [m^2] (default 2.12e-4, implied by the paper's Tables 1-2)",
     )
     y.add_argument("--json", action="store_true", help="print one JSON object")
-    add_physics_flags(y, preset="seed002")
     y.set_defaults(func=run_young)
     f = ms.add_parser("friction", help="friction coefficient mu = tan(eta) from friction angles")
     f.add_argument("--csv", required=True, metavar="FILE", help="CSV with friction_angle_deg [, contact_length_m]")
     f.add_argument("--json", action="store_true", help="print one JSON object")
-    add_physics_flags(f, preset="seed002")
     f.set_defaults(func=run_friction)
 
 
 def run_young(args) -> int:
-    from tennislab.io.material_csv import read_load_deformation
-    from tennislab.launcher.materials import SEED_BALL_RADIUS, SEED_CONTACT_AREA, young_modulus
-
     load, dl = read_load_deformation(args.csv)
-    diameter = (
-        args.diameter
-        if args.diameter is not None
-        else (2 * args.radius if args.radius is not None else 2 * SEED_BALL_RADIUS)
-    )
+    if args.diameter is not None:
+        diameter = args.diameter
+    elif args.radius is not None:
+        diameter = 2 * check_range("radius", args.radius, 0, 0.1, "m", lo_open=True)
+    else:
+        diameter = 2 * SEED_BALL_RADIUS
     area = SEED_CONTACT_AREA if args.contact_area_m2 is None else args.contact_area_m2
     res = young_modulus(load, dl, diameter, area)
     out = res.as_dict()
@@ -71,9 +73,6 @@ def run_young(args) -> int:
 
 
 def run_friction(args) -> int:
-    from tennislab.io.material_csv import read_friction_angles
-    from tennislab.launcher.materials import friction_coefficient
-
     ang, cl = read_friction_angles(args.csv)
     res = friction_coefficient(ang, cl)
     out = res.as_dict()

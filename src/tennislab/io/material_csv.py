@@ -11,19 +11,42 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 
 from tennislab.errors import InputError
 
 G0 = 9.80665  #: standard gravity [m/s^2]
+#: Largest table read [bytes] (a test table has tens of rows).
+MAX_BYTES = 1024 * 1024
+
+
+def _text(path: str) -> str:
+    """The file's text: at most :data:`MAX_BYTES`, UTF-8 (one-line InputError otherwise)."""
+    try:
+        size = os.path.getsize(path)
+        if not os.path.isfile(path):
+            raise InputError(f"{path}: not a file")
+        if size > MAX_BYTES:
+            raise InputError(f"{path}: {size} bytes is larger than a material table may be ({MAX_BYTES} bytes)")
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_BYTES + 1)
+    except OSError as exc:
+        raise InputError(f"{path}: {exc.strerror or 'cannot be read'}") from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
 
 
 def _read(path: str, required_any: list[tuple[str, ...]], optional: tuple[str, ...] = ()) -> dict[str, list[float]]:
-    with open(path, newline="") as fh:
-        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
+    lines = [ln for ln in _text(path).splitlines(keepends=True) if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError(f"{path}: empty file (expected a header line and data rows)")
     reader = csv.reader(lines)
-    header = [h.strip() for h in next(reader)]
+    try:
+        header = [h.strip() for h in next(reader)]
+    except csv.Error as exc:
+        raise InputError(f"{path}: not a CSV table ({exc})") from None
     cols = {}
     for alternatives in required_any:
         found = [a for a in alternatives if a in header]
@@ -33,8 +56,13 @@ def _read(path: str, required_any: list[tuple[str, ...]], optional: tuple[str, .
     for o in optional:
         if o in header:
             cols[o] = header.index(o)
-    out = {c: [] for c in cols}
-    for lineno, row in enumerate(reader, start=2):
+    out: dict[str, list[float]] = {c: [] for c in cols}
+    rows = []
+    try:
+        rows = list(reader)
+    except csv.Error as exc:
+        raise InputError(f"{path}: not a CSV table ({exc})") from None
+    for lineno, row in enumerate(rows, start=2):
         for c, j in cols.items():
             if j >= len(row) or not row[j].strip():
                 raise InputError(f"{path}: line {lineno}: column {c} is empty")

@@ -1,16 +1,29 @@
-"""The two-roller tennis-ball launcher of seed 002 (Wojcicki, Pucilowski & Kulesza 2010).
+"""The two-roller tennis-ball launcher of Wójcicki, Puciłowski & Kulesza (2010): the public API.
 
-* :mod:`.machine` - :class:`MachineSpec`, :class:`Settings`, :func:`launch_states`
-* :mod:`.aim` - forward model and inverse aiming (low / lob solutions, quantised)
-* :mod:`.rollers` - roller speeds, pull-in and no-slip conditions (seed eqs 8-17)
-* :mod:`.power` - energy per throw, motor power, start-up time (seed eqs 18-31, corrected)
-* :mod:`.materials` - Young's modulus and friction coefficient from test tables (seed section 5)
-* :mod:`.drills` - training programs compiled to machine settings
+Workflows (plain parameters in, a :class:`tennislab.results.Result` out; ``to_dict()`` is the
+command's ``--json``):
+
+* :func:`aim` - machine settings on the machine's steps that land a ball nearest a target
+  (``launcher aim``), within speed/spin tolerances and trajectory preferences;
+* :class:`HitsDB` - a database of hits and drills: :meth:`~HitsDB.info`, :meth:`~HitsDB.lookup`,
+  :meth:`~HitsDB.play`, :meth:`~HitsDB.fill`, drills (``launcher info | lookup | play | table | drills``);
+* :func:`compile_drill` / :func:`load_drill` - a training program compiled to settings (``launcher drill``);
+* :func:`roller_report`, :func:`power_report` - rollers and motors (the paper's eqs 8-31).
+
+Modules: :mod:`.machine` (spec, settings, launch states), :mod:`.aim`, :mod:`.preferences`,
+:mod:`.drills` and :mod:`.drill_schema` (drill programs and their file format), :mod:`.db`,
+:mod:`.lookup`, :mod:`.table` (the database), :mod:`.hitsdb`, :mod:`.rollers`, :mod:`.power`,
+:mod:`.materials`.
 """
 
+from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
+from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
+from tennislab.launcher.drills import CompiledDrill, Drill, compile_drill, drill_key, expand_program
+from tennislab.launcher.hitsdb import DbInfo, DrillList, HitsDB, LookupResult, PlayResult
 from tennislab.launcher.machine import (
     DEFAULT_POSITION,
     DEFAULT_SPEC,
+    PAPER,
     MachineSpec,
     Range,
     Settings,
@@ -18,14 +31,47 @@ from tennislab.launcher.machine import (
     settings_states,
     spin_vector,
 )
+from tennislab.launcher.power import power_report
+from tennislab.launcher.preferences import Preferences, Tolerances
+from tennislab.launcher.rollers import roller_report
+from tennislab.launcher.table import FillPlan, FillReport, TableGrid, make_grid
 
 __all__ = [
+    "AimResult",
+    "AimSolution",
+    "CompiledDrill",
     "DEFAULT_POSITION",
     "DEFAULT_SPEC",
+    "DbInfo",
+    "Drill",
+    "DrillList",
+    "FillPlan",
+    "FillReport",
+    "HitsDB",
+    "LookupResult",
     "MachineSpec",
+    "PAPER",
+    "PlayResult",
+    "Preferences",
     "Range",
     "Settings",
+    "TableGrid",
+    "Tolerances",
+    "aim",
+    "aim_all",
+    "compile_drill",
+    "drill_key",
+    "expand_program",
+    "find_drill_source",
+    "fly_settings",
     "launch_states",
+    "launcher_params",
+    "load_drill",
+    "make_grid",
+    "parse_drill",
+    "power_report",
+    "roller_report",
     "settings_states",
+    "shipped_drills",
     "spin_vector",
 ]

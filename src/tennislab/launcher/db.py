@@ -1,6 +1,6 @@
-"""The launcher's database of hits and training programs (SQLite, one file).
+"""The launcher's database of hits and training programs (SQLite, one file): the storage layer.
 
-Seed 002 (Wojcicki, Pucilowski & Kulesza) closes with its purpose: "Based on
+Wojcicki, Pucilowski & Kulesza (2010) close with its purpose: "Based on
 calculated ball trajectories, the database of different possible hits and
 training programs can be created and implemented in the control system."  This
 module is that database.  A controller beside the court opens the file
@@ -14,23 +14,29 @@ Layout (schema version :data:`SCHEMA_VERSION`, in ``PRAGMA user_version``;
                    physics constants used and :func:`config_hash` of all of them.
 ``hits``           one row per quantised setting (``id`` packs the per-axis grid
                    indices, see :func:`tennislab.launcher.table.pack_ids`): settings, landing x, y, net
-                   clearance, flight time, bounce speed and spin, apex height.
+                   clearance, flight time, bounce speed and spin, apex height, and (schema 5)
+                   ``branch``: 0 on the rising branch of distance against elevation (low), 1 on the
+                   falling one (high, lobs).
 ``hits_rtree``     R*Tree over (landing x, landing y, speed, spin): a lookup
                    with speed and spin reads the few rows in a box around the
                    target whose speed and spin match, never the table.
 ``hits_cell``, ``hits_speed_cell``, ``hits_spin_cell``  covering indexes over
                    ([speed or spin,] 1 cm band of landing y, landing x, y, net
-                   clearance) for lookups that fix at most one of the two.
-                   (Schema 3 had ``hits_xy``, an R*Tree over landing x, y.)
+                   clearance, branch, apex, flight time, ...) for lookups that fix at
+                   most one of the two, filtered on the trajectory preferences in the
+                   index.  (Schema 3 had ``hits_xy``, an R*Tree over landing x, y.)
 ``fills``, ``fill_chunks``  which chunks of which settings grid are stored
                    (``launcher table`` resumes from them).
 ``drills``, ``drill_shots`` training programs: the drill file's text verbatim
                    (export is byte-exact) and its shots, with a revision.
 
-WAL journal mode lets :func:`lookup` read while ``launcher table`` writes; the
-reader opens the file with ``mode=ro``.  Every user error (missing, truncated or
-foreign file; stale hash; target off the court; no hit in range) is an
-:class:`~tennislab.errors.InputError` with a one-line message.
+WAL journal mode lets a lookup read while ``launcher table`` writes.  Readers never
+write: a file without a pending write-ahead log is opened ``immutable`` (no lock, no
+``-wal``/``-shm`` created), one with a live log ``mode=ro`` (it reads the log, never
+checkpoints it).  A file is identified (SQLite header, ``application_id``) from its
+bytes before SQLite opens it, so a foreign file is never opened for writing.  Problems
+of the file are :class:`DatabaseFileError` (an :class:`~tennislab.errors.InputError`
+without the path: :class:`~tennislab.launcher.hitsdb.HitsDB` adds it).
 """
 
 from __future__ import annotations
@@ -43,13 +49,16 @@ import json
 import math
 import os
 import sqlite3
+from urllib.parse import quote
 
 import numpy as np
 
+from tennislab import __version__
 from tennislab.errors import InputError
+from tennislab.launcher._schema import MIGRATIONS
 
 #: Schema version of the file (``PRAGMA user_version``); see :data:`MIGRATIONS`.
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 #: Oldest schema :func:`open_readonly` accepts (lookups on a file of schema 3 use its R*Trees alone).
 MIN_READ_VERSION = 3
 #: ``PRAGMA application_id`` of a tennislab launcher database ("TLDB").
@@ -64,114 +73,66 @@ FILL_ATOL = 1e-7
 
 HIT_SETTINGS = ("height_m", "speed_kmh", "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg")
 HIT_RESULTS = ("land_x", "land_y", "net_clearance_m", "flight_time_s", "bounce_speed_ms", "bounce_spin_rpm", "apex_z_m")
-HIT_COLUMNS = ("id",) + HIT_SETTINGS + HIT_RESULTS
+#: Columns of a schema-4 row; schema 5 adds ``branch``.
+HIT_COLUMNS_V4 = ("id",) + HIT_SETTINGS + HIT_RESULTS
+HIT_COLUMNS = HIT_COLUMNS_V4 + ("branch",)
+#: Files smaller than this are checked with ``PRAGMA quick_check`` when opened (larger ones on any
+#: unexpected error, and by ``launcher info --check``): the check reads the whole file.
+QUICK_CHECK_MAX_BYTES = 64 * 1024 * 1024
 
-# ----------------------------------------------------------------- migrations
-_V1 = """
-CREATE TABLE machine (
-    id INTEGER PRIMARY KEY CHECK (id = 1),
-    hash TEXT NOT NULL,
-    spec_json TEXT NOT NULL,
-    position_x REAL NOT NULL,
-    position_y REAL NOT NULL,
-    physics_json TEXT NOT NULL,
-    config_json TEXT NOT NULL,
-    tennislab_version TEXT NOT NULL,
-    created_utc TEXT NOT NULL
-);
-CREATE TABLE hits (
-    id INTEGER PRIMARY KEY,
-    height_m REAL NOT NULL, speed_kmh REAL NOT NULL, elevation_deg REAL NOT NULL,
-    heading_deg REAL NOT NULL, spin_rpm REAL NOT NULL, spin_axis_deg REAL NOT NULL,
-    land_x REAL NOT NULL, land_y REAL NOT NULL, net_clearance_m REAL NOT NULL,
-    flight_time_s REAL NOT NULL, bounce_speed_ms REAL NOT NULL, bounce_spin_rpm REAL NOT NULL,
-    apex_z_m REAL NOT NULL
-);
-CREATE VIRTUAL TABLE hits_rtree USING rtree(id, min_x, max_x, min_y, max_y,
-                                            min_speed, max_speed, min_spin, max_spin);
-CREATE TABLE fills (
-    id INTEGER PRIMARY KEY,
-    grid_hash TEXT NOT NULL UNIQUE,
-    grid_json TEXT NOT NULL,
-    n_rows INTEGER NOT NULL,
-    chunk_size INTEGER NOT NULL,
-    n_chunks INTEGER NOT NULL,
-    started_utc TEXT NOT NULL,
-    finished_utc TEXT
-);
-CREATE TABLE fill_chunks (
-    fill_id INTEGER NOT NULL REFERENCES fills(id),
-    chunk INTEGER NOT NULL,
-    n_hits INTEGER NOT NULL,
-    PRIMARY KEY (fill_id, chunk)
-) WITHOUT ROWID;
-"""
 
-_V2 = """
-CREATE TABLE drills (
-    id INTEGER PRIMARY KEY,
-    name TEXT NOT NULL UNIQUE,
-    filename TEXT NOT NULL,
-    format_version TEXT,
-    revision INTEGER NOT NULL,
-    sha256 TEXT NOT NULL,
-    source BLOB NOT NULL,
-    sequence_json TEXT,
-    imported_utc TEXT NOT NULL
-);
-CREATE TABLE drill_shots (
-    drill_id INTEGER NOT NULL REFERENCES drills(id) ON DELETE CASCADE,
-    idx INTEGER NOT NULL,
-    shot_json TEXT NOT NULL,
-    PRIMARY KEY (drill_id, idx)
-) WITHOUT ROWID;
-"""
-
-# v3: a 2-D R*Tree for lookups with neither speed nor spin given.  In the 4-D tree the
-# speed and spin dimensions keep the landing "sheets" of different speeds apart, so a box
-# query over every speed visits one subtree per sheet (~30 ms at 10^6 hits); the 2-D tree
-# packs nearby landings of all sheets into the same leaves.  Existing hits are indexed.
-_V3 = """
-CREATE VIRTUAL TABLE hits_xy USING rtree(id, min_x, max_x, min_y, max_y);
-INSERT INTO hits_xy SELECT id, land_x, land_x, land_y, land_y FROM hits;
-"""
-
-# v4: covering B-tree indexes for lookups that fix at most one of speed and spin, replacing hits_xy.
-# With an open speed or spin range the 4-D tree's leaves (which mix speeds and spins) reach the
-# target by the hundred: 10-100 ms at 10^7 hits.  Landings lie on dense rays (one per heading
-# step); hits_xy's square boxes read 10^4 entries of the nearest ray at 10^7 hits, and its leaves
-# on the ray of heading 0 (y constant: zero area, no guide for the R*Tree's insertion) span metres.
-# An index ordered by 1 cm bands of y, then x reads one range per band, clipped to a disc.
-_V4 = """
-DROP TABLE hits_xy;
-CREATE INDEX hits_cell ON hits (CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y, net_clearance_m,
-                                height_m, spin_axis_deg);
-CREATE INDEX hits_speed_cell ON hits (speed_kmh, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
-                                      net_clearance_m);
-CREATE INDEX hits_spin_cell ON hits (spin_rpm, CAST(land_y * 100.0 + 1000000.0 AS INTEGER), land_x, land_y,
-                                     net_clearance_m);
-"""
-
-#: version -> SQL script that upgrades a file from ``version - 1`` to ``version``.
-MIGRATIONS = {1: _V1, 2: _V2, 3: _V3, 4: _V4}
+class DatabaseFileError(InputError):
+    """A problem of the database file itself (foreign, truncated, damaged, stale, empty); no path in the message."""
 
 
 def _now() -> str:
     return _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
-def _db_error(path: str, exc: Exception) -> InputError:
-    msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-    return InputError(f"--db {path}: not a usable tennislab launcher database ({msg})")
+def _first_line(exc: BaseException) -> str:
+    return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+
+
+def damaged(conn: sqlite3.Connection | None, exc: BaseException | None = None) -> DatabaseFileError:
+    """The one-line error for a file that failed while in use: ``PRAGMA quick_check`` says whether it is damaged."""
+    report = ""
+    if conn is not None:
+        try:
+            rows = conn.execute("PRAGMA quick_check(5)").fetchall()
+            report = "; ".join(str(r[0]) for r in rows)
+        except sqlite3.DatabaseError as e:
+            report = _first_line(e)
+    if report and report != "ok":
+        return DatabaseFileError(f"damaged file (quick_check: {report[:200]}); rebuild it with `launcher table`")
+    why = _first_line(exc) if exc is not None else "unexpected content"
+    return DatabaseFileError(f"damaged or unusable file ({why[:200]}); rebuild it with `launcher table`")
+
+
+def quick_check(conn: sqlite3.Connection) -> None:
+    """``PRAGMA quick_check`` (page structure, record formats, NOT NULL): DatabaseFileError if not ok."""
+    try:
+        rows = conn.execute("PRAGMA quick_check(5)").fetchall()
+    except sqlite3.DatabaseError as exc:
+        raise DatabaseFileError(f"damaged file ({_first_line(exc)}); rebuild it with `launcher table`") from None
+    report = "; ".join(str(r[0]) for r in rows)
+    if report != "ok":
+        raise DatabaseFileError(f"damaged file (quick_check: {report[:200]}); rebuild it with `launcher table`")
 
 
 @contextlib.contextmanager
-def guard(path: str):
-    """Turn SQLite errors met while using an open file (e.g. a truncated one) into one-line InputErrors."""
+def guard(conn: sqlite3.Connection | None = None):
+    """Errors met while using an open file (SQLite errors, a value of the wrong type) -> one-line DatabaseFileError."""
     try:
         yield
-    except sqlite3.DatabaseError as exc:
-        raise _db_error(path, exc) from None
+    except InputError:
+        raise
+    except (sqlite3.DatabaseError, TypeError, ValueError, KeyError, IndexError, OverflowError) as exc:
+        raise damaged(conn, exc) from None
+
+
+def _wal_pending(path: str) -> bool:
+    wal = path + "-wal"
+    return os.path.exists(wal) and os.path.getsize(wal) > 0
 
 
 def check_not_truncated(path: str) -> None:
@@ -180,8 +141,7 @@ def check_not_truncated(path: str) -> None:
     Checked only when no write-ahead log is pending (``-wal`` absent or empty): with a
     live WAL the main file's header may be older than its pages.
     """
-    wal = path + "-wal"
-    if os.path.exists(wal) and os.path.getsize(wal) > 0:
+    if _wal_pending(path):
         return
     with open(path, "rb") as fh:
         head = fh.read(100)
@@ -193,44 +153,114 @@ def check_not_truncated(path: str) -> None:
     valid = head[92:96] == head[24:28]
     size = os.path.getsize(path)
     if valid and n_pages and size < n_pages * page:
-        raise InputError(
-            f"--db {path}: truncated file ({size} bytes, its header says "
-            f"{n_pages} pages of {page} bytes = {n_pages * page} bytes)"
+        raise DatabaseFileError(
+            f"truncated file ({size} bytes, its header says {n_pages} pages of {page} bytes = {n_pages * page} bytes)"
         )
 
 
-def _check_identity(conn: sqlite3.Connection, path: str) -> int:
-    """Schema version of an open file; InputError for another application's file or a newer schema."""
+def _wal_page1(path: str) -> bytes | None:
+    """The newest committed image of page 1 in a file's write-ahead log (its first 108 bytes), or None.
+
+    WAL format (sqlite.org/fileformat2.html#walformat): a 32-byte header (magic, version, page
+    size, checkpoint sequence, salts, checksums), then frames of a 24-byte header (page number,
+    database size after a commit frame or 0, salts, checksums) and one page.  Frames whose salts
+    differ from the header's are stale; frames after the last commit frame are not committed.
+    """
+    wal = path + "-wal"
+    try:
+        with open(wal, "rb") as fh:
+            head = fh.read(32)
+            if len(head) < 32 or int.from_bytes(head[0:4], "big") not in (0x377F0682, 0x377F0683):
+                return None
+            page = int.from_bytes(head[8:12], "big")
+            if page < 512 or page > 65536 or page & (page - 1):
+                return None
+            salts = head[16:24]
+            newest, pending = None, None
+            for _ in range(1 << 22):  # bounded: a WAL of at most 4 M frames is read
+                frame = fh.read(24)
+                if len(frame) < 24 or frame[8:16] != salts:
+                    break
+                pgno, commit = int.from_bytes(frame[0:4], "big"), int.from_bytes(frame[4:8], "big")
+                if pgno == 1:
+                    pending = fh.read(108)
+                    fh.seek(page - 108, os.SEEK_CUR)
+                else:
+                    fh.seek(page, os.SEEK_CUR)
+                if commit and pending is not None:
+                    newest = pending
+    except OSError:
+        return None
+    return newest
+
+
+def header_identity(path: str) -> tuple[int, int, bool] | None:
+    """(user_version, application_id, has_tables) of a file from its bytes, without SQLite opening it.
+
+    From the SQLite header and the schema page's b-tree header (page 1, offsets 100-107: its cell
+    count is 0 for a file without tables) of the main file, or of the newest committed page 1 in
+    a pending write-ahead log (the main file's when the log holds no committed page 1); None for an
+    empty main file with a pending log (only SQLite can tell).  An empty file gives (0, 0, False);
+    other bytes raise DatabaseFileError.
+    """
+    head = _wal_page1(path) if _wal_pending(path) else None
+    if head is None:  # no committed page 1 in a log: the main file's page 1 is the current one
+        with open(path, "rb") as fh:
+            head = fh.read(108)
+        if not head:
+            return None if _wal_pending(path) else (0, 0, False)
+    if len(head) < 108 or not head.startswith(b"SQLite format 3\x00"):
+        raise DatabaseFileError("not a usable tennislab launcher database (file is not a database)")
+    version = int.from_bytes(head[60:64], "big", signed=True)
+    app = int.from_bytes(head[68:72], "big", signed=True)
+    has_tables = head[100] != 0x0D or int.from_bytes(head[103:105], "big") > 0
+    return version, app, has_tables
+
+
+def _identity_error(version: int, app: int, has_tables: bool) -> DatabaseFileError | None:
+    """Why a file of this header is not ours (None if it is ours, or new and empty)."""
+    if version == 0:
+        if has_tables or app not in (0, APPLICATION_ID):
+            return DatabaseFileError(
+                "a SQLite file of another application (it has tables but no tennislab schema version); "
+                "refusing to open it"
+            )
+        return None
+    if app != APPLICATION_ID:
+        return DatabaseFileError(f"a SQLite file of another application (application_id {app:#x}); refusing to open it")
+    if version > max(MIGRATIONS):
+        return DatabaseFileError(
+            f"schema version {version} is newer than this tennislab understands ({max(MIGRATIONS)}); upgrade tennislab"
+        )
+    return None
+
+
+def _check_identity(conn: sqlite3.Connection) -> int:
+    """Schema version of an open file; DatabaseFileError for another application's file or a newer schema."""
     version = conn.execute("PRAGMA user_version").fetchone()[0]
     app = conn.execute("PRAGMA application_id").fetchone()[0]
-    if version == 0:
-        n = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
-        if n or app not in (0, APPLICATION_ID):
-            raise InputError(
-                f"--db {path}: a SQLite file of another application (it has tables "
-                "but no tennislab schema version); refusing to modify it"
-            )
-    elif app != APPLICATION_ID:
-        raise InputError(f"--db {path}: a SQLite file of another application (application_id {app:#x})")
-    if version > max(MIGRATIONS):
-        raise InputError(
-            f"--db {path}: schema version {version} is newer than this tennislab "
-            f"understands ({max(MIGRATIONS)}); upgrade tennislab"
-        )
+    n = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0] if version == 0 else 0
+    err = _identity_error(version, app, bool(n))
+    if err is not None:
+        raise err
     return version
 
 
-def migrate(conn: sqlite3.Connection, path: str = "", target: int = SCHEMA_VERSION) -> int:
+def migrate(conn: sqlite3.Connection, target: int = SCHEMA_VERSION) -> int:
     """Upgrade the schema of an open read-write file to ``target``; return the old version.
 
     A new (empty) file is initialised; a file written by a newer tennislab, or a
     SQLite file of another application, is refused.  Each step is one transaction.
     """
-    version = _check_identity(conn, path)
+    version = _check_identity(conn)
     for v in range(version + 1, target + 1):
         conn.execute("BEGIN IMMEDIATE")
         try:
+            branched = v != 5
             for stmt in _statements(MIGRATIONS[v]):
+                if not branched and stmt.startswith("CREATE INDEX"):  # before the indexes that carry it
+                    _branch_from_neighbours(conn)
+                    branched = True
                 conn.execute(stmt)
             conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             conn.execute(f"PRAGMA user_version = {v}")
@@ -239,6 +269,52 @@ def migrate(conn: sqlite3.Connection, path: str = "", target: int = SCHEMA_VERSI
             conn.execute("ROLLBACK")
             raise
     return version
+
+
+def _branch_from_neighbours(conn: sqlite3.Connection) -> None:
+    """Set ``hits.branch`` of stored hits (schema 4 -> 5) from their neighbours in elevation.
+
+    Along one line of settings (every setting but the elevation fixed), the hit is on the
+    falling branch (high) when the next stored elevation (at most 3 steps up) lands nearer the
+    machine, or else the previous one (at most 3 steps down) lands farther; a hit without such a
+    neighbour is high above 45 deg.  (New fills fly each hit's branch instead: table.fly_chunk.)
+    """
+    row = conn.execute("SELECT spec_json, position_x, position_y FROM machine WHERE id = 1").fetchone()
+    if row is None or conn.execute("SELECT 1 FROM hits LIMIT 1").fetchone() is None:
+        return
+    spec = json.loads(row[0])
+
+    def size(name):
+        r = spec[name]
+        return int(math.floor((r["hi"] - r["lo"]) / r["step"] + 1e-9)) + 1
+
+    n_head, n_elev = size("heading"), size("elevation")
+    conn.execute(
+        """
+        UPDATE hits SET branch = nb.branch FROM (
+          SELECT id, CASE
+            WHEN nxt_e IS NOT NULL AND nxt_e - e <= 3 THEN (nxt_d2 < d2)
+            WHEN prv_e IS NOT NULL AND e - prv_e <= 3 THEN (prv_d2 > d2)
+            ELSE (elev > 45.0) END AS branch
+          FROM (SELECT id, e, d2, elev,
+                       LEAD(e) OVER w AS nxt_e, LEAD(d2) OVER w AS nxt_d2,
+                       LAG(e) OVER w AS prv_e, LAG(d2) OVER w AS prv_d2
+                FROM (SELECT id, (id / :h) % :e AS e, id - ((id / :h) % :e) * :h AS line, elevation_deg AS elev,
+                             (land_x - :px) * (land_x - :px) + (land_y - :py) * (land_y - :py) AS d2 FROM hits)
+                WINDOW w AS (PARTITION BY line ORDER BY e))
+        ) AS nb WHERE hits.id = nb.id
+        """,
+        {"h": n_head, "e": n_elev, "px": row[1], "py": row[2]},
+    )
+
+
+def ensure_math(conn: sqlite3.Connection) -> None:
+    """``cos`` and ``radians`` in SQL (built into SQLite >= 3.35 with its math functions; else Python's)."""
+    try:
+        conn.execute("SELECT cos(radians(0.0))").fetchone()
+    except sqlite3.OperationalError:
+        conn.create_function("cos", 1, math.cos, deterministic=True)
+        conn.create_function("radians", 1, math.radians, deterministic=True)
 
 
 def _statements(script: str):
@@ -251,73 +327,111 @@ def _statements(script: str):
             buf = ""
 
 
-def _fail_open(conn, path: str, exc: Exception):
-    """Close a half-opened connection and raise ``exc`` as a one-line :class:`InputError`."""
-    if conn is not None:
-        conn.close()
-    if isinstance(exc, InputError):
-        raise exc
-    raise _db_error(path, exc) from None
-
-
-def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERSION) -> sqlite3.Connection:
-    """Open (or create) a database for writing: WAL mode, migrated to the current schema."""
-    if not create and not os.path.exists(path):
-        raise InputError(f"--db {path}: no such file")
+def _check_path(path: str, must_exist: bool) -> None:
     if os.path.isdir(path):
-        raise InputError(f"--db {path}: is a directory")
-    if os.path.exists(path):
-        check_not_truncated(path)
+        raise DatabaseFileError("is a directory")
+    if must_exist and not os.path.exists(path):
+        raise DatabaseFileError("no such file")
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
-        raise InputError(f"--db {path}: directory {d} does not exist")
-    conn = None
-    try:
-        conn = sqlite3.connect(path, timeout=30.0, isolation_level=None)
-        _check_identity(conn, path)  # before anything could modify another application's file
-        mode = conn.execute("PRAGMA journal_mode=WAL").fetchone()[0]
-        if mode.lower() != "wal":
-            raise sqlite3.DatabaseError(f"cannot switch to WAL mode (got {mode})")
-        conn.execute("PRAGMA synchronous=NORMAL")
-        conn.execute("PRAGMA foreign_keys=ON")
-        conn.execute("PRAGMA cache_size=-131072")  # 128 MiB: R*Tree inserts touch many nodes
-        migrate(conn, path, target_version)
-        conn.execute("SELECT count(*) FROM machine").fetchone()
-    except (sqlite3.DatabaseError, InputError) as exc:
-        _fail_open(conn, path, exc)
-    return conn
+        raise DatabaseFileError(f"directory {d} does not exist")
 
 
-def open_readonly(path: str) -> sqlite3.Connection:
-    """Open an existing database read-only (``mode=ro``) and check that it is ours and current."""
-    if not os.path.exists(path):
-        raise InputError(f"--db {path}: no such file")
-    if os.path.isdir(path):
-        raise InputError(f"--db {path}: is a directory")
+def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool | None = None) -> sqlite3.Connection:
+    """Open an existing database for reading without writing anything beside it (module docstring).
+
+    The file must be ours, of schema ``min_version`` .. :data:`SCHEMA_VERSION`; ``check``
+    runs ``PRAGMA quick_check`` (default: for files up to :data:`QUICK_CHECK_MAX_BYTES`).
+    """
+    _check_path(path, must_exist=True)
     check_not_truncated(path)
-    from urllib.parse import quote
-
-    uri = "file:" + quote(os.path.abspath(path)) + "?mode=ro"
+    ident = header_identity(path)
+    if ident is not None:
+        if os.path.getsize(path) == 0 and not _wal_pending(path):
+            raise DatabaseFileError("empty file, not a tennislab launcher database")
+        err = _identity_error(*ident)
+        if err is not None:
+            raise err
+        if ident[0] == 0:
+            raise DatabaseFileError("not a tennislab launcher database (no schema version)")
+    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
     conn = None
     try:
         conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         app = conn.execute("PRAGMA application_id").fetchone()[0]
         if app != APPLICATION_ID or version == 0:
-            raise InputError(f"--db {path}: not a tennislab launcher database")
+            raise DatabaseFileError("not a tennislab launcher database")
         if version > SCHEMA_VERSION:
-            raise InputError(
-                f"--db {path}: schema version {version} is newer than this tennislab "
-                f"understands ({SCHEMA_VERSION}); upgrade tennislab"
+            raise DatabaseFileError(
+                f"schema version {version} is newer than this tennislab understands ({SCHEMA_VERSION}); "
+                "upgrade tennislab"
             )
-        if version < MIN_READ_VERSION:
-            raise InputError(
-                f"--db {path}: schema version {version} is older than {MIN_READ_VERSION}; "
-                "rerun `launcher table` on it to migrate it (finished chunks are skipped)"
+        if version < min_version:
+            raise DatabaseFileError(
+                f"schema version {version} is older than {min_version}; rerun `launcher table` on it to migrate it "
+                "(finished chunks are skipped)"
             )
+        if check if check is not None else os.path.getsize(path) <= QUICK_CHECK_MAX_BYTES:
+            quick_check(conn)
+        conn.execute("SELECT count(*) FROM machine").fetchone()
+        ensure_math(conn)
+    except (sqlite3.DatabaseError, InputError) as exc:
+        if conn is not None:
+            conn.close()
+        if isinstance(exc, InputError):
+            raise
+        raise DatabaseFileError(f"not a usable tennislab launcher database ({_first_line(exc)})") from None
+    return conn
+
+
+def _identify(path: str) -> int:
+    """Schema version of an existing file, read without writing (DatabaseFileError if not ours)."""
+    ident = header_identity(path)
+    if ident is not None:
+        err = _identity_error(*ident)
+        if err is not None:
+            raise err
+    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
+    conn = None
+    try:
+        conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
+        return _check_identity(conn)
+    except sqlite3.DatabaseError as exc:
+        raise DatabaseFileError(f"not a usable tennislab launcher database ({_first_line(exc)})") from None
+    finally:
+        if conn is not None:
+            conn.close()
+
+
+def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERSION) -> sqlite3.Connection:
+    """Open (or create) a database for writing: WAL mode, migrated to the current schema.
+
+    An existing file is identified read-only first (:func:`open_readonly` rules), so a foreign
+    or damaged file is refused before anything could write to it.
+    """
+    _check_path(path, must_exist=not create)
+    if os.path.exists(path) and (os.path.getsize(path) > 0 or _wal_pending(path)):
+        check_not_truncated(path)
+        _identify(path)
+    conn = None
+    try:
+        conn = sqlite3.connect(path, timeout=30.0, isolation_level=None)
+        _check_identity(conn)
+        mode = conn.execute("PRAGMA journal_mode=WAL").fetchone()[0]
+        if mode.lower() != "wal":
+            raise sqlite3.DatabaseError(f"cannot switch to WAL mode (got {mode})")
+        conn.execute("PRAGMA synchronous=NORMAL")
+        conn.execute("PRAGMA foreign_keys=ON")
+        conn.execute("PRAGMA cache_size=-131072")  # 128 MiB: R*Tree inserts touch many nodes
+        migrate(conn, target_version)
         conn.execute("SELECT count(*) FROM machine").fetchone()
     except (sqlite3.DatabaseError, InputError) as exc:
-        _fail_open(conn, path, exc)
+        if conn is not None:
+            conn.close()
+        if isinstance(exc, InputError):
+            raise
+        raise DatabaseFileError(f"not a usable tennislab launcher database ({_first_line(exc)})") from None
     return conn
 
 
@@ -419,29 +533,38 @@ def stored_config(conn: sqlite3.Connection) -> tuple[str, dict] | None:
     return None if row is None else (row[0], json.loads(row[1]))
 
 
-def check_config(conn: sqlite3.Connection, cfg: dict, path: str = "") -> str:
-    """Refuse a file built for another machine or physics; return the hash.
+def config_diff(stored: dict, cfg: dict, fields: tuple[str, ...] | None = None) -> list[str]:
+    """Differences between a stored and a given config; only under the ``fields`` path prefixes if given."""
+    diffs = _diff(stored, json.loads(canonical_json(cfg)))
+    if fields is not None:
+        diffs = [d for d in diffs if any(d == f or d.startswith((f + ".", f + "[", f + " ")) for f in fields)]
+    return diffs
 
-    The message names the first differing fields, e.g. ``physics.aero.name``.
+
+def check_config(conn: sqlite3.Connection, cfg: dict, fields: tuple[str, ...] | None = None) -> str:
+    """Refuse a file built for another machine or physics; return the file's hash.
+
+    The message names the first differing fields, e.g. ``physics.aero.name``; with ``fields``
+    (config path prefixes) only those are compared (the settings a user gave).
     """
     h = config_hash(cfg)
     stored = stored_config(conn)
     if stored is None:
-        raise InputError(f"--db {path}: the table is empty (no machine); fill it with `launcher table`")
+        raise DatabaseFileError("the table is empty (no machine); fill it with `launcher table`")
     if stored[0] != h:
-        diffs = _diff(stored[1], json.loads(canonical_json(cfg)))
+        diffs = config_diff(stored[1], cfg, fields)
+        if fields is not None and not diffs:
+            return stored[0]
         what = "; ".join(diffs[:3]) + (f"; and {len(diffs) - 3} more" if len(diffs) > 3 else "")
-        raise InputError(
-            f"--db {path}: built for another machine/physics (hash {stored[0][:12]} in the "
-            f"file, {h[:12]} given): {what or 'format changed'}"
+        raise DatabaseFileError(
+            f"built for another machine/physics (hash {stored[0][:12]} in the file, {h[:12]} given): "
+            f"{what or 'format changed'}"
         )
     return h
 
 
-def bind_config(conn: sqlite3.Connection, cfg: dict, path: str = "") -> str:
+def bind_config(conn: sqlite3.Connection, cfg: dict) -> str:
     """Record the machine config in a new file, or check it against an existing one."""
-    from tennislab import __version__
-
     h = config_hash(cfg)
     conn.execute("BEGIN IMMEDIATE")
     try:
@@ -464,22 +587,30 @@ def bind_config(conn: sqlite3.Connection, cfg: dict, path: str = "") -> str:
     except BaseException:
         conn.execute("ROLLBACK")
         raise
-    return check_config(conn, cfg, path)
+    return check_config(conn, cfg)
 
 
 # ---------------------------------------------------------------------- hits
+def has_column(conn: sqlite3.Connection, table: str, column: str) -> bool:
+    return any(r[1] == column for r in conn.execute(f"PRAGMA table_info({table})"))
+
+
 def insert_hits(conn: sqlite3.Connection, hits: dict) -> int:
     """Insert hit rows (dict of equal-length arrays named :data:`HIT_COLUMNS`) and index them.
 
     Must run inside the caller's transaction.  Rows whose ``id`` is already
     stored are skipped (a resumed or overlapping fill never duplicates a setting).
-    Returns the number of rows inserted.
+    A file of schema < 5 takes the columns of :data:`HIT_COLUMNS_V4`; rows without
+    ``branch`` get 0 (low).  Returns the number of rows inserted.
     """
     n = len(hits["id"])
     if n == 0:
         return 0
-    cols = [np.asarray(hits[c]) for c in HIT_COLUMNS]
-    for name, c in zip(HIT_COLUMNS, cols):
+    columns = HIT_COLUMNS if has_column(conn, "hits", "branch") else HIT_COLUMNS_V4
+    hits = dict(hits)
+    hits.setdefault("branch", np.zeros(n, dtype=np.int64))
+    cols = [np.asarray(hits[c]) for c in columns]
+    for name, c in zip(columns, cols):
         if len(c) != n:
             raise InputError(f"hits[{name!r}]: length {len(c)} != {n}")
     ids = cols[0].astype(np.int64)
@@ -490,8 +621,12 @@ def insert_hits(conn: sqlite3.Connection, hits: dict) -> int:
     keep = np.fromiter((i not in have for i in ids.tolist()), bool, n) if have else np.ones(n, bool)
     if not keep.any():
         return 0
-    rows = list(zip(ids[keep].tolist(), *[c[keep].astype(float).tolist() for c in cols[1:]]))
-    conn.executemany(f"INSERT INTO hits VALUES ({','.join('?' * len(HIT_COLUMNS))})", rows)
+    values = [ids[keep].tolist()]
+    for name, c in zip(columns[1:], cols[1:]):
+        values.append(c[keep].astype(np.int64 if name == "branch" else float).tolist())
+    conn.executemany(
+        f"INSERT INTO hits ({','.join(columns)}) VALUES ({','.join('?' * len(columns))})", list(zip(*values))
+    )
     x, y = hits["land_x"], hits["land_y"]
     sp, sw = hits["speed_kmh"], hits["spin_rpm"]
     conn.executemany(
@@ -516,40 +651,17 @@ def count_hits_fast(conn: sqlite3.Connection) -> int:
 
 
 # -------------------------------------------------------------------- drills
-def _parse_drill(path: str, data: bytes) -> tuple[str, str | None, list, list | None]:
-    """(name, format version, distinct shots, firing sequence) of a drill file.
+def import_drill(conn: sqlite3.Connection, record: dict, data: bytes, filename: str) -> dict:
+    """Store a drill (its file's bytes verbatim, and its validated record: shots, sequence); a changed
+    drill of the same name gets the next revision; re-importing identical bytes changes nothing.
 
-    Uses the launcher's drill reader (:func:`tennislab.io.drill.parse_drill_text`),
-    so a file is validated exactly as ``launcher drill`` validates it.
+    ``record`` is :func:`tennislab.launcher.drill_schema.drill_record` of the parsed file and
+    ``filename`` the base name it is exported under by default.  Returns the drill's info row.
     """
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not a drill file (not UTF-8 text)") from None
-    from tennislab.io.drill import parse_drill_text
-
-    d = parse_drill_text(text, path)
-    name, version, shots = d.get("name"), d.get("version"), d.get("shots")
-    if not shots:
-        raise InputError(f"{path}: drill {name!r} has no shots")
-    seq = d.get("sequence")
-    return (
-        str(name),
-        None if version is None else str(version),
-        [_plain(x) for x in shots],
-        None if seq is None else _plain(seq),
-    )
-
-
-def import_drill(conn: sqlite3.Connection, path: str) -> dict:
-    """Store a drill file (verbatim, plus its parsed shots); a changed drill gets the next revision.
-
-    Re-importing an identical file changes nothing.  Returns the drill's row as a dict.
-    """
-    with open(path, "rb") as fh:
-        data = fh.read()
-    name, version, shots, seq = _parse_drill(path, data)
+    name, version = record["name"], record.get("version")
+    shots, seq = [_plain(x) for x in record["shots"]], _plain(record["sequence"])
     sha = hashlib.sha256(data).hexdigest()
+    filename = os.path.basename(filename)
     conn.execute("BEGIN IMMEDIATE")
     try:
         row = conn.execute("SELECT id, revision, sha256 FROM drills WHERE name = ?", (name,)).fetchone()
@@ -562,14 +674,14 @@ def import_drill(conn: sqlite3.Connection, path: str) -> dict:
             conn.execute(
                 "UPDATE drills SET filename = ?, format_version = ?, revision = ?, sha256 = ?, "
                 "source = ?, sequence_json = ?, imported_utc = ? WHERE id = ?",
-                (os.path.basename(path), version, rev, sha, data, _seq_json(seq), _now(), row[0]),
+                (filename, version, rev, sha, data, canonical_json(seq), _now(), row[0]),
             )
             did = row[0]
         else:
             did = conn.execute(
                 "INSERT INTO drills (name, filename, format_version, revision, sha256, source, "
                 "sequence_json, imported_utc) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
-                (name, os.path.basename(path), version, rev, sha, data, _seq_json(seq), _now()),
+                (name, filename, version, rev, sha, data, canonical_json(seq), _now()),
             ).lastrowid
         conn.executemany(
             "INSERT INTO drill_shots VALUES (?, ?, ?)", [(did, i, canonical_json(s)) for i, s in enumerate(shots)]
@@ -581,25 +693,41 @@ def import_drill(conn: sqlite3.Connection, path: str) -> dict:
     return drill_info(conn, name)
 
 
-def _seq_json(seq) -> str | None:
-    return None if seq is None else canonical_json(seq)
+_INFO_SQL = (
+    "SELECT d.name, d.filename, d.format_version, d.revision, d.sha256, d.imported_utc, "
+    "(SELECT count(*) FROM drill_shots s WHERE s.drill_id = d.id), d.sequence_json FROM drills d "
+)
+
+
+def _info_row(row) -> dict:
+    keys = ("name", "filename", "format_version", "revision", "sha256", "imported_utc", "n_distinct")
+    out = dict(zip(keys, row[:7]))
+    seq = json.loads(row[7]) if row[7] else []
+    out["n_shots"] = len(seq) if isinstance(seq, list) else 0
+    return out
+
+
+def stored_drill_name(conn: sqlite3.Connection, name: str, key_of) -> str | None:
+    """The stored drill a name means: the same name, or the same key (``key_of``), or None."""
+    rows = [r[0] for r in conn.execute("SELECT name FROM drills ORDER BY name")]
+    if name in rows:
+        return name
+    want = key_of(name)
+    hits = [r for r in rows if key_of(r) == want]
+    return hits[0] if hits else None
 
 
 def drill_info(conn: sqlite3.Connection, name: str) -> dict:
-    row = conn.execute(
-        "SELECT d.name, d.filename, d.format_version, d.revision, d.sha256, d.imported_utc, "
-        "(SELECT count(*) FROM drill_shots s WHERE s.drill_id = d.id) "
-        "FROM drills d WHERE d.name = ?",
-        (name,),
-    ).fetchone()
+    """Name, file name, revision, counts (``n_shots`` fired, ``n_distinct``) of a stored drill."""
+    row = conn.execute(_INFO_SQL + "WHERE d.name = ?", (name,)).fetchone()
     if row is None:
         names = [r[0] for r in conn.execute("SELECT name FROM drills ORDER BY name")]
-        raise InputError(f"drill {name!r}: not in the database (stored: {', '.join(names) or 'none'})")
-    return dict(zip(("name", "filename", "format_version", "revision", "sha256", "imported_utc", "n_shots"), row))
+        raise InputError(f"drill: {name!r} is not in the database (stored: {', '.join(names) or 'none'})"[:400])
+    return _info_row(row)
 
 
 def list_drills(conn: sqlite3.Connection) -> list[dict]:
-    return [drill_info(conn, r[0]) for r in conn.execute("SELECT name FROM drills ORDER BY name").fetchall()]
+    return [_info_row(r) for r in conn.execute(_INFO_SQL + "ORDER BY d.name").fetchall()]
 
 
 def drill_source(conn: sqlite3.Connection, name: str) -> bytes:

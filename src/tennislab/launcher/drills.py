@@ -1,31 +1,39 @@
 """Training programs ("drills"): shots compiled to the machine's quantised settings and checked.
 
-Seed 002 (conclusion) proposes "the database of different possible hits and
-training programs" for the machine's control system; this module is its
-program part.  A :class:`Drill` is a machine set-up, named shots and a program
-of items (a shot with repeats, a sequence with repeats, a weighted random
-choice among shots).  :func:`compile_drill` expands the program into the
-timed list of shots the machine fires, aims every distinct shot once
-(:func:`tennislab.launcher.aim.aim`) and checks that it clears the net and
-lands in its zone (first ground contact of the ball centre, no bounce model).
+Wojcicki, Pucilowski & Kulesza (2010, conclusion) propose "the database of different possible
+hits and training programs" for the machine's control system; this module is its program part.
+A :class:`Drill` is a machine set-up, named shots and a program of items (a shot with repeats, a
+sequence with repeats, a random block).  :func:`compile_drill` expands the program into the timed
+list of shots the machine fires, aims every distinct shot once (:func:`tennislab.launcher.aim.aim`,
+with the shot's trajectory preferences and tolerances) and checks that it clears the net and lands
+in its zone (first ground contact of the ball centre, no bounce model).
 
-Shot types (:data:`SHOT_TYPES`, a registry: add one with :func:`register_shot_type`)
-give defaults for speed, spin, spin axis, solution and height; a drill's
-``defaults`` override them and a shot's own fields override both.  The file
-format (YAML or JSON) is read by :mod:`tennislab.io.drill`; schema in
-docs/launcher.md.
+Random blocks **deal** their ``count`` shots: every shot named in the block is dealt at least once
+when ``count`` is at least the number of shots, the rest in proportion to the weights (largest
+remainders), and the dealt shots are shuffled with the block's ``seed``.  So a block that lists a
+slice among four shots with ``count: 10`` always fires a slice, whatever the seed (an independent
+draw with replacement would skip a 1-in-8 slice in a quarter of all sessions).
+
+Shot types (:data:`SHOT_TYPES`, a registry: add one with :func:`register_shot_type`) give defaults
+for speed, spin, spin axis, trajectory and height; a drill's ``defaults`` override them and a shot's
+own fields override both.  The file format (YAML or JSON, read by :mod:`tennislab.io.drill`) is given
+its meaning by :mod:`tennislab.launcher.drill_schema`; docs/launcher.md has the schema.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import re
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
+from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_dict, rollers_rpm
 from tennislab.launcher.machine import MachineSpec
+from tennislab.launcher.preferences import Preferences
+from tennislab.results import Result
 
 
 @dataclass(frozen=True)
@@ -37,7 +45,7 @@ class ShotType:
     speed_kmh: float | None = None
     spin_rpm: float | None = None
     spin_axis_deg: float | None = None
-    solution: str | None = None
+    trajectory: str | None = None
     height_m: float | None = None
 
 
@@ -53,8 +61,8 @@ def register_shot_type(t: ShotType) -> ShotType:
     return t
 
 
-# Typical feeds of a ball machine.  Speeds and spins are coaching-practice values within the
-# seed's ranges (seed 002 section 2: 30-200 km/h, 0-2000 rpm, "maximum ... of the advanced players").
+# Typical feeds of a ball machine.  Speeds and spins are coaching-practice values within the paper's
+# ranges (Wojcicki et al. 2010 section 2: 30-200 km/h, 0-2000 rpm, "maximum ... of the advanced players").
 for _t in (
     ShotType("drive", "flat groundstroke feed", 90.0, 300.0, 0.0, "low"),
     ShotType("topspin", "topspin groundstroke feed", 80.0, 1500.0, 0.0, "low"),
@@ -69,13 +77,19 @@ for _t in (
     register_shot_type(_t)
 
 #: Fields a shot may set and their defaults when nothing sets them.
-SHOT_DEFAULTS = {
+SHOT_DEFAULTS: dict[str, object] = {
     "speed_kmh": 70.0,
     "spin_rpm": 0.0,
     "spin_axis_deg": 0.0,
-    "solution": "low",
+    "trajectory": "low",
     "height_m": 1.0,
     "interval_s": 4.0,
+    "speed_tolerance_kmh": 3.0,
+    "spin_tolerance_rpm": 100.0,
+    "spin_axis_tolerance_deg": 0.0,
+    "max_apex_m": None,
+    "net_clearance_m": None,
+    "max_flight_time_s": None,
 }
 
 
@@ -83,10 +97,10 @@ SHOT_DEFAULTS = {
 class ShotSpec:
     """One shot as the machine fires it (resolved: every field set).
 
-    ``target`` (x, y) [m]; ``zone`` a court area name (:meth:`Court.area_bounds`)
-    or a rectangle (xmin, xmax, ymin, ymax) [m]; speed [km/h], spin [rpm], spin
-    axis [deg], launch height [m], ``solution`` low/high, ``interval_s`` the
-    wait after the shot [s].
+    ``target`` (x, y) [m]; ``zone`` a court area name (:meth:`Court.area_bounds`) or a rectangle
+    (xmin, xmax, ymin, ymax) [m]; speed [km/h], spin [rpm], spin axis [deg], launch height [m],
+    ``solution`` the trajectory (low/high/any), ``interval_s`` the wait after the shot [s]; the
+    trajectory bounds and tolerances of :func:`tennislab.launcher.aim.aim`.
     """
 
     name: str
@@ -99,18 +113,33 @@ class ShotSpec:
     height_m: float
     solution: str
     interval_s: float
+    speed_tolerance_kmh: float = 3.0
+    spin_tolerance_rpm: float = 100.0
+    spin_axis_tolerance_deg: float = 0.0
+    max_apex_m: float | None = None
+    net_clearance_m: tuple | None = None
+    max_flight_time_s: float | None = None
+
+    @property
+    def preferences(self) -> Preferences:
+        return Preferences(self.solution, self.max_apex_m, self.net_clearance_m, self.max_flight_time_s)
 
     @property
     def aim_key(self) -> tuple:
-        return (self.target, self.speed_kmh, self.spin_rpm, self.spin_axis_deg, self.height_m, self.solution)
+        d = asdict(self)
+        for k in ("name", "type", "zone", "interval_s"):
+            d.pop(k)
+        return tuple((k, tuple(v) if isinstance(v, list) else v) for k, v in sorted(d.items()))
 
     def zone_bounds(self, court=ITF_COURT) -> tuple:
         if isinstance(self.zone, str):
             return court.area_bounds(self.zone)
-        return tuple(self.zone)
+        return tuple(self.zone)  # type: ignore[arg-type]
 
     def zone_label(self) -> str:
-        return self.zone if isinstance(self.zone, str) else "[" + ", ".join(f"{v:g}" for v in self.zone) + "]"
+        if isinstance(self.zone, str):
+            return self.zone
+        return "[" + ", ".join(f"{v:g}" for v in self.zone) + "]"  # type: ignore[attr-defined]
 
 
 @dataclass(frozen=True)
@@ -131,7 +160,7 @@ class Sequence:
 
 @dataclass(frozen=True)
 class RandomChoice:
-    """Program item: ``count`` shots drawn with replacement from ``shots`` with ``weights``."""
+    """Program item: ``count`` shots dealt from ``shots`` by ``weights`` (module docstring), shuffled by ``seed``."""
 
     shots: tuple
     weights: tuple
@@ -152,75 +181,51 @@ class Drill:
     source: str = ""
     version: str | None = None
 
+    @property
+    def key(self) -> str:
+        """The name to type (:func:`drill_key` of the name)."""
+        return drill_key(self.name)
 
-def resolve_shot(name: str, fields_: dict, defaults: dict, spec: MachineSpec, where: str) -> ShotSpec:
-    """Fill a shot's fields from its type and the drill defaults, check ranges; InputError naming ``where``."""
-    tname = fields_.get("type", defaults.get("type", "drive"))
-    tname = str(tname).strip().lower().replace("_", "-").replace(" ", "-")  # "serve return" -> serve-return
-    if tname not in SHOT_TYPES:
-        raise InputError(f"{where}.type: unknown shot type {tname!r}; allowed: {', '.join(SHOT_TYPES)}")
-    t = SHOT_TYPES[tname]
-    val = {}
-    for k, dflt in SHOT_DEFAULTS.items():
-        if k in fields_:
-            val[k] = fields_[k]
-        elif k in defaults:
-            val[k] = defaults[k]
-        elif getattr(t, k, None) is not None:
-            val[k] = getattr(t, k)
-        else:
-            val[k] = dflt
-    for k, rng_field in (
-        ("speed_kmh", "speed_kmh"),
-        ("spin_rpm", "spin_rpm"),
-        ("spin_axis_deg", "spin_axis_deg"),
-        ("height_m", "height_m"),
-    ):
-        rng = spec.range_of(rng_field)
-        val[k] = rng.quantise(rng.check(f"{where}.{k}", val[k]))
-    val["interval_s"] = spec.check_interval(val["interval_s"], f"{where}.interval_s")
-    if val["solution"] not in ("low", "high"):
-        raise InputError(f"{where}.solution: {val['solution']!r} is not one of low, high")
-    zone = fields_.get("zone")
-    target = fields_.get("target")
-    if zone is None and target is None:
-        raise InputError(f"{where}: needs a target [x, y] or a zone (area name or [xmin, xmax, ymin, ymax])")
-    if zone is not None:
-        if isinstance(zone, str):
-            try:
-                b = ITF_COURT.area_bounds(zone)
-            except InputError as exc:
-                raise InputError(f"{where}.zone: {exc}") from None
-        else:
-            b = tuple(float(v) for v in zone)
-            if len(b) != 4 or not (b[0] < b[1] and b[2] < b[3]):
-                raise InputError(f"{where}.zone: expected [xmin, xmax, ymin, ymax] with xmin < xmax, ymin < ymax")
-            zone = b
-        if target is None:
-            target = (0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]))
-        elif not (b[0] <= target[0] <= b[1] and b[2] <= target[1] <= b[3]):
-            raise InputError(
-                f"{where}.target: ({target[0]:g}, {target[1]:g}) m is outside its zone "
-                f"[{b[0]:g}, {b[1]:g}] x [{b[2]:g}, {b[3]:g}] m"
-            )
-    else:
-        zone = "full-doubles"
-    return ShotSpec(
-        name,
-        tname,
-        (float(target[0]), float(target[1])),
-        zone,
-        val["speed_kmh"],
-        val["spin_rpm"],
-        val["spin_axis_deg"],
-        val["height_m"],
-        val["solution"],
-        val["interval_s"],
-    )
+
+def drill_key(name: str) -> str:
+    """The one name of a drill on the command line: lower case, words joined by ``_``.
+
+    ``"Baseline rally"``, ``baseline-rally`` and ``baseline_rally.yaml``'s stem all give
+    ``baseline_rally``; every command matches a drill by this key.
+    """
+    return re.sub(r"[^0-9a-z]+", "_", str(name).strip().lower()).strip("_")
+
+
+def dealt_counts(weights, count: int) -> np.ndarray:
+    """Shots per entry of a random block (module docstring): at least one each when ``count`` allows,
+    the rest by weight, largest remainders first (ties to the earlier entry)."""
+    w = np.asarray(weights, dtype=float)
+    k = w.size
+    base = np.ones(k, dtype=int) if count >= k else np.zeros(k, dtype=int)
+    rest = count - int(base.sum())
+    quota = w / w.sum() * count - base  # what each still deserves
+    quota = np.maximum(quota, 0.0)
+    if quota.sum() > 0:
+        quota = quota / quota.sum() * rest
+    extra = np.floor(quota).astype(int)
+    order = np.lexsort((np.arange(k), -(quota - extra)))
+    extra[order[: rest - int(extra.sum())]] += 1
+    return base + extra
+
+
+def _deal(it: RandomChoice) -> list[str]:
+    rng = np.random.default_rng(it.seed)
+    if it.count < len(it.shots):  # fewer shots than entries: a weighted choice without replacement
+        w = np.asarray(it.weights, float)
+        idx = rng.choice(len(it.shots), size=it.count, replace=False, p=w / w.sum())
+        return [it.shots[i] for i in idx]
+    counts = dealt_counts(it.weights, it.count)
+    deck = [s for s, c in zip(it.shots, counts) for _ in range(int(c))]
+    return [deck[i] for i in rng.permutation(len(deck))]
 
 
 def expand_program(drill: Drill) -> list[str]:
-    """The names of the shots fired, in order (random choices drawn with their seeds)."""
+    """The names of the shots fired, in order (random blocks dealt with their seeds)."""
     out: list[str] = []
 
     def run(items):
@@ -231,16 +236,26 @@ def expand_program(drill: Drill) -> list[str]:
                 for _ in range(it.repeats):
                     run(it.items)
             elif isinstance(it, RandomChoice):
-                rng = np.random.default_rng(it.seed)
-                w = np.asarray(it.weights, float)
-                idx = rng.choice(len(it.shots), size=it.count, p=w / w.sum())
-                out.extend(it.shots[i] for i in idx)
-            else:  # pragma: no cover - the loader builds only these
+                out.extend(_deal(it))
+            else:  # pragma: no cover - the schema builds only these
                 raise InputError(f"program: unknown item {it!r}")
 
     for _ in range(drill.repeats):
         run(drill.program)
     return out
+
+
+def count_shots(items) -> int:
+    """Shots fired by program items (without expanding them)."""
+    n = 0
+    for it in items:
+        if isinstance(it, Repeat):
+            n += it.repeats
+        elif isinstance(it, Sequence):
+            n += it.repeats * count_shots(it.items)
+        else:
+            n += it.count
+    return n
 
 
 @dataclass
@@ -249,7 +264,7 @@ class CompiledShot:
 
     label: str
     shot: ShotSpec
-    solution: object = None  #: :class:`~tennislab.launcher.aim.AimSolution`
+    solution: AimSolution | None = None
     rollers: tuple = (np.nan, np.nan)
     in_zone: bool = False
     clears_net: bool = False
@@ -260,8 +275,35 @@ class CompiledShot:
         return self.solution is not None and self.in_zone and self.clears_net
 
 
-@dataclass
-class CompiledDrill:
+#: Columns of the compiled-drill CSV, in order.
+CSV_COLUMNS = (
+    "index",
+    "time_s",
+    "name",
+    "type",
+    "target_x",
+    "target_y",
+    "zone",
+    "height_m",
+    "speed_kmh",
+    "elevation_deg",
+    "heading_deg",
+    "spin_rpm",
+    "spin_axis_deg",
+    "rpm1",
+    "rpm2",
+    "interval_s",
+    "landing_x",
+    "landing_y",
+    "miss_mm",
+    "net_clearance_m",
+    "in_zone",
+    "ok",
+)
+
+
+@dataclass(frozen=True)
+class CompiledDrill(Result):
     """A drill compiled to machine settings: the distinct shots and the timed sequence."""
 
     drill: Drill
@@ -277,7 +319,7 @@ class CompiledDrill:
         return float(sum(c.shot.interval_s for _, _, c in self.shots))
 
     def rows(self) -> list[dict]:
-        """One flat dict per fired shot (the CSV / JSON rows)."""
+        """One flat dict per fired shot (the CSV / JSON rows, :data:`CSV_COLUMNS`)."""
         out = []
         for i, t, c in self.shots:
             s, sol = c.shot, c.solution
@@ -310,19 +352,18 @@ class CompiledDrill:
             )
         return out
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """The JSON of ``tennislab launcher drill``."""
         d = self.drill
         return {
             "name": d.name,
+            "key": d.key,
             "description": d.description,
             "source": d.source,
-            "machine": {
-                "position": list(d.spec.position),
-                "roller_radius_m": d.spec.roller_radius,
-                "roller_axis_distance_m": d.spec.roller_axis_distance,
-            },
+            "machine": machine_dict(d.spec),
             "ok": self.ok,
             "n_shots": len(self.shots),
+            "n_distinct": len(self.unique),
             "duration_s": self.duration_s,
             "distinct": [
                 {
@@ -333,24 +374,48 @@ class CompiledDrill:
                     "in_zone": u.in_zone,
                     "clears_net": u.clears_net,
                     "problem": u.problem,
-                    "solution": u.shot.solution,
+                    "solution": u.solution.solution if u.solution else u.shot.solution,
+                    "trajectory": u.shot.solution,
                     "zone": u.shot.zone_label(),
+                    "miss_mm": u.solution.miss_mm if u.solution else None,
+                    "deviation": u.solution.deviation() if u.solution else None,
                 }
                 for u in self.unique
             ],
             "shots": self.rows(),
         }
 
+    def as_dict(self) -> dict:
+        return self.to_dict()
+
+
+def _aim_shot(shot: ShotSpec, spec: MachineSpec, params: FlightParams) -> AimSolution:
+    p = shot.preferences
+    return aim(
+        shot.target,
+        shot.speed_kmh,
+        shot.spin_rpm,
+        shot.spin_axis_deg,
+        shot.height_m,
+        spec,
+        params,
+        trajectory=p.trajectory,
+        speed_tolerance_kmh=shot.speed_tolerance_kmh,
+        spin_tolerance_rpm=shot.spin_tolerance_rpm,
+        spin_axis_tolerance_deg=shot.spin_axis_tolerance_deg,
+        max_apex_m=p.max_apex_m,
+        net_clearance_m=p.net_clearance_m,
+        max_flight_time_s=p.max_flight_time_s,
+    ).solution
+
 
 def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledDrill:
     """Aim every distinct shot of a drill, check net and zone, and lay out the timed sequence.
 
-    A target the machine cannot reach raises :class:`InputError` naming the
-    shot; a landing outside its zone (from quantisation) is reported as a
-    failed check (``CompiledDrill.ok`` False), not raised.
+    A target the machine cannot reach (or no flight meeting a shot's preferences) raises
+    :class:`InputError` naming the shot; a landing outside its zone is reported as a failed
+    check (``CompiledDrill.ok`` False), not raised.
     """
-    from tennislab.launcher.aim import aim, aim_result_dict, launcher_params
-
     params = params or launcher_params()
     spec = drill.spec
     names = expand_program(drill)
@@ -362,21 +427,10 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
         key = shot.aim_key
         if key not in by_key:
             try:
-                sol = aim(
-                    shot.target,
-                    shot.speed_kmh,
-                    shot.spin_rpm,
-                    shot.spin_axis_deg,
-                    shot.height_m,
-                    spec,
-                    params,
-                    solution=shot.solution,
-                )
+                by_key[key] = _aim_shot(shot, spec, params)
             except InputError as exc:
                 raise InputError(f"shots.{name}: {exc}") from None
-            by_key[key] = sol
         sol = by_key[key]
-        r = aim_result_dict(sol, spec, params)["rollers"]
         x0, x1, y0, y1 = shot.zone_bounds()
         in_zone = bool(x0 <= sol.landing[0] <= x1 and y0 <= sol.landing[1] <= y1)
         clears = sol.net_result == "over" or (
@@ -389,7 +443,7 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
         )
         if not clears:
             problem = (problem + "; " if problem else "") + "does not clear the net"
-        c = CompiledShot(name, shot, sol, (r["rpm1"], r["rpm2"]), in_zone, clears, problem)
+        c = CompiledShot(name, shot, sol, rollers_rpm(sol.settings, spec, params), in_zone, clears, problem)
         compiled[name] = c
         unique.append(c)
     out = CompiledDrill(drill, unique)
@@ -400,8 +454,20 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
     return out
 
 
+def drill_trajectories(compiled: CompiledDrill, params: FlightParams | None = None) -> list:
+    """The trajectory of every distinct shot of a compiled drill (reference integrator), for figures."""
+    params = params or launcher_params()
+    return [
+        None if u.solution is None else fly_settings(u.solution.settings, compiled.drill.spec, params)
+        for u in compiled.unique
+    ]
+
+
 __all__ = [
+    "drill_trajectories",
     "SHOT_TYPES",
+    "SHOT_DEFAULTS",
+    "CSV_COLUMNS",
     "ShotType",
     "register_shot_type",
     "ShotSpec",
@@ -409,8 +475,10 @@ __all__ = [
     "Sequence",
     "RandomChoice",
     "Drill",
-    "resolve_shot",
+    "drill_key",
+    "dealt_counts",
     "expand_program",
+    "count_shots",
     "compile_drill",
     "CompiledDrill",
     "CompiledShot",

@@ -1,9 +1,16 @@
-"""Lookups in the hits table: the settings whose landing is nearest a target.
+"""Lookups in the hits table: the stored hit nearest a target among those meeting a query.
 
-Split from :mod:`tennislab.launcher.db` (which re-exports these names): the
-R*Tree search when speed and spin are both given, the covering-index band
-search otherwise (schema 4), the brute-force reference :func:`scan_nearest`,
-and the checks of a target and of the table's ranges.
+A :class:`HitQuery` says which hits may answer: speed and spin windows (a tolerance around the
+asked values), launch height and spin axis windows, the trajectory branch (low/high), the
+highest apex, a net-clearance band and the longest flight.  :func:`nearest_hit` finds the hit
+whose landing is nearest the target among them, by the R*Tree ``hits_rtree`` when both a speed
+and a spin are given, else by the band indexes (schema 4+: ``hits_cell``, ``hits_speed_cell``,
+``hits_spin_cell``), which carry every column the query filters on (schema 5), so a lookup reads
+index entries only; :func:`scan_nearest` is the brute-force reference.
+
+Tie rule (every form, and the scan): landings within :data:`TIE_M` (1 mm) of the nearest are a
+tie; among them the smaller change from the asked speed wins, then from the asked spin, then the
+larger net clearance (a safer ball for the same landing), then the smaller hit id.
 """
 
 from __future__ import annotations
@@ -11,28 +18,139 @@ from __future__ import annotations
 import json
 import math
 import sqlite3
-import time
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, count_hits_fast
+from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column
+from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW, Preferences
 
-_COLS_SQL = (
-    "SELECT id, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg, land_x, "
-    "land_y, net_clearance_m, flight_time_s, bounce_speed_ms, bounce_spin_rpm, apex_z_m FROM hits "
-)
-_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
-_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
-
-#: Two candidates whose misses differ by less than this are a tie [m]; the one
-#: with the larger net clearance wins (a safer ball for the same landing).
+#: Two candidates whose misses differ by less than this are a tie [m] (module docstring).
 TIE_M = 1e-3
+_INF = 1e30
 
 
-def _half_window(value, step):
-    """Match tolerance around a quantised setting: a third of the grid step (or 1e-6 absolute)."""
-    return max(1e-6, step / 3.0) if step else 1e-6
+@dataclass(frozen=True)
+class HitQuery:
+    """Which stored hits may answer a lookup (edge units; None = any).
+
+    ``speed_kmh`` and ``spin_rpm`` are the asked values (for the tie rule); ``speed_window`` and
+    ``spin_window`` (lo, hi) the stored values accepted; ``where`` {column: (lo, hi)} on other
+    settings (``height_m``, ``spin_axis_deg``); ``preferences`` the trajectory bounds;
+    ``spin_vector`` (rate [rpm], axis [deg], tolerance [rpm], axis tolerance [deg]) keeps the hits
+    whose spin vector lies within the tolerance of the asked one, or (axis tolerance > 0) whose rate
+    lies within it about an axis turned by at most the axis tolerance (``aim``'s rule).
+    """
+
+    speed_kmh: float | None = None
+    spin_rpm: float | None = None
+    speed_window: tuple[float, float] | None = None
+    spin_window: tuple[float, float] | None = None
+    where: dict = field(default_factory=dict)
+    preferences: Preferences | None = None
+    spin_vector: tuple[float, float, float, float] | None = None
+
+    @classmethod
+    def exact(cls, speed_kmh=None, spin_rpm=None, tol: float = 1e-3, where=None, preferences=None) -> HitQuery:
+        """A query for these speed and spin (within ``tol``), as stored."""
+        return cls(
+            speed_kmh,
+            spin_rpm,
+            None if speed_kmh is None else (speed_kmh - tol, speed_kmh + tol),
+            None if spin_rpm is None else (spin_rpm - tol, spin_rpm + tol),
+            dict(where or {}),
+            preferences,
+        )
+
+    def conditions(self, skip: str | None = None, prefix: str = "", branch: bool = True) -> tuple[str, list]:
+        """SQL ``AND ...`` conditions on hit columns (all but the window of ``skip``; the trajectory branch
+        only with ``branch``) and their arguments."""
+        parts: list[str] = []
+        args: list = []
+        for col, win in (("speed_kmh", self.speed_window), ("spin_rpm", self.spin_window)):
+            if win is not None and col != skip:
+                parts.append(f"{prefix}{col} BETWEEN ? AND ?")
+                args += list(win)
+        for col, (lo, hi) in self.where.items():
+            if col not in HIT_SETTINGS:
+                raise InputError(f"{col}: not a setting of a hit; allowed: {', '.join(HIT_SETTINGS)}")
+            parts.append(f"{prefix}{col} BETWEEN ? AND ?")
+            args += [lo, hi]
+        p = self.preferences
+        if p is not None:
+            if p.trajectory != "any" and branch:
+                parts.append(f"{prefix}branch = ?")
+                args.append(BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH)
+            if p.max_apex_m is not None:
+                parts.append(f"{prefix}apex_z_m <= ?")
+                args.append(p.max_apex_m)
+            if p.max_flight_time_s is not None:
+                parts.append(f"{prefix}flight_time_s <= ?")
+                args.append(p.max_flight_time_s)
+            if p.net_clearance_m is not None:
+                parts.append(f"{prefix}net_clearance_m BETWEEN ? AND ?")
+                args += list(p.net_clearance_m)
+        if self.spin_vector is not None:  # last: the dearest test, on the rows the others let through
+            w0, g0, tol, gtol = self.spin_vector
+            vec = (
+                f"{prefix}spin_rpm * {prefix}spin_rpm + ? - 2.0 * ? * {prefix}spin_rpm * "
+                f"cos(radians({prefix}spin_axis_deg - ?)) <= ?"
+            )
+            dg = f"min(abs({prefix}spin_axis_deg - ?), 360.0 - abs({prefix}spin_axis_deg - ?))"
+            if gtol > 0:
+                parts.append(f"({vec} OR (abs({prefix}spin_rpm - ?) <= ? AND {dg} <= ?))")
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6, w0, tol + 1e-9, g0, g0, gtol + 1e-9]
+            else:
+                if w0 > tol:  # a cheap necessary test first: the axis turns by at most asin(tol / w0)
+                    delta = math.degrees(math.asin(tol / w0)) + 1e-6
+                    if -180.0 <= g0 - delta and g0 + delta <= 180.0:
+                        parts.append(f"{prefix}spin_axis_deg BETWEEN ? AND ?")
+                        args += [g0 - delta, g0 + delta]
+                parts.append(vec)
+                args += [w0 * w0, w0, g0, tol * tol + 1e-6]
+        return "".join(" AND " + c for c in parts), args
+
+    def needs_branch(self) -> bool:
+        return self.preferences is not None and self.preferences.trajectory != "any"
+
+    def mask(self, rows: dict) -> np.ndarray:
+        """The same conditions on arrays of hit columns (numpy; for the brute-force reference)."""
+        n = len(rows["id"])
+        m = np.ones(n, bool)
+        for col, win in (("speed_kmh", self.speed_window), ("spin_rpm", self.spin_window)):
+            if win is not None:
+                m &= (rows[col] >= win[0]) & (rows[col] <= win[1])
+        for col, (lo, hi) in self.where.items():
+            m &= (rows[col] >= lo) & (rows[col] <= hi)
+        if self.spin_vector is not None:
+            w0, g0, tol, gtol = self.spin_vector
+            w, g = np.asarray(rows["spin_rpm"], float), np.radians(np.asarray(rows["spin_axis_deg"], float) - g0)
+            ok = w * w + w0 * w0 - 2.0 * w0 * w * np.cos(g) <= tol * tol + 1e-6
+            if gtol > 0:
+                dg = np.abs(np.asarray(rows["spin_axis_deg"], float) - g0)
+                ok |= (np.abs(w - w0) <= tol + 1e-9) & (np.minimum(dg, 360.0 - dg) <= gtol + 1e-9)
+            m &= ok
+        p = self.preferences
+        if p is not None:
+            if p.trajectory != "any":
+                m &= rows["branch"] == (BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH)
+            m &= p.accepts(rows["apex_z_m"], rows["net_clearance_m"], rows["flight_time_s"])
+        return m
+
+
+def _columns_sql(conn) -> str:
+    cols = HIT_COLUMNS if has_column(conn, "hits", "branch") else HIT_COLUMNS[:-1]
+    return "SELECT " + ", ".join(cols) + " FROM hits "
+
+
+def _check_branch(conn, q: HitQuery) -> None:
+    if q.needs_branch() and not has_column(conn, "hits", "branch"):
+        raise DatabaseFileError(
+            "this file (schema older than 5) has no trajectory branches; rerun `launcher table` on it to migrate "
+            "it, or ask for trajectory any"
+        )
 
 
 def nearest_hit(
@@ -48,81 +166,117 @@ def nearest_hit(
     max_m: float = 64.0,
     tie_m: float = TIE_M,
     where: dict | None = None,
+    query: HitQuery | None = None,
 ):
-    """The stored hit whose landing is nearest (x, y) among those matching speed and spin.
+    """The stored hit whose landing is nearest (x, y) among those the query accepts (module docstring).
 
-    Ties (misses within ``tie_m``) go to the larger net clearance, then to the
-    smaller id.  Returns a dict (columns of ``hits`` plus ``miss_m``,
-    ``n_candidates`` (index entries read) and ``n_read`` (rows of ``hits``
-    read)) or None when no matching hit lands within ``max_m`` of the target.
-    ``where`` {column: (lo, hi)} filters on other settings (e.g. ``height_m``).
-    Speed and spin given: :func:`_box_candidates` on ``hits_rtree``; otherwise
-    :func:`_band_candidates` on ``hits_cell``, ``hits_speed_cell`` or
-    ``hits_spin_cell`` (a file of schema 3 has none: box queries on
-    ``hits_xy`` or ``hits_rtree``).  Both collect a superset of the hits that
-    can be nearest or tie; :func:`_pick` decides on their exact landings.
+    ``query`` (a :class:`HitQuery`) or, for short, ``speed_kmh``/``spin_rpm`` within
+    ``speed_tol``/``spin_tol`` and ``where`` {column: (lo, hi)}.  Returns a dict (columns of
+    ``hits`` plus ``miss_m``, ``n_candidates`` (index entries read) and ``n_read`` (rows of ``hits``
+    read)) or None when no such hit lands within ``max_m`` of the target.  An index-only R*Tree
+    check answers None at once when no hit of the speed and spin windows lands near.  One speed and
+    one spin (windows narrower than 1 km/h and 1 rpm): :func:`_box_candidates` on ``hits_rtree``;
+    otherwise (tolerance windows over several stored values, one or neither given)
+    :func:`_band_candidates` on a band index keyed by the speed if given, else the spin, which
+    carries every other condition (a file of schema 3 has none: box queries on ``hits_xy`` or
+    ``hits_rtree``).  Both collect a superset of the hits that can be nearest or tie; :func:`_pick`
+    decides on their exact landings.
     """
-    where = {c: lh for c, lh in (where or {}).items() if c in HIT_SETTINGS}
-    col, val, tol = ("speed_kmh", speed_kmh, speed_tol) if spin_rpm is None else ("spin_rpm", spin_rpm, spin_tol)
-    col = None if speed_kmh is None and spin_rpm is None else col
-    if (speed_kmh is None or spin_rpm is None) and conn.execute(
-        "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
-    ).fetchone():
-        found = _band_candidates(conn, x, y, max_m, tie_m, where, col, val, tol)
+    q = query or HitQuery(
+        speed_kmh,
+        spin_rpm,
+        None if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol),
+        None if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol),
+        {c: lh for c, lh in (where or {}).items() if c in HIT_SETTINGS},
+    )
+    _check_branch(conn, q)
+    sw, ww = q.speed_window, q.spin_window
+    col = None if sw is None and ww is None else ("spin_rpm" if sw is None else "speed_kmh")
+    # the 4-D R*Tree for one speed and one spin; windows over several stored values (tolerances) read
+    # the speed band index, which carries the spin and every other condition (no row reads)
+    exact = sw is not None and ww is not None and sw[1] - sw[0] < 1.0 and ww[1] - ww[0] < 1.0
+    if not any_near(conn, x, y, q, max_m + tie_m):  # nothing of these speeds and spins lands near (index only)
+        return None
+    if (
+        not exact
+        and conn.execute(
+            "SELECT 1 FROM sqlite_master WHERE type = 'index' AND name = ?", (_BAND_INDEX[col],)
+        ).fetchone()
+    ):
+        win = sw if col == "speed_kmh" else ww
+        bound = math.inf
+        if sw is not None and ww is not None and q.speed_kmh is not None and q.spin_rpm is not None:
+            # tolerance windows: the nearest accepted hit of the asked speed and spin themselves (R*Tree)
+            # bounds the distance, so the band walk reads only the bands nearer than it
+            seed = replace(
+                q, speed_window=(q.speed_kmh - 0.3, q.speed_kmh + 0.3), spin_window=(q.spin_rpm - 0.3, q.spin_rpm + 0.3)
+            )
+            got = _box_candidates(conn, x, y, seed, min(start_m, 0.05), max_m + tie_m, tie_m)
+            if got is not None and got[0]:
+                bound = min(math.hypot(r[1] - x, r[2] - y) for r in got[0]) * (1 + 1e-12) + 1e-9
+        found = _band_candidates(conn, x, y, max_m, tie_m, q, col, win, bound)
     else:
-        found = _box_candidates(
-            conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, max_m + tie_m, tie_m, where
-        )
-    return None if found is None else _pick(conn, x, y, *found, max_m, tie_m)
+        found = _box_candidates(conn, x, y, q, start_m, max_m + tie_m, tie_m)
+    if found is None:
+        return None
+    rows, n_entries, n_read = found
+    return _pick(conn, x, y, q, rows, n_entries, n_read, max_m, tie_m)
 
 
-def _filters(where: dict, prefix: str = "") -> tuple[str, list]:
-    return ("".join(f" AND {prefix}{c} BETWEEN ? AND ?" for c in where), [v for lh in where.values() for v in lh])
+def _tie_order(q: HitQuery, speed, spin, clearance, ids) -> np.ndarray:
+    """Order of tied candidates by the tie rule (module docstring)."""
+    ds = np.abs(speed - q.speed_kmh) if q.speed_kmh is not None else np.zeros(len(ids))
+    dw = np.abs(spin - q.spin_rpm) if q.spin_rpm is not None else np.zeros(len(ids))
+    return np.lexsort((ids, -clearance, np.round(dw, 9), np.round(ds, 9)))
 
 
-def _pick(conn, x, y, rows, n_entries, n_read, max_m, tie_m):
-    """The answer among candidate rows (id, land_x, land_y, net_clearance_m); None if it misses by > max_m."""
+def _pick(conn, x, y, q, rows, n_entries, n_read, max_m, tie_m):
+    """The answer among candidate rows (id, land_x, land_y, net_clearance_m, speed, spin); None past max_m."""
     if not rows:
         return None
     a = np.array(rows, dtype=float)
-    a = a[np.argsort(a[:, 0], kind="stable")]  # ascending id: equal clearances go to the smaller id
     miss = np.hypot(a[:, 1] - x, a[:, 2] - y)
     dmin = float(miss.min())
     if dmin > max_m:
         return None
     cand = np.flatnonzero(miss <= dmin + tie_m)
-    best = int(cand[int(np.argmax(a[cand, 3]))])
-    out = dict(zip(HIT_COLUMNS, conn.execute(_COLS_SQL + "WHERE id = ?", (int(a[best, 0]),)).fetchone()))
+    best = int(cand[_tie_order(q, a[cand, 4], a[cand, 5], a[cand, 3], a[cand, 0])[0]])
+    row = conn.execute(_columns_sql(conn) + "WHERE id = ?", (int(a[best, 0]),)).fetchone()
+    out = dict(zip(HIT_COLUMNS, row))
     out.update(miss_m=float(miss[best]), n_candidates=int(n_entries), n_read=int(n_read))
     return out
 
 
-def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_m, lim, tie_m, where):
+_BOX = "r.max_x >= ? AND r.min_x <= ? AND r.max_y >= ? AND r.min_y <= ?"
+_SPEED_SPIN = " AND r.max_speed >= ? AND r.min_speed <= ? AND r.max_spin >= ? AND r.min_spin <= ?"
+
+
+def _box_candidates(conn, x, y, q: HitQuery, start_m, lim, tie_m):
     """Box queries on an R*Tree (``hits_rtree``; ``hits_xy`` if neither speed nor spin is given).
 
-    The half-width starts at ``start_m`` and doubles until a hit matches; once
-    the nearest candidate is at most d_min away, a box of half-width d_min +
-    ``tie_m`` holds every point that could be nearer or tie, so one more query
-    at most makes the set complete.  The queries read the index alone (its
-    float32 boxes bound each distance from below and above); only the entries
-    that can be nearest or tie are read from ``hits``.  Returns (rows, index
+    The half-width starts at ``start_m`` and doubles until the box holds an accepted hit; once the
+    nearest accepted candidate is d_min away, a box of half-width d_min + ``tie_m`` holds every
+    point that could be nearer or tie, so one more query at most makes the set complete.  The box
+    queries read the index alone (its float32 boxes bound each distance from below and above);
+    when the query filters on other columns, the entries' rows are read nearest first, in batches,
+    only until the nearest accepted hit is known (:func:`_accepted_nearest`).  Returns (rows, index
     entries of the last box, rows read) or None.
     """
-    extra, xargs = _filters(where, "h.")
-    inf = 1e30
-    s_lo, s_hi = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w_lo, w_hi = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    free = speed_kmh is None and spin_rpm is None
+    extra, xargs = _strip_windows(q)
+    sw = q.speed_window or (-_INF, _INF)
+    ww = q.spin_window or (-_INF, _INF)
+    free = q.speed_window is None and q.spin_window is None
+    if free and not conn.execute("SELECT 1 FROM sqlite_master WHERE name = 'hits_xy'").fetchone():
+        free = False  # a file with neither band indexes nor hits_xy: the 4-D tree over every speed and spin
     sql = (
-        f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r"
-        + (" JOIN hits h ON h.id = r.id" if extra else "")
-        + " WHERE "
+        f"SELECT r.id, r.min_x, r.max_x, r.min_y, r.max_y FROM {'hits_xy' if free else 'hits_rtree'} r WHERE "
         + _BOX
         + ("" if free else _SPEED_SPIN)
-        + extra
     )
-    fixed = ([] if free else [s_lo, s_hi, w_lo, w_hi]) + xargs
+    fixed = [] if free else [sw[0], sw[1], ww[0], ww[1]]
     d = min(start_m, lim)
+    n_read = 0
+    seen: dict = {}  # id -> accepted row, or None when rejected: a growing box reads each row once
     while True:
         rows = conn.execute(sql, [x - d, x + d, y - d, y + d] + fixed).fetchall()
         if rows:
@@ -134,27 +288,76 @@ def _box_candidates(conn, x, y, speed_kmh, spin_rpm, speed_tol, spin_tol, start_
             hi = np.hypot(
                 np.maximum(abs(b[:, 1] - x), abs(b[:, 2] - x)), np.maximum(abs(b[:, 3] - y), abs(b[:, 4] - y))
             )
-            dmin_hi = float(hi.min())
-            if dmin_hi + tie_m <= d or d >= lim:
-                break
-            d = min(dmin_hi + tie_m, lim)
-            continue
+            if not extra:
+                dmin = float(hi.min())
+                if dmin + tie_m <= d or d >= lim:
+                    ids = [int(i) for i in b[lo <= dmin + tie_m, 0]]
+                    cand = _rows_by_id(conn, ids, "", [])
+                    return cand, len(rows), len(cand)
+                d = min(dmin + tie_m, lim)
+                continue
+            cand, dmin, k = _accepted_nearest(conn, x, y, b[:, 0], lo, extra, xargs, tie_m, seen)
+            n_read += k
+            if cand:
+                if dmin + tie_m <= d or d >= lim:
+                    return cand, len(rows), n_read
+                d = min(dmin + tie_m, lim)
+                continue
         if d >= lim:
             return None
         d = min(2.0 * d, lim)
-    ids = [int(i) for i in b[lo <= dmin_hi + tie_m, 0]]
-    cand = []
-    for i in range(0, len(ids), 900):  # SQLite before 3.32 binds at most 999 variables
-        part = ids[i : i + 900]
-        cand += conn.execute(
-            f"SELECT id, land_x, land_y, net_clearance_m FROM hits WHERE id IN ({','.join('?' * len(part))})", part
+
+
+def _rows_by_id(conn, ids: list, extra: str, xargs: list) -> list:
+    out = []
+    for i in range(0, len(ids), 500):  # SQLite before 3.32 binds at most 999 variables
+        part = ids[i : i + 500]
+        out += conn.execute(
+            "SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits AS h NOT INDEXED "
+            f"WHERE id IN ({','.join('?' * len(part))}){extra}",
+            part + xargs,
         ).fetchall()
-    return cand, len(rows), len(cand)
+    return out
 
 
+def _accepted_nearest(conn, x, y, ids, lo, extra, xargs, tie_m, seen: dict, batch: int = 64):
+    """The accepted rows among index entries, read nearest first (by the boxes' lower bounds) in batches
+    until no unread entry can be nearer than the nearest accepted one + ``tie_m``; ``seen`` remembers
+    the rows read (accepted row or None) across calls.
+
+    Returns (accepted rows within the nearest + ``tie_m``, the nearest distance, rows read)."""
+    order = np.argsort(lo, kind="stable")
+    found = [r for r in seen.values() if r is not None]
+    best = min((math.hypot(r[1] - x, r[2] - y) for r in found), default=math.inf)
+    n = 0
+    for i in range(0, order.size, batch):
+        part = order[i : i + batch]
+        if lo[part[0]] > best + tie_m:
+            break
+        new = [int(v) for v in ids[part] if int(v) not in seen]
+        if not new:
+            continue
+        got = _rows_by_id(conn, new, extra, xargs)
+        n += len(new)
+        seen.update(dict.fromkeys(new))
+        for r in got:
+            seen[int(r[0])] = r
+            best = min(best, math.hypot(r[1] - x, r[2] - y))
+        found += got
+    near = [r for r in found if math.hypot(r[1] - x, r[2] - y) <= best + tie_m]
+    return near, best, n
+
+
+def _strip_windows(q: HitQuery) -> tuple[str, list]:
+    """The query's conditions other than the speed and spin windows (the R*Tree holds those)."""
+    return HitQuery(None, None, None, None, q.where, q.preferences, q.spin_vector).conditions(prefix="h.")
+
+
+#: Bound arguments per batched probe statement (SQLite before 3.32 binds at most 999).
+_PROBE_ARGS = 800
 #: Band of a landing in the band indexes: 1 cm of landing y (the offset keeps it positive for y > -10 km).
 _BAND = "CAST(land_y * 100.0 + 1000000.0 AS INTEGER)"
-#: Covering index per lookup form: neither speed nor spin, speed only, spin only (schema 4).
+#: Covering index per lookup form: neither speed nor spin, speed only, spin only (schema 4+).
 _BAND_INDEX = {None: "hits_cell", "speed_kmh": "hits_speed_cell", "spin_rpm": "hits_spin_cell"}
 
 
@@ -168,40 +371,56 @@ def _band_dy(b: int, y: float) -> float:
     return 0.0 if y0 <= y <= y1 else min(abs(y0 - y), abs(y1 - y))
 
 
-def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
+def _band_candidates(conn, x, y, max_m, tie_m, q: HitQuery, col, window, bound: float = math.inf):
     """Hits within the nearest distance + ``tie_m`` of (x, y) from a band index: (rows, n, 1) or None.
 
-    The index (``col``, speed or spin, if given; 1 cm band of landing y; landing
-    x, y, net clearance) answers without reading ``hits``.  Index seeks find the
-    stored values of ``col`` within ``tol`` of ``value``, then bound the nearest
-    distance by d: in each band nearer than d, the landings next to x on either
-    side (bands outwards from y).  Then one index range per band, clipped to the
-    disc of radius d + ``tie_m``, reads every hit that can be nearest or tie
-    (a square box would read 10^4 entries of a dense ray of landings at 10^7
-    hits where the disc holds a few hundred).  n counts the index entries read.
+    The index (``col``, speed or spin, if given; 1 cm band of landing y; landing x, y, net
+    clearance and the query's other columns) answers without reading ``hits``.  Index seeks find
+    the stored values of ``col`` within ``window``, then bound the nearest distance by d: in each
+    band nearer than d, the accepted landings next to x on either side (bands outwards from y).
+    Then one index range per band, clipped to the disc of radius d + ``tie_m``, reads every hit
+    that can be nearest or tie (a square box would read 10^4 entries of a dense ray of landings
+    at 10^7 hits where the disc holds a few hundred).  n counts the index entries read.
     """
-    idx, pre = _BAND_INDEX[col], [()]
+    idx = _BAND_INDEX[col]
+    pre: list[tuple] = [()]
     if col is not None:
         seek = f"SELECT {col} FROM hits INDEXED BY {idx} WHERE {col} {{}} ? ORDER BY {col} LIMIT 1"
-        pre, row = [], conn.execute(seek.format(">="), (value - tol,)).fetchone()
-        while row is not None and row[0] <= value + tol:
+        pre, row = [], conn.execute(seek.format(">="), (window[0],)).fetchone()
+        while row is not None and row[0] <= window[1] and len(pre) < 100_000:
             pre.append(row)
             row = conn.execute(seek.format(">"), (row[0],)).fetchone()
-    extra, xargs = _filters(where)
+    keyed = has_column(conn, "hits", "branch")  # schema 5: the band indexes are keyed by the branch too
+    if keyed:
+        p = q.preferences
+        branches = (
+            (0, 1) if p is None or p.trajectory == "any" else ((BRANCH_LOW if p.trajectory == "low" else BRANCH_HIGH),)
+        )
+        pre = [(*v, b) for v in pre for b in branches]
+    extra, xargs = q.conditions(skip=col, branch=not keyed)
+    key = ("" if col is None else col + " = ? AND ") + ("branch = ? AND " if keyed else "")
     head = (
-        f"SELECT id, land_x, land_y, net_clearance_m FROM hits INDEXED BY {idx} WHERE "
-        f"{'' if col is None else col + ' = ? AND '}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
+        f"SELECT id, land_x, land_y, net_clearance_m, speed_kmh, spin_rpm FROM hits INDEXED BY {idx} WHERE "
+        f"{key}{_BAND} = ? AND land_x BETWEEN ? AND ?{extra}"
     )
     probe = (
         f"SELECT * FROM ({head} ORDER BY land_x LIMIT 1) UNION ALL SELECT * FROM ({head} ORDER BY land_x DESC LIMIT 1)"
     )
-    best, lim, n, k, band = math.inf, max_m + tie_m, 0, 0, _band(y)
+    best, lim, n, k, band = bound, max_m + tie_m, 0, 0, _band(y)
     while pre:
         todo = [b for b in {band - k, band + k} if _band_dy(b, y) < min(best, lim)]
         if not todo:
             break
-        for b, p in ((b, p) for b in todo for p in pre):
-            for r in conn.execute(probe, [*p, b, x, x + lim, *xargs, *p, b, x - lim, x, *xargs]).fetchall():
+        probes = []
+        for b in todo:  # each probe clipped to the disc that can still hold a nearer landing
+            r = min(best, lim)
+            h = math.sqrt(max(r * r - _band_dy(b, y) ** 2, 0.0)) * (1.0 + 1e-12) + 1e-9
+            probes += [(*p, b, x, x + h, *xargs, *p, b, x - h, x, *xargs) for p in pre]
+        per = max(1, _PROBE_ARGS // len(probes[0]))
+        for i in range(0, len(probes), per):  # the probes of these bands, a few statements at most
+            part = probes[i : i + per]
+            sql = " UNION ALL ".join([probe] * len(part))
+            for r in conn.execute(sql, [v for pr in part for v in pr]).fetchall():
                 best, n = min(best, math.hypot(r[1] - x, r[2] - y)), n + 1
         k += 1
     if best > lim:
@@ -219,57 +438,6 @@ def _band_candidates(conn, x, y, max_m, tie_m, where, col, value, tol):
     return rows, n + len(rows), 1
 
 
-_STATS: dict = {}
-#: Expected rows in a lookup's first box; its half-width follows from the table's density.
-FIRST_BOX_ROWS = 8.0
-
-
-def table_stats(conn: sqlite3.Connection) -> dict:
-    """Hits stored and speed/spin values per grid (from ``fill_chunks``/``fills``; cached per connection)."""
-    key = id(conn)
-    if key in _STATS and _STATS[key][0] is conn:
-        return _STATS[key][1]
-    n = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
-    ns = nw = 1
-    for (g,) in conn.execute("SELECT grid_json FROM fills"):
-        gj = json.loads(g)
-        ns, nw = max(ns, len(gj.get("speed_kmh", ()))), max(nw, len(gj.get("spin_rpm", ())))
-    stats = {"n": int(n), "n_speed": ns, "n_spin": nw}
-    if len(_STATS) > 16:
-        _STATS.clear()
-    _STATS[key] = (conn, stats)
-    return stats
-
-
-def first_box(stats: dict, speed_given: bool, spin_given: bool, area_m2: float = 170.0) -> float:
-    """Half-width [m] of a box expected to hold :data:`FIRST_BOX_ROWS` matching hits.
-
-    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin);
-    a given speed (spin) keeps about 1/``n_speed`` (1/``n_spin``) of them.
-    """
-    n = stats["n"] / (stats["n_speed"] if speed_given else 1) / (stats["n_spin"] if spin_given else 1)
-    if n <= 0:
-        return 0.05
-    return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
-
-
-def has_hits(
-    conn: sqlite3.Connection, speed_kmh=None, spin_rpm=None, speed_tol: float = 1e-3, spin_tol: float = 1e-3
-) -> bool:
-    """True if any stored hit has this speed and spin (an R*Tree query, not a scan)."""
-    inf = 1e30
-    s = (-inf, inf) if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol)
-    w = (-inf, inf) if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol)
-    return (
-        conn.execute(
-            "SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
-            "AND min_spin <= ? LIMIT 1",
-            (s[0], s[1], w[0], w[1]),
-        ).fetchone()
-        is not None
-    )
-
-
 def scan_nearest(
     conn: sqlite3.Connection,
     x: float,
@@ -280,21 +448,26 @@ def scan_nearest(
     speed_tol: float = 1e-3,
     spin_tol: float = 1e-3,
     tie_m: float = TIE_M,
+    query: HitQuery | None = None,
 ):
     """The same answer as :func:`nearest_hit` by a full scan of ``hits`` (baseline for benchmarks/tests).
 
-    Reads the nearest 64 rows; when all of them tie, scans again for 8 times as many.
+    Reads the nearest 64 accepted rows; when all of them tie, scans again for 8 times as many.
     """
-    where, args = [], []
-    if speed_kmh is not None:
-        where.append("speed_kmh BETWEEN ? AND ?")
-        args += [speed_kmh - speed_tol, speed_kmh + speed_tol]
-    if spin_rpm is not None:
-        where.append("spin_rpm BETWEEN ? AND ?")
-        args += [spin_rpm - spin_tol, spin_rpm + spin_tol]
+    q = query
+    if q is None:
+        q = HitQuery(
+            speed_kmh,
+            spin_rpm,
+            None if speed_kmh is None else (speed_kmh - speed_tol, speed_kmh + speed_tol),
+            None if spin_rpm is None else (spin_rpm - spin_tol, spin_rpm + spin_tol),
+        )
+    _check_branch(conn, q)
+    extra, args = q.conditions()
+    cols = _columns_sql(conn)[len("SELECT ") : -len(" FROM hits ")]
     sql = (
-        f"SELECT {', '.join(HIT_COLUMNS)}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
-        f"FROM hits NOT INDEXED {'WHERE ' + ' AND '.join(where) if where else ''} ORDER BY d2 LIMIT ?"
+        f"SELECT {cols}, (land_x - ?) * (land_x - ?) + (land_y - ?) * (land_y - ?) AS d2 "
+        f"FROM hits NOT INDEXED WHERE 1{extra} ORDER BY d2 LIMIT ?"
     )
     k = 64
     while True:
@@ -306,26 +479,108 @@ def scan_nearest(
             break
         k *= 8
     cand = np.flatnonzero(miss <= miss.min() + tie_m)
-    best = min(cand, key=lambda i: (-rows[i][9], rows[i][0]))  # larger clearance, then smaller id
+    a = np.array([rows[i][:14] for i in cand], dtype=float)
+    best = int(cand[_tie_order(q, a[:, 2], a[:, 5], a[:, 9], a[:, 0])[0]])
     out = dict(zip(HIT_COLUMNS, rows[best][:-1]))
     out["miss_m"] = float(miss[best])
     return out
 
 
+_STATS: dict = {}
+#: Expected rows in a lookup's first box; its half-width follows from the table's density.
+FIRST_BOX_ROWS = 8.0
+
+
+def table_stats(conn: sqlite3.Connection) -> dict:
+    """Hits stored and the speed/spin values filled (from ``fill_chunks``/``fills``; cached per connection)."""
+    key = id(conn)
+    if key in _STATS and _STATS[key][0] is conn:
+        return _STATS[key][1]
+    n = conn.execute("SELECT coalesce(sum(n_hits), 0) FROM fill_chunks").fetchone()[0]
+    vals = grid_values(conn) if conn.execute("SELECT 1 FROM machine").fetchone() else {}
+    speeds, spins = vals.get("speed_kmh") or [], vals.get("spin_rpm") or []
+    stats = {
+        "n": int(n),
+        "n_speed": max(1, len(speeds)),
+        "n_spin": max(1, len(spins)),
+        "speeds": np.asarray(speeds, float),
+        "spins": np.asarray(spins, float),
+    }
+    if len(_STATS) > 16:
+        _STATS.clear()
+    _STATS[key] = (conn, stats)
+    return stats
+
+
+def first_box(stats: dict, speed_window=None, spin_window=None, area_m2: float = 170.0) -> float:
+    """Half-width [m] of a box expected to hold :data:`FIRST_BOX_ROWS` matching hits.
+
+    Hits spread over about ``area_m2`` (a doubles half court plus the 1 m margin); a speed
+    (spin) window keeps the share of the filled speed (spin) values inside it (``True`` for a
+    window of one value).
+    """
+
+    def share(window, values, count):
+        if window is None or window is False:
+            return 1.0
+        if window is True or not len(values):
+            return 1.0 / count
+        inside = np.count_nonzero((values >= window[0]) & (values <= window[1]))
+        return max(inside, 1) / count
+
+    n = stats["n"] * share(speed_window, stats.get("speeds", ()), stats["n_speed"])
+    n *= share(spin_window, stats.get("spins", ()), stats["n_spin"])
+    if n <= 0:
+        return 0.05
+    return float(np.clip(0.5 * math.sqrt(FIRST_BOX_ROWS * area_m2 / n), 0.002, 1.0))
+
+
+def has_hits(conn: sqlite3.Connection, q: HitQuery) -> bool:
+    """True if any stored hit has the query's speed and spin (an R*Tree query, not a scan)."""
+    s = q.speed_window or (-_INF, _INF)
+    w = q.spin_window or (-_INF, _INF)
+    return (
+        conn.execute(
+            "SELECT 1 FROM hits_rtree WHERE max_speed >= ? AND min_speed <= ? AND max_spin >= ? "
+            "AND min_spin <= ? LIMIT 1",
+            (s[0], s[1], w[0], w[1]),
+        ).fetchone()
+        is not None
+    )
+
+
+def any_near(conn: sqlite3.Connection, x: float, y: float, q: HitQuery, d: float) -> bool:
+    """True if any hit of the query's speed and spin windows lands in the box of half-width ``d`` (index only)."""
+    s = q.speed_window or (-_INF, _INF)
+    w = q.spin_window or (-_INF, _INF)
+    sql = "SELECT 1 FROM hits_rtree r WHERE " + _BOX + _SPEED_SPIN + " LIMIT 1"
+    return conn.execute(sql, (x - d, x + d, y - d, y + d, s[0], s[1], w[0], w[1])).fetchone() is not None
+
+
+def grid_values(conn: sqlite3.Connection, spec_json: dict | None = None) -> dict:
+    """Per setting, the sorted values filled into the file (from ``fills``' grids, no scan of ``hits``)."""
+    spec = spec_json or json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
+    attrs = {
+        "height_m": "height",
+        "speed_kmh": "speed",
+        "spin_rpm": "spin",
+        "spin_axis_deg": "spin_axis",
+        "elevation_deg": "elevation",
+        "heading_deg": "heading",
+    }
+    out: dict[str, set] = {f: set() for f in attrs}
+    for (g,) in conn.execute("SELECT grid_json FROM fills"):
+        gj = json.loads(g)
+        for f, attr in attrs.items():
+            r = spec[attr]
+            out[f].update(round(r["lo"] + int(i) * r["step"], 9) for i in gj.get(f) or [])
+    return {f: sorted(v) for f, v in out.items()}
+
+
 def table_ranges(conn: sqlite3.Connection) -> dict:
-    """Speed [km/h] and spin [rpm] ranges of the grids filled into the file (from ``fills``, no scan)."""
-    spec = json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
-    out = {}
-    for field, attr in (("speed_kmh", "speed"), ("spin_rpm", "spin")):
-        lo, hi = math.inf, -math.inf
-        for (g,) in conn.execute("SELECT grid_json FROM fills"):
-            idx = json.loads(g).get(field) or []
-            if idx:
-                r = spec[attr]
-                lo = min(lo, r["lo"] + min(idx) * r["step"])
-                hi = max(hi, r["lo"] + max(idx) * r["step"])
-        out[field] = (lo, hi)
-    return out
+    """(min, max) per setting of the grids filled into the file ((inf, -inf) when none)."""
+    vals = grid_values(conn)
+    return {f: ((v[0], v[-1]) if v else (math.inf, -math.inf)) for f, v in vals.items()}
 
 
 def target_area(machine_x: float) -> str:
@@ -335,77 +590,14 @@ def target_area(machine_x: float) -> str:
 
 def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tuple[float, float]:
     """Validate a target in the doubles area (lines included) of the half opposite the machine."""
-    from tennislab.core.court import ITF_COURT
-
     court = court or ITF_COURT
-    x = check_finite("target x", x)
-    y = check_finite("target y", y)
+    x = check_finite("target", x)
+    y = check_finite("target", y)
     area = target_area(machine_x)
     if not court.contains(area, x, y):
         b = court.area_bounds(area)
         raise InputError(
-            f"--target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
+            f"target: ({x:g}, {y:g}) m is off the court; a machine at x = {machine_x:g} m "
             f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m"
         )
     return x, y
-
-
-def lookup(
-    conn: sqlite3.Connection,
-    x: float,
-    y: float,
-    *,
-    speed_kmh=None,
-    spin_rpm=None,
-    steps: dict | None = None,
-    max_miss_m: float = 1.0,
-    path: str = "",
-    where: dict | None = None,
-) -> dict:
-    """Nearest stored hit to target (x, y) [m] matching speed [km/h] and spin [rpm].
-
-    ``steps`` (grid step per setting, from the machine spec) sets how close a
-    requested speed/spin must be to a stored one (a third of a step).  The first
-    R*Tree box (:func:`nearest_hit`) is sized from the table's density (:func:`first_box`;
-    the statistics are read once per connection, before the timed ``lookup_ms``).  Raises
-    :class:`InputError` when nothing matches or the nearest landing misses by
-    more than ``max_miss_m``.
-    """
-    steps = steps or {}
-    d0 = first_box(table_stats(conn), speed_kmh is not None, spin_rpm is not None)
-    t0 = time.perf_counter()
-    st = _half_window(speed_kmh, steps.get("speed_kmh"))
-    wt = _half_window(spin_rpm, steps.get("spin_rpm"))
-    hit = nearest_hit(
-        conn,
-        x,
-        y,
-        speed_kmh=speed_kmh,
-        spin_rpm=spin_rpm,
-        speed_tol=st,
-        spin_tol=wt,
-        max_m=max_miss_m,
-        where=where,
-        start_m=d0,
-    )
-    ms = (time.perf_counter() - t0) * 1e3
-    if hit is None:
-        if count_hits_fast(conn) == 0:
-            raise InputError(f"--db {path}: the table holds no hits; fill it with `launcher table`")
-        want = ", ".join(
-            [f"{k} {v:g}" for k, v in (("speed", speed_kmh), ("spin", spin_rpm)) if v is not None]
-            + [f"{c} {(lh[0] + lh[1]) / 2:g}" for c, lh in (where or {}).items()]
-        )
-        if not has_hits(conn, speed_kmh, spin_rpm, st, wt):
-            rng = table_ranges(conn)
-            raise InputError(
-                f"--target: no hit with {want} in the table (filled: speed "
-                f"{rng['speed_kmh'][0]:g}-{rng['speed_kmh'][1]:g} km/h, spin "
-                f"{rng['spin_rpm'][0]:g}-{rng['spin_rpm'][1]:g} rpm)"
-            )
-        raise InputError(
-            f"--target: no hit in range: nothing{' with ' + want if want else ''} lands within "
-            f"{max_miss_m:g} m of ({x:g}, {y:g}) m (see --max-miss-m)"
-        )
-    hit["lookup_ms"] = ms
-    return hit

@@ -1,7 +1,6 @@
-"""The two-roller ball launcher of seed 002: its settings, ranges and launch states.
+"""The two-roller ball launcher of Wojcicki, Pucilowski & Kulesza (2010; seed 002): settings, ranges, launch states.
 
-Seed 002 (Wojcicki, Pucilowski & Kulesza 2010, Acta Mech. Autom., section 2
-"Brief for design") fixes the ranges and steps of every setting:
+The paper (Acta Mech. Autom., section 2 "Brief for design") fixes the ranges and steps of every setting:
 
 ==================  ===============  ==========  ===================================
 setting             range            step        field of :class:`Settings`
@@ -43,8 +42,12 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from tennislab.core import launch
 from tennislab.errors import InputError, check_finite, check_range, check_vector
 from tennislab.units import DEG, KMH, RPM
+
+#: The paper behind the launcher (seed 002), as help texts and outputs name it.
+PAPER = "Wójcicki, Puciłowski & Kulesza 2010"
 
 #: Default machine position on court [m]: centre line, 0.5 m behind the near baseline.
 DEFAULT_POSITION = (-12.385, 0.0)
@@ -200,22 +203,14 @@ class MachineSpec:
 
 
 def launch_direction(elevation_rad, heading_rad):
-    """Unit launch direction d (..., 3) and the spin basis h (left), u (up) (seed 002 angles a, b)."""
-    a = np.asarray(elevation_rad, dtype=float)
-    b = np.asarray(heading_rad, dtype=float)
-    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
-    d = np.stack(np.broadcast_arrays(ca * cb, ca * sb, sa), axis=-1)
-    h = np.stack(np.broadcast_arrays(-sb, cb, np.zeros_like(cb)), axis=-1)
-    u = np.stack(np.broadcast_arrays(-sa * cb, -sa * sb, ca), axis=-1)
-    return d, h, u
+    """Unit launch direction d (..., 3) and the spin basis h (left), u (up): :mod:`tennislab.core.launch`."""
+    h, u = launch.spin_basis(elevation_rad, heading_rad)
+    return launch.direction(elevation_rad, heading_rad), h, u
 
 
 def spin_vector(spin_rads, elevation_rad, heading_rad, spin_axis_rad):
-    """Spin vector omega [rad/s] (..., 3): |omega| = spin, axis cos g h + sin g u (module docstring)."""
-    _, h, u = launch_direction(elevation_rad, heading_rad)
-    g = np.asarray(spin_axis_rad, dtype=float)[..., None]
-    w = np.asarray(spin_rads, dtype=float)[..., None]
-    return w * (np.cos(g) * h + np.sin(g) * u)
+    """Spin vector omega [rad/s] (..., 3): spin about the axis cos g h + sin g u (:func:`core.launch.launch_spin`)."""
+    return launch.launch_spin(spin_rads, elevation_rad, heading_rad, spin_axis_rad)
 
 
 def launch_states(
@@ -226,8 +221,9 @@ def launch_states(
     Every argument is a scalar or an array (edge units: m, km/h, deg, rpm, deg);
     they broadcast together and are flattened to N rows of (x, y, z, vx, vy, vz,
     wx, wy, wz) in SI units, launched from ``spec.position`` at height
-    ``height_m``.  No range check here (hot path): call :meth:`MachineSpec.validate`
-    or :func:`validate_arrays` first for user input.
+    ``height_m``.  Direction and spin vector: :mod:`tennislab.core.launch` (the
+    one statement of the convention).  No range check here (hot path): call
+    :meth:`MachineSpec.validate` or :func:`validate_arrays` first for user input.
     """
     try:
         h, v, a, b, w, g = np.broadcast_arrays(
@@ -240,20 +236,12 @@ def launch_states(
         raise InputError(f"launch_states: settings arrays do not broadcast together ({exc})") from None
     h, v, a, b, w, g = (x.reshape(-1) for x in (h, v, a, b, w, g))
     out = np.empty((h.size, 9))
-    ar, br, gr = a * DEG, b * DEG, g * DEG
-    ca, sa, cb, sb, cg, sg = np.cos(ar), np.sin(ar), np.cos(br), np.sin(br), np.cos(gr), np.sin(gr)
     out[:, 0] = spec.position[0]
     out[:, 1] = spec.position[1]
     out[:, 2] = h
-    vs = v * KMH
-    out[:, 3] = vs * ca * cb  # v d, d = (ca cb, ca sb, sa)
-    out[:, 4] = vs * ca * sb
-    out[:, 5] = vs * sa
-    ws = w * RPM
-    wh, wu = ws * cg, ws * sg  # omega = w (cos g h + sin g u)
-    out[:, 6] = -wh * sb - wu * sa * cb  # h = (-sb, cb, 0), u = (-sa cb, -sa sb, ca)
-    out[:, 7] = wh * cb - wu * sa * sb
-    out[:, 8] = wu * ca
+    ar, br = a * DEG, b * DEG
+    out[:, 3:6] = launch.launch_velocity(v * KMH, ar, br)
+    out[:, 6:9] = launch.launch_spin(w * RPM, ar, br, g * DEG)
     return out
 
 
@@ -278,3 +266,32 @@ def validate_arrays(spec: MachineSpec, **arrays) -> None:
 
 
 DEFAULT_SPEC = MachineSpec()
+
+#: Speed units of the launch vocabulary: parameter name -> (km/h per unit, unit label).
+SPEED_UNITS = {"speed_kmh": (1.0, "km/h"), "speed_ms": (3.6, "m/s"), "speed_mph": (1.609344, "mph")}
+
+
+def speed_in_kmh(
+    spec: MachineSpec, speed_kmh=None, speed_ms=None, speed_mph=None, *, required: bool = True
+) -> float | None:
+    """The asked ball speed [km/h] from exactly one of its units, range-checked in the unit given.
+
+    The error names the parameter used (``speed_ms: 70 m/s is outside the allowed range [8.333,
+    55.56] m/s``).  None when no speed is given and ``required`` is False.
+    """
+    given = [(n, v) for n, v in zip(SPEED_UNITS, (speed_kmh, speed_ms, speed_mph)) if v is not None]
+    if len(given) > 1:
+        raise InputError("speed_kmh: give the ball speed once (speed_kmh, speed_ms or speed_mph)")
+    if not given:
+        if required:
+            raise InputError(f"speed_kmh: required, in [{spec.speed.lo:g}, {spec.speed.hi:g}] km/h")
+        return None
+    name, v = given[0]
+    factor, unit = SPEED_UNITS[name]
+    v = check_finite(name, v)
+    r = spec.speed
+    if not (r.lo - 1e-9 <= v * factor <= r.hi + 1e-9):
+        raise InputError(
+            f"{name}: {v:g} {unit} is outside the allowed range [{r.lo / factor:.4g}, {r.hi / factor:.4g}] {unit}"
+        )
+    return min(max(v * factor, r.lo), r.hi)

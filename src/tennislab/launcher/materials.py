@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tennislab.errors import InputError
+from tennislab.errors import InputError, check_range
 
 #: Standard gravity used to turn a load in kg into a force [m/s^2] (CGPM 1901).
 G0 = 9.80665
@@ -152,6 +152,7 @@ def young_modulus(
     The slope modulus uses the least-squares slope k of F against dl through the origin
     (the seed's Fig. 8 reading): E = k 2r / s.
     """
+    diameter = check_range("diameter", diameter, 0, 0.2, "m", lo_open=True)
     f, dl = _arrays(("load_n", load_n), ("deformation_m", deformation_m))
     if (f <= 0).any():
         raise InputError(
@@ -162,7 +163,7 @@ def young_modulus(
         raise InputError(
             f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range (0, {diameter:g}) m"
         )
-    if not (0 < contact_area < 0.01):
+    if not (math.isfinite(contact_area) and 0 < contact_area < 0.01):
         raise InputError(f"contact_area_m2: {contact_area:g} m^2 is outside the allowed range (0, 0.01) m^2")
     e = f * diameter / (contact_area * dl)
     k = float(np.sum(f * dl) / np.sum(dl * dl))

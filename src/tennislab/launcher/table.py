@@ -1,6 +1,6 @@
 """Filling the hits database: the machine's settings grid, flown in chunks.
 
-The grid is the machine's own (seed 002 section 2: height 0.1 m, speed 1 km/h,
+The grid is the machine's own (Wojcicki et al. 2010 section 2: height 0.1 m, speed 1 km/h,
 elevation, heading and spin-axis rotation 1 deg, spin 1 rpm steps), restricted
 to the ranges asked for and optionally coarsened by an integer stride.  Rows
 are enumerated lazily by index arithmetic (:class:`TableGrid`, the same C order
@@ -16,7 +16,10 @@ when the ball lands (status 0), clears the net (``net_status`` over) and lands
 in the doubles area of the half opposite the machine plus
 :data:`KEEP_MARGIN_M` (a controller never aims elsewhere; the optional Parquet
 output keeps every row).  With zero spin every spin-axis rotation is the same
-flight, so only the rotation nearest 0 deg is stored.
+flight, so only the rotation nearest 0 deg is stored.  Each landed flight that
+clears the net is flown a second time 0.01 deg higher: whether it lands farther
+(the rising, ``low`` branch) or nearer (the falling, ``high`` branch, lobs) is
+stored as ``branch`` for the trajectory preferences of a lookup.
 
 A row's ``id`` packs its per-setting grid indices in mixed radix
 (:func:`pack_ids`): stable for a machine spec, so a resumed or overlapping fill
@@ -25,18 +28,30 @@ inserts each setting once.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
+import os
 import sqlite3
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+import tennislab.launcher.db as _db
+from tennislab.batch import run_batch
+from tennislab.batch.grid import GridSpec
+from tennislab.core.events import NET_OVER, STATUS_OK
+from tennislab.core.flight import fly_batch
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher import db as _db
+from tennislab.launcher.machine import launch_states
+from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW
+from tennislab.results import Result
 from tennislab.units import RPM
+
+#: Elevation step [deg] of the second flight that tells a hit's branch (low: it lands farther).
+BRANCH_STEP_DEG = 0.01
 
 #: Setting order of the grid (first slowest) and of the packed id.
 AXES = ("height_m", "speed_kmh", "spin_rpm", "spin_axis_deg", "elevation_deg", "heading_deg")
@@ -117,10 +132,8 @@ class TableGrid:
     def to_json(self) -> str:
         return json.dumps({f: np.asarray(self.indices[f]).tolist() for f in AXES}, separators=(",", ":"))
 
-    def grid_spec(self):
+    def grid_spec(self) -> GridSpec:
         """The lazy :class:`tennislab.batch.grid.GridSpec` over the indices."""
-        from tennislab.batch.grid import GridSpec
-
         return GridSpec({f: np.asarray(self.indices[f], dtype=np.int64) for f in AXES})
 
     def chunk(self, i: int, chunk_size: int) -> dict:
@@ -164,6 +177,7 @@ ROW_COLUMNS = (
         "apex_z_m",
         "status",
         "net_status",
+        "branch",
     )
 )
 
@@ -172,12 +186,10 @@ def fly_chunk(indices: dict, spec, params) -> dict:
     """Fly one chunk of grid indices; per-row arrays named :data:`ROW_COLUMNS` (every row).
 
     ``status`` is :func:`fly_batch`'s (0 landed, 1 no landing within t_max);
-    ``net_status`` 0 never reached the net, 1 over, 2 into the net.  Pure
+    ``net_status`` 0 never reached the net, 1 over, 2 into the net; ``branch`` 0 low,
+    1 high (:func:`flight_branch`; -1 for flights that do not land over the net).  Pure
     computation (no I/O), so it runs on worker processes or a cluster.
     """
-    from tennislab.core.flight import fly_batch
-    from tennislab.launcher.machine import launch_states
-
     sizes = machine_sizes(spec)
     idx = {f: np.asarray(indices[f], dtype=np.int64) for f in AXES}
     vals = {f: axis_values(spec.range_of(f), idx[f]) for f in AXES}
@@ -212,22 +224,53 @@ def fly_chunk(indices: dict, spec, params) -> dict:
             "net_status": tab["net_status"].astype(np.int8),
         }
     )
+    branch = np.full(n, -1, dtype=np.int8)
+    ok = (out["status"] == STATUS_OK) & (out["net_status"] == NET_OVER)
+    if ok.any():
+        branch[ok] = flight_branch({c: np.asarray(out[c])[ok] for c in out}, spec, params)
+    out["branch"] = branch
     return out
 
 
-def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M, axis0: float | None = None) -> dict:
+def flight_branch(rows: dict, spec, params) -> np.ndarray:
+    """0 (low) or 1 (high) per row: does the same shot :data:`BRANCH_STEP_DEG` higher land farther or nearer?
+
+    The distance is measured from the machine along the launch heading; "farther" is the rising
+    branch of distance against elevation (a drive), "nearer" the falling one (a lob), the same
+    split as ``launcher aim``'s low and high solutions.
+    """
+    st = launch_states(
+        spec,
+        rows["height_m"],
+        rows["speed_kmh"],
+        np.asarray(rows["elevation_deg"], float) + BRANCH_STEP_DEG,
+        rows["heading_deg"],
+        rows["spin_rpm"],
+        rows["spin_axis_deg"],
+    )
+    tab = fly_batch(st, params, rtol=_db.FILL_RTOL, atol=_db.FILL_ATOL)
+    b = np.radians(np.asarray(rows["heading_deg"], float))
+    px, py = spec.position
+    d0 = (np.asarray(rows["land_x"]) - px) * np.cos(b) + (np.asarray(rows["land_y"]) - py) * np.sin(b)
+    d1 = (tab["land_x"] - px) * np.cos(b) + (tab["land_y"] - py) * np.sin(b)
+    with np.errstate(invalid="ignore"):
+        return np.where(d1 >= d0, BRANCH_LOW, BRANCH_HIGH).astype(np.int8)
+
+
+def select_hits(
+    rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M, axis0: float | None = None, params=None
+) -> dict:
     """The rows of a flown chunk that go into ``hits`` (module docstring), as :data:`db.HIT_COLUMNS`.
 
     Kept: landed, cleared the net, landing in the doubles area of the half
     opposite the machine (the far half for a machine at x < 0) + margin;
     with zero spin only the spin-axis rotation ``axis0`` (default: the machine's
-    step nearest 0 deg; a fill passes its grid's rotation nearest 0 deg).
+    step nearest 0 deg; a fill passes its grid's rotation nearest 0 deg).  Rows
+    without ``branch`` (Parquet parts of an older fill) get it flown with ``params``.
     """
-    from tennislab.core.events import NET_OVER, STATUS_OK
-
     if axis0 is None:
         ax = spec.range_of("spin_axis_deg")
-        axis0 = axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1)))
+        axis0 = float(axis_values(ax, int(np.clip(round((0.0 - ax.lo) / ax.step), 0, axis_size(ax) - 1))))
     side = 1.0 if spec.position[0] < 0 else -1.0  # the half opposite the machine
     x, y = side * np.asarray(rows["land_x"]), rows["land_y"]
     with np.errstate(invalid="ignore"):
@@ -239,7 +282,12 @@ def select_hits(rows: dict, spec, court, keep_margin: float = KEEP_MARGIN_M, axi
             & (np.abs(y) <= court.doubles_width / 2 + keep_margin)
             & ~((rows["spin_rpm"] == 0.0) & (rows["spin_axis_deg"] != axis0))
         )
-    return {c: np.asarray(rows[c])[ok] for c in _db.HIT_COLUMNS}
+    out = {c: np.asarray(rows[c])[ok] for c in _db.HIT_COLUMNS if c in rows}
+    if "branch" not in out:
+        if params is None:
+            raise InputError("rows: no branch column; pass params to fly it")
+        out["branch"] = flight_branch(out, spec, params) if len(out["id"]) else np.empty(0, np.int8)
+    return out
 
 
 def fill_chunk(indices: dict, spec, params, keep_margin: float = KEEP_MARGIN_M) -> dict:
@@ -273,7 +321,7 @@ def begin_fill(
             fid = row[0]
             if row[1] != chunk_size:
                 raise InputError(
-                    f"--chunk-size: this grid was started with chunks of {row[1]} rows; "
+                    f"chunk_size: this grid was started with chunks of {row[1]} rows; "
                     f"resume with the same size (got {chunk_size})"
                 )
         done = (
@@ -310,8 +358,10 @@ def finish_fill(conn: sqlite3.Connection, fill_id: int) -> None:
         )
 
 
-@dataclass
-class FillReport:
+@dataclass(frozen=True)
+class FillReport(Result):
+    """What a fill did (the JSON of ``launcher table``)."""
+
     path: str
     hash: str
     grid_rows: int
@@ -324,7 +374,120 @@ class FillReport:
     chunks_restored: int = 0  #: of ``chunks_run``: read back from ``out_dir`` instead of flown
 
     def as_dict(self) -> dict:
-        return dict(self.__dict__)
+        return self.to_dict()
+
+
+@dataclass(frozen=True)
+class FillPlan(Result):
+    """Size and estimated time of a fill, measured on a sample of its grid before it starts.
+
+    ``flights_per_s`` is timed on up to :data:`PLAN_SAMPLE` settings spread over the grid (the
+    flights and their branch flights, this process); ``kept_fraction`` is the share of the sample
+    that lands in the kept area; the estimate adds :data:`INSERT_RATE` hits/s for the single SQLite
+    writer (measured: docs/database.md).  Already finished chunks are not counted.
+    """
+
+    grid_rows: int
+    rows_to_fly: int
+    n_chunks: int
+    chunks_done: int
+    flights_per_s: float
+    kept_fraction: float
+    estimated_hits: int
+    estimated_s: float
+    shape: dict
+
+    def describe(self) -> str:
+        return (
+            f"{self.grid_rows:,} settings ({' x '.join(str(v) for v in self.shape.values())}), "
+            f"{self.rows_to_fly:,} to fly in {self.n_chunks - self.chunks_done} chunks; "
+            f"~{self.estimated_hits:,} hits; estimated {format_duration(self.estimated_s)}"
+        )
+
+
+#: Settings flown to time a fill before it starts (:class:`FillPlan`).
+PLAN_SAMPLE = 1500
+#: Hits per second through the single SQLite writer, inserts and indexes (docs/database.md: 1-3 x 10^4).
+INSERT_RATE = 1.5e4
+#: A fill estimated longer than this [s] needs ``yes=True`` (``--yes``).
+LONG_FILL_S = 3600.0
+
+
+def format_duration(s: float) -> str:
+    """A duration [s] as a person says it (s, min, h, days, years)."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if s >= size:
+            return f"{s / size:.3g} {unit}"
+    return f"{s:.3g} s"
+
+
+def plan_fill(spec, params, grid: TableGrid, chunk_size: int = DEFAULT_CHUNK, done: int = 0) -> FillPlan:
+    """Time a sample of the grid and estimate the fill (:class:`FillPlan`); flies nothing into any file."""
+    n_chunks = -(-grid.size // int(chunk_size))
+    rows_left = max(0, grid.size - done * int(chunk_size))
+    m = int(min(PLAN_SAMPLE, grid.size))
+    rng = np.random.default_rng(0)
+    flat = np.unique(rng.integers(0, grid.size, m)) if grid.size > m else np.arange(grid.size)
+    idx = _grid_rows(grid, flat)
+    fly_chunk(idx, spec, params)  # compile / warm up
+    t0 = time.perf_counter()
+    rows = fly_chunk(idx, spec, params)
+    dt = max(time.perf_counter() - t0, 1e-6)
+    kept = len(select_hits(rows, spec, params.court)["id"]) / max(1, len(flat))
+    rate = len(flat) / dt
+    est_hits = int(rows_left * kept)
+    return FillPlan(
+        grid.size,
+        rows_left,
+        n_chunks,
+        done,
+        rate,
+        kept,
+        est_hits,
+        rows_left / rate + est_hits / INSERT_RATE,
+        dict(zip(AXES, grid.shape)),
+    )
+
+
+def _grid_rows(grid: TableGrid, flat: np.ndarray) -> dict:
+    """Index arrays of the rows at flat positions of a grid (first axis slowest)."""
+    rem = np.asarray(flat, dtype=np.int64).copy()
+    out = {}
+    for f in reversed(AXES):
+        a = np.asarray(grid.indices[f])
+        out[f] = a[rem % a.size]
+        rem //= a.size
+    return {f: out[f] for f in AXES}
+
+
+@dataclass
+class _Tally:
+    """What a fill has done so far (chunks run, hits inserted, its fill id once registered)."""
+
+    run: int = 0
+    inserted: int = 0
+    fid: int | None = None
+
+
+def check_out_dir(path: str) -> None:
+    """Refuse an output folder that is a file or lies under one (before anything is created)."""
+    p = os.path.abspath(path)
+    if os.path.exists(p) and not os.path.isdir(p):
+        raise InputError(f"out_dir: {path} is a file, not a folder")
+    d = os.path.dirname(p)
+    while d and not os.path.exists(d):
+        d = os.path.dirname(d)
+    if d and not os.path.isdir(d):
+        raise InputError(f"out_dir: {path} lies under {d}, which is a file")
+
+
+def _remove_new_file(path: str) -> None:
+    """Remove a database file this run created (and its -wal/-shm) after a failed start."""
+    for p in (path, path + "-wal", path + "-shm"):
+        try:
+            os.unlink(p)
+        except FileNotFoundError:
+            pass
 
 
 def fill_table(
@@ -345,54 +508,56 @@ def fill_table(
 ) -> FillReport:
     """Fill (or resume filling) the database at ``path`` with ``grid`` for ``spec`` and ``params``.
 
-    Refuses a file built for another machine or physics (hash).  The chunks
-    are flown by :func:`tennislab.batch.run_batch` (:func:`fly_chunk` on the
-    lazy :meth:`TableGrid.grid_spec`) on ``scheduler`` (``"local"``,
-    ``"processes"`` with ``n_workers``, ``"tcp://HOST:PORT"`` or a
-    ``distributed.Client``); its ``on_chunk`` hook inserts each chunk's hits,
-    in this process, in one transaction together with the chunk's "done" mark
-    (chunks come back in any order), so an interrupted fill resumes where it
-    stopped: the chunks marked done are passed as ``skip``.  ``runner`` (kept
-    for compatibility) is a :mod:`tennislab.batch.schedulers` runner whose Dask
-    client is used (not closed).  ``out_dir`` also writes every row of every
-    chunk (kept or not) as resumable Parquet parts of the batch layer
-    (:func:`tennislab.batch.read_output`); a chunk missing there is flown again,
-    one on disk but not in the database is read back instead of flown.
-    ``max_chunks`` stops after that many chunks; ``on_chunk(i, n_hits)`` is
-    called after each stored chunk.
+    Refuses a file built for another machine or physics (hash).  The chunks are flown by
+    :func:`tennislab.batch.run_batch` (:func:`fly_chunk` on the lazy :meth:`TableGrid.grid_spec`)
+    on ``scheduler`` (``"local"``, ``"processes"`` with ``n_workers``, ``"tcp://HOST:PORT"`` or a
+    ``distributed.Client``); its ``on_chunk`` hook inserts each chunk's hits, in this process, in
+    one transaction together with the chunk's "done" mark (chunks come back in any order), so an
+    interrupted fill resumes where it stopped: the chunks marked done are passed as ``skip``.
+    ``runner`` is a :mod:`tennislab.batch.schedulers` runner whose Dask client is used (not
+    closed).  ``out_dir`` also writes every row of every chunk (kept or not) as resumable Parquet
+    parts of the batch layer (:func:`tennislab.batch.read_output`); a chunk missing there is flown
+    again, one on disk but not in the database is read back instead of flown.  ``max_chunks``
+    stops after that many chunks; ``on_chunk(i, n_hits)`` is called after each stored chunk.  A
+    file this call creates is removed again when the run fails before its first chunk is stored
+    (a bad ``out_dir``, an unreachable scheduler): nothing is left behind.
     """
-    import functools
-
-    from tennislab.batch import run_batch
-
     chunk_size = int(chunk_size)
     if chunk_size < 1:
-        raise InputError(f"--chunk-size: must be >= 1, got {chunk_size}")
+        raise InputError(f"chunk_size: must be >= 1, got {chunk_size}")
     if max_chunks is not None and int(max_chunks) < 1:
-        raise InputError(f"--max-chunks: {max_chunks} is outside the allowed range [1, inf]")
-    check_finite("keep margin", keep_margin)
+        raise InputError(f"max_chunks: {max_chunks} is outside the allowed range [1, inf]")
+    check_finite("keep_margin", keep_margin)
+    if out_dir is not None:
+        check_out_dir(out_dir)
     if runner is not None:
         scheduler = getattr(runner, "client", None) or "local"
     t0 = time.perf_counter()
-    conn = _db.open_db(path)
+    created = not os.path.exists(path)
+    conn = None
+    tally = _Tally()
     try:
+        conn = _db.open_db(path)
         cfg = _db.config_dict(spec, params)
-        h = _db.bind_config(conn, cfg, path)
+        h = _db.bind_config(conn, cfg)
         grid_json = grid.to_json()
         # a new grid is registered with its first stored chunk: a run that fails before (e.g. no
         # scheduler, another job in out_dir) leaves no trace in the file
         fid, done = begin_fill(conn, grid_json, grid.size, chunk_size, register=False)
+        tally.fid = fid
         n_chunks = -(-grid.size // chunk_size)
         axes = axis_values(spec.range_of("spin_axis_deg"), grid.indices["spin_axis_deg"])
         axis0 = float(axes[np.argmin(np.abs(axes))])  # the one rotation stored for zero spin
-        tally = {"inserted": 0, "run": 0, "fid": fid}
+
+        c = conn
 
         def insert(ci: int, row0: int, rows: dict) -> None:  # called by run_batch in this process
-            hits = select_hits(rows, spec, params.court, keep_margin, axis0)
-            if tally["fid"] is None:
-                tally["fid"] = begin_fill(conn, grid_json, grid.size, chunk_size)[0]
-            tally["inserted"] += store_chunk(conn, tally["fid"], ci, hits)
-            tally["run"] += 1
+            hits = select_hits(rows, spec, params.court, keep_margin, axis0, params)
+            fid = tally.fid if tally.fid is not None else begin_fill(c, grid_json, grid.size, chunk_size)[0]
+            assert fid is not None  # registered now
+            tally.fid = fid
+            tally.inserted += store_chunk(c, fid, ci, hits)
+            tally.run += 1
             if on_chunk is not None:
                 on_chunk(ci, len(hits["id"]))
 
@@ -404,26 +569,34 @@ def fill_table(
             chunk_size=chunk_size,
             out=out_dir,
             progress=progress,
-            desc=f"launcher table -> {path}",
+            desc=f"launcher table -> {os.path.basename(path)}",
             collect=False,
             tag={"launcher_table": h},
             on_chunk=insert,
             skip=done,
             max_chunks=max_chunks,
         )
-        if tally["fid"] is not None:
-            finish_fill(conn, tally["fid"])
+        if tally.fid is not None:
+            finish_fill(conn, int(tally.fid))
         total = _db.count_hits(conn)
+    except BaseException:
+        if conn is not None:
+            conn.close()
+            conn = None
+        if created and tally.run == 0:
+            _remove_new_file(path)
+        raise
     finally:
-        conn.close()
+        if conn is not None:
+            conn.close()
     return FillReport(
         path,
         h,
         grid.size,
         n_chunks,
         res.skipped - res.restored,
-        tally["run"],
-        tally["inserted"],
+        tally.run,
+        tally.inserted,
         total,
         time.perf_counter() - t0,
         res.restored,

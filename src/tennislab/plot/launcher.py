@@ -1,4 +1,5 @@
-"""Launcher figures: an aimed shot, and a drill's shots and zones on the court (no physics here)."""
+"""Launcher figures: an aimed shot, and a drill's shots and zones on the court (no physics here: the
+trajectories come from the launcher's workflows)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,8 @@ def _draw_machine(ax_side, ax_top, position, height):
 
 
 def plot_aim(solution, trajectory, title: str | None = None):
-    """Side and top views of one aimed shot: trajectory, target, landing and machine."""
+    """Side and top views of one aimed shot (an :class:`~tennislab.launcher.aim.AimSolution` and its
+    trajectory): trajectory, target, landing and machine; the axes hold the whole flight."""
     st = solution.settings
     title = title or (
         f"{solution.solution} solution: elev {st.elevation_deg:g} deg, head {st.heading_deg:g} deg, "
@@ -33,15 +35,14 @@ def plot_aim(solution, trajectory, title: str | None = None):
     return fig
 
 
-def plot_drill(compiled, params=None, title: str | None = None):
-    """Every distinct shot of a compiled drill: trajectories, zones (green = passed, red = failed)."""
-    from tennislab.launcher.aim import fly_settings
-
+def plot_drill(compiled, trajectories, title: str | None = None):
+    """Every distinct shot of a compiled drill with its trajectory (``trajectories``, one per distinct
+    shot, from :func:`tennislab.launcher.drills.drill_trajectories`); zones green = passed, red = failed."""
     d = compiled.drill
     fig, ax_side, ax_top = court_figure(title=title or f"drill: {d.name} ({len(compiled.shots)} shots)")
     zmax = 3.5
     colors = ["#f2e600", "#4fc3f7", "#ff8a65", "#ba68c8", "#aed581", "#ffffff", "#90a4ae", "#f06292"]
-    for i, u in enumerate(compiled.unique):
+    for i, (u, tr) in enumerate(zip(compiled.unique, trajectories)):
         c = colors[i % len(colors)]
         x0, x1, y0, y1 = u.shot.zone_bounds()
         ax_top.add_patch(
@@ -49,9 +50,8 @@ def plot_drill(compiled, params=None, title: str | None = None):
                 (x0, y0), x1 - x0, y1 - y0, fill=False, lw=1.5, ls="--", ec="#2ecc71" if u.ok else "#e74c3c", zorder=3
             )
         )
-        if u.solution is None:
+        if u.solution is None or tr is None:
             continue
-        tr = fly_settings(u.solution.settings, d.spec, params)
         _, ys = tr.sample(300)
         ax_side.plot(ys[:, 0], ys[:, 2], lw=1.5, color=c, label=u.label)
         ax_top.plot(ys[:, 0], ys[:, 1], lw=1.5, color=c)

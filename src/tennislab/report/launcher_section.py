@@ -1,57 +1,27 @@
 """Report section: a launcher drill drawn on the court with its settings table.
 
-The drill comes from the launcher's drill library (``tennislab.launcher.drills``)
-when it is installed; otherwise the section aims the shots of a baseline rally
-itself with :func:`tennislab.launcher.aim.aim` (same quantised settings).
+The drill is the shipped ``baseline_rally`` compiled by the launcher's workflow
+(:func:`tennislab.launcher.compile_drill`): the same settings ``tennislab launcher drill
+baseline_rally`` prints.
 """
 
 from __future__ import annotations
 
-from tennislab.app.services import require
+from tennislab.launcher import PAPER, compile_drill, launcher_params, load_drill
+from tennislab.launcher.aim import solution_dict
+from tennislab.launcher.drills import drill_trajectories
 from tennislab.report import html as H
 
-#: Fallback drill: a baseline rally (target x, y [m], speed [km/h], spin [rpm], spin axis [deg])
-FALLBACK_DRILL = (
-    "baseline rally (fallback)",
-    [
-        (9.5, 2.5, 90.0, 1500.0, 0.0),
-        (9.5, -2.5, 90.0, 1500.0, 0.0),
-        (10.0, 0.0, 100.0, 1200.0, 0.0),
-        (8.5, 3.2, 80.0, 1000.0, 180.0),
-        (8.5, -3.2, 80.0, 1000.0, 180.0),
-    ],
-)
 
-
-def _shots_fallback():
-    from tennislab.launcher.aim import aim, aim_result_dict, fly_settings, launcher_params
-    from tennislab.launcher.machine import DEFAULT_SPEC
-
-    params = launcher_params()
-    name, targets = FALLBACK_DRILL
-    shots = []
-    for x, y, v, w, g in targets:
-        sol = aim((x, y), v, w, g, 1.0, spec=DEFAULT_SPEC, params=params)
-        d = aim_result_dict(sol, DEFAULT_SPEC, params)
-        d["trajectory"] = fly_settings(sol.settings, DEFAULT_SPEC, params)
-        d["zone"] = "singles"
-        shots.append(d)
-    return name, shots
-
-
-def _shots_library(name: str = "baseline_rally"):
+def _shots(name: str = "baseline_rally"):
     """A shipped drill compiled by the launcher: (title, distinct shot dicts, summary text)."""
-    from tennislab.io.drill import load_drill
-    from tennislab.launcher.aim import aim_result_dict, fly_settings, launcher_params
-    from tennislab.launcher.drills import compile_drill
-
     params = launcher_params()
     drill = load_drill(name)
     comp = compile_drill(drill, params)
     shots = []
-    for u in comp.unique:
-        d = aim_result_dict(u.solution, drill.spec, params)
-        d["trajectory"] = fly_settings(u.solution.settings, drill.spec, params)
+    for u, tr in zip(comp.unique, drill_trajectories(comp, params)):
+        d = solution_dict(u.solution, drill.spec, params)
+        d["trajectory"] = tr
         d["zone"] = u.shot.zone_label()
         d["label"] = f"{u.label} ({u.shot.type})"
         d["ok"] = u.ok
@@ -59,25 +29,13 @@ def _shots_library(name: str = "baseline_rally"):
     summary = (
         f"{len(comp.shots)} shots fired in {comp.duration_s:.0f} s from {len(comp.unique)} distinct "
         f"shots; every shot clears the net and lands in its zone: {'yes' if comp.ok else 'NO'}. "
-        f"Run it on the machine with: tennislab launcher drill {name}"
+        f"Run it on the machine with: tennislab launcher drill {drill.key}"
     )
     return drill.name, shots, summary
 
 
-def _shots():
-    """(drill name, shot dicts with settings, rollers, landing, miss_mm, net_clearance_m, trajectory, summary)."""
-    try:
-        import tennislab.io.drill
-        import tennislab.launcher.drills  # noqa: F401
-    except ImportError:
-        name, shots = _shots_fallback()
-        return name, shots, "The launcher's drill library is not installed: shots aimed one by one."
-    return _shots_library()
-
-
 def drill(ctx) -> None:
-    require("launcher")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # the report's figures: matplotlib is loaded only when a report is built
 
     from tennislab.plot.court import draw_court_side, draw_court_top
 
@@ -122,7 +80,7 @@ def drill(ctx) -> None:
     sec.add(
         H.para(
             f"Drill \u201c{name}\u201d: {len(shots)} distinct shots compiled to the machine's quantised "
-            "settings (1 km/h, 1 deg, 1 rpm steps; seed 002 section 2). Each shot is flown with the "
+            f"settings (1 km/h, 1 deg, 1 rpm steps; {PAPER}, section 2). Each shot is flown with the "
             "launcher's aero model; the table gives what to dial on the machine and where the ball lands."
         ),
         H.figure(ctx.save(fig, "launcher_drill.png"), f"Drill \u201c{name}\u201d on the court"),
@@ -150,7 +108,7 @@ def drill(ctx) -> None:
         ),
         H.para(
             "Spin axis: 0 = topspin, 180 = backspin (slice), +90 = sidespin curving left. Roller speeds "
-            "from seed 002 eqs 14-17 (deformed ball radius in the nip).",
+            f"from {PAPER}, eqs 14-17 (deformed ball radius in the nip).",
             "note",
         ),
     )
