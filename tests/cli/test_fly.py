@@ -269,7 +269,7 @@ FAST = ["fly", "--velocity", "30", "0", "5"]
 def test_bad_plot_paths_fail_before_the_work_and_write_nothing(tmp_path, capsys, make, expect):
     (tmp_path / "file").write_text("mine")
     rc, out, err = run(capsys, *FAST, "--plot", str(make(tmp_path)))
-    assert rc == 2 and out == "" and err.count("\n") == 1 and "argument --plot: " in err and expect in err, err
+    assert rc == 2 and out == "" and err.count("\n") == 1 and ": error: --plot: " in err and expect in err, err
     assert sorted(os.listdir(tmp_path)) == ["file"] and (tmp_path / "file").read_text() == "mine"
 
 

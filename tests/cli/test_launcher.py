@@ -11,7 +11,10 @@ from tennislab.launcher.materials import SEED_TABLE1, SEED_TABLE3
 
 
 def run(capsys, *args):
-    rc = main([str(a) for a in args])
+    try:
+        rc = main([str(a) for a in args])
+    except SystemExit as exc:  # argparse: usage errors (code 2), --help (0)
+        rc = exc.code
     out = capsys.readouterr()
     return rc, out.out, out.err
 
@@ -199,8 +202,8 @@ def test_aim_text_output(capsys):
         ),
         (["launcher", "drill", "no_such_drill"], "--drill: 'no_such_drill' is not a file"),
         (["launcher", "rollers", "--speed-ms", 100], "--speed-ms: 100 m/s"),
-        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"], "--plot: unknown figure format"),
-        (["launcher", "drill", "lobs", "--csv", "/dev/null/x.csv"], "--csv: /dev/null/x.csv lies under"),
+        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"], "--plot: x.xyz: unsupported file type"),
+        (["launcher", "drill", "lobs", "--csv", "/dev/null/x.csv"], "--csv: /dev/null/x.csv: /dev/null is a file"),
         (["launcher", "drill", "lobs", "--csv", "x" * 300 + ".csv"], "--csv: the file name is 304 characters"),
     ],
 )

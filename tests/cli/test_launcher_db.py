@@ -457,7 +457,8 @@ def test_failed_starts_create_nothing(tmp_path, capsys):
     for extra in (["--out-dir", str(blocker / "parts")], ["--scheduler", "tcp://127.0.0.1:9"]):
         rc, out, err = run(capsys, "launcher", "table", "--db", str(path), *GRID, *extra)
         lines = err.strip().splitlines()  # the size and time estimate, then the error
-        assert rc == 2 and "Traceback" not in err and lines[-1].startswith("tennislab launcher: error:"), err
+        assert rc == 2 and "Traceback" not in err and lines[-1].startswith("tennislab launcher"), err
+        assert ": error: " in lines[-1], err
         assert all(x.startswith("table: ") for x in lines[:-1]) and len(lines) <= 2
         assert not path.exists() and not (tmp_path / "new.sqlite-wal").exists(), extra
     bad = tmp_path / "bad.yaml"

@@ -32,7 +32,12 @@ _NOT_COMMANDS = {"common", "config"}
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse's own convention)
-        self.exit(2, f"{self.prog}: error: {' '.join(str(message).split())}\n")
+        # "argument --plot: ..." -> "--plot: ...": the same form as the errors the commands raise
+        text = _ARGUMENT.sub(r"\1: ", " ".join(str(message).split()))
+        self.exit(2, f"{self.prog}: error: {text}\n")
+
+
+_ARGUMENT = re.compile(r"^argument (--[\w-]+)(?:/-\w)?: ")
 
 
 def _subparsers(parser: argparse.ArgumentParser) -> dict:

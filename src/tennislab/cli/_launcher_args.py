@@ -5,36 +5,18 @@ tolerances and trajectory preferences.  Parse only; the launcher's workflows che
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import replace
-
-from matplotlib.backend_bases import FigureCanvasBase
 
 from tennislab.cli.common import add_speed_flags, parse_spin_axis
 from tennislab.errors import InputError
-from tennislab.launcher.machine import DEFAULT_SPEC, PAPER, MachineSpec
+from tennislab.io.files import check_output_path
+from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
 from tennislab.launcher.preferences import TRAJECTORIES
+from tennislab.plot.save import FIGURE_SUFFIXES
 
 #: Physics flags' dests (cli.common.add_physics_flags) a database compares with its own physics.
 PHYSICS_DESTS = ("aero", "cd", "cl", "aero_table", "mass", "radius", "air_density", "gravity", "wind", "spin_decay")
 MACHINE_DESTS = ("machine_position", "roller_radius", "roller_axis_distance")
-
-
-def add_machine_flags(p, position: bool = True) -> None:
-    """``--machine-position X Y`` (with *position*), ``--roller-radius``, ``--roller-axis-distance`` [m]."""
-    g = p.add_argument_group("machine")
-    if position:
-        g.add_argument(
-            "--machine-position",
-            type=float,
-            nargs=2,
-            metavar=("X", "Y"),
-            help="launch point on court [m] (default -12.385 0: 0.5 m behind the near baseline)",
-        )
-    g.add_argument("--roller-radius", type=float, help=f"roller radius r_r [m] (default 0.1, {PAPER})")
-    g.add_argument(
-        "--roller-axis-distance", type=float, help=f"distance between roller axes [m] (default 0.25, {PAPER})"
-    )
 
 
 def spec_from_args(args) -> MachineSpec:
@@ -50,24 +32,9 @@ def spec_from_args(args) -> MachineSpec:
 
 
 def check_output(path: str | None, flag: str, figure: bool = False) -> None:
-    """Refuse, before any work, an output path that is a folder, lies under a file, or (``figure``) has an
-    extension Matplotlib cannot write; one line naming the flag."""
-    if path is None or path == "-":
-        return
-    if os.path.isdir(path):
-        raise InputError(f"{flag}: {path} is a folder")
-    if len(os.path.basename(path).encode()) > 255:
-        raise InputError(f"{flag}: the file name is {len(os.path.basename(path))} characters, more than 255")
-    d = os.path.dirname(os.path.abspath(path))
-    while d and not os.path.exists(d):
-        d = os.path.dirname(d)
-    if d and not os.path.isdir(d):
-        raise InputError(f"{flag}: {path} lies under {d}, which is a file")
-    if figure:
-        ext = os.path.splitext(path)[1][1:].lower() or "png"
-        kinds = FigureCanvasBase.get_supported_filetypes()
-        if ext not in kinds:
-            raise InputError(f"{flag}: unknown figure format .{ext}; allowed: {', '.join(sorted(kinds))}")
+    """An output file given to ``flag`` is writable before any work (:func:`tennislab.io.files.check_output_path`)."""
+    if path is not None:
+        check_output_path(flag.lstrip("-").replace("-", "_"), path, FIGURE_SUFFIXES if figure else None)
 
 
 def given_flags(args) -> tuple[str, ...]:

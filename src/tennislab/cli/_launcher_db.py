@@ -21,7 +21,6 @@ import sys
 
 from tennislab.batch.cli import add_scheduler_flag
 from tennislab.cli._launcher_args import (
-    add_machine_flags,
     add_preference_flags,
     add_speed,
     add_tolerance_flags,
@@ -32,7 +31,7 @@ from tennislab.cli._launcher_args import (
     spin_axis_deg,
     tolerance_kwargs,
 )
-from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, physics_from_args
+from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill

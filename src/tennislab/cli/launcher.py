@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from tennislab.cli import _launcher_db
 from tennislab.cli._launcher_args import (
-    add_machine_flags,
     add_preference_flags,
     add_speed,
     add_spin_flags,
@@ -22,7 +21,14 @@ from tennislab.cli._launcher_args import (
     spin_axis_deg,
     tolerance_kwargs,
 )
-from tennislab.cli.common import add_output_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
+from tennislab.cli.common import (
+    add_machine_flags,
+    add_output_flags,
+    add_physics_flags,
+    atomic_write,
+    emit_json,
+    physics_from_args,
+)
 from tennislab.errors import InputError
 from tennislab.io.drill import write_csv
 from tennislab.launcher import HitsDB, aim, compile_drill, power_report, roller_report

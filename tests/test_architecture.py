@@ -1,0 +1,165 @@
+"""The layers of docs/architecture.md, checked on the source: no import circle, no upward arrow,
+front-ends that do not import each other, no ``try: import`` of tennislab's own modules."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "tennislab"
+
+#: floor of each top-level part of the package (a module may import its own floor or lower ones)
+FLOORS = {
+    "errors": 0,
+    "units": 0,
+    "results": 0,
+    "core": 1,
+    "io": 1,
+    "batch": 2,
+    "trajectory": 3,
+    "linecall": 3,
+    "serve": 3,
+    "launcher": 3,
+    "calibrate": 3,
+    "plot": 4,
+    "cli": 5,
+    "app": 5,
+    "report": 5,
+    "demo": 6,
+    "__main__": 6,
+    "__init__": 0,
+}
+FRONT_ENDS = {"cli", "app", "report"}
+#: the only front-end -> front-end arrows: the commands that start the app and build the report
+ALLOWED_FRONT = {("cli.app", "app"), ("cli.report", "report"), ("demo", "cli"), ("__main__", "cli")}
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for p in SRC.rglob("*.py"):
+        rel = p.relative_to(SRC).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__" and len(parts) > 1:
+            parts = parts[:-1]
+        out[".".join(parts)] = p
+    return out
+
+
+def _imports(mod: str, path: Path) -> list[tuple[str, int, bool]]:
+    """(imported tennislab module, line, inside try/except ImportError) for each import."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    guarded: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Try):
+            names = []
+            for h in node.handlers:
+                t = h.type
+                names += [getattr(e, "id", "") for e in (t.elts if isinstance(t, ast.Tuple) else [t])] if t else []
+            if {"ImportError", "ModuleNotFoundError"} & set(names):
+                for sub in node.body:
+                    guarded.update(n.lineno for n in ast.walk(sub) if hasattr(n, "lineno"))
+    is_pkg = path.name == "__init__.py"
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = mod.split(".")
+                base = base[: len(base) - node.level + (1 if is_pkg else 0)]
+                name = ".".join(base + ([node.module] if node.module else []))
+            else:
+                name = node.module or ""
+            cands = [name] + [f"{name}.{a.name}" for a in node.names]
+        elif isinstance(node, ast.Import):
+            cands = [a.name for a in node.names]
+        else:
+            continue
+        for c in cands:
+            if c == "tennislab" or c.startswith("tennislab."):
+                out.append((c.removeprefix("tennislab").lstrip("."), node.lineno, node.lineno in guarded))
+    return out
+
+
+MODS = _modules()
+EDGES = {m: {(t, ln, g) for t, ln, g in _imports(m, p) if t in MODS and t != m} for m, p in MODS.items()}
+
+
+def _part(mod: str) -> str:
+    return mod.split(".")[0] if mod else "__init__"
+
+
+def test_no_import_circles():
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    circles = []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w, _, _ in EDGES.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                circles.append(sorted(comp))
+
+    for v in MODS:
+        if v not in index:
+            visit(v)
+    assert not circles, f"import circles: {circles}"
+
+
+def test_no_upward_arrows_and_front_ends_apart():
+    bad = []
+    for m, targets in EDGES.items():
+        pm = _part(m)
+        for t, line, _ in targets:
+            pt = _part(t)
+            if pm == pt:
+                continue
+            if pm in FRONT_ENDS | {"demo", "__main__"} and pt in FRONT_ENDS:
+                if not any(m.startswith(a) and pt == b for a, b in ALLOWED_FRONT):
+                    bad.append(f"{m}:{line} -> {t} (front-ends do not import each other)")
+                continue
+            if FLOORS.get(pt, 0) > FLOORS.get(pm, 0) and not (pm == "__init__" and pt == "errors"):
+                bad.append(f"{m}:{line} -> {t} (upward)")
+    assert not bad, "\n".join(bad)
+
+
+def test_io_is_a_leaf_and_core_reads_no_file():
+    bad = [
+        f"{m} -> {t}"
+        for m, ts in EDGES.items()
+        if _part(m) == "io"
+        for t, _, _ in ts
+        if _part(t) not in {"io", "errors", "units", "results"}
+    ]
+    assert not bad, bad
+    for m, p in MODS.items():
+        if _part(m) != "core":
+            continue
+        text = p.read_text(encoding="utf-8")
+        for word in ("open(", "read_text(", "import csv", "import json", "import matplotlib"):
+            if word == "read_text(" and "_core_digest" in text:
+                continue  # hashing core's own sources for the Numba cache key is not reading data
+            assert word not in text, f"{m} uses {word!r}: core reads no file"
+
+
+@pytest.mark.parametrize("part", sorted(FRONT_ENDS | {"core", "io", "batch", "linecall", "serve", "launcher"}))
+def test_no_try_import_of_own_modules(part):
+    bad = [f"{m}:{ln} -> {t}" for m, ts in EDGES.items() if _part(m) == part for t, ln, g in ts if g]
+    assert not bad, bad
