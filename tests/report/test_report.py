@@ -141,11 +141,6 @@ def test_build_imports_its_sections_directly_and_not_the_app():
         assert callable(fn) and fn.__module__.startswith("tennislab.report."), key
 
 
-@pytest.mark.xfail(
-    reason="serve_sections.py, linecall_section.py and launcher_section.py still import tennislab.app "
-    "(require, features, linecall_adapter): their owners rewrite them to call the workflows",
-    strict=False,
-)
 def test_report_package_does_not_load_the_app():
     code = "import sys, tennislab.report.build; print(any(m.startswith('tennislab.app') for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
