@@ -49,14 +49,7 @@ SERVERS = {"app"}  #: commands that serve until stopped
 CONFIG_TABLES = ("physics", "court", "defaults", "players", "machines")
 
 #: (file relative to the repository, a fragment of the block's first line) -> why it fails today
-KNOWN_FAILURES: dict[tuple[str, str], str] = {
-    ("docs/database.md", "tennislab launcher table  --db hits.sqlite"): "its `launcher table` line is a synopsis "
-    "([--scheduler processes]), so hits.sqlite is never built and `launcher lookup` finds no file",
-    ("docs/batch.md", "from functools import partial"): "fragment: `states` is never defined (docs/batch.md)",
-    ("docs/batch.md", "def insert(i, row0, out):"): "fragment: `conn`, `fn`, `grid` undefined (docs/batch.md)",
-    ("docs/batch.md", "from tennislab.batch import GridSpec"): "fragment: `speeds`, `fn` undefined (docs/batch.md)",
-    ("docs/batch.md", "def serve_mc(chunk, seed):"): "fragment: `rng`, `inputs` undefined (docs/batch.md)",
-}
+KNOWN_FAILURES: dict[tuple[str, str], str] = {}
 
 
 @dataclass(frozen=True)
