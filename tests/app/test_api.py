@@ -214,17 +214,24 @@ def test_serve_matches_impact_model_and_window(client):
 
 
 def test_serve_custom_player_and_3d(client):
-    from tennislab.serve.players import Player
-    from tennislab.serve.single import simulate_serve
+    from tennislab.serve import PlayerProfile, simulate
 
     base = {"player": "custom", "height": 2.5, "racket_speed": 33.0, "impact_angle": 30, "face_angle": 12}
     a = client.post("/api/serve", json=base).json()
     assert a["player"] == {"name": "custom", "height": 2.5, "racket_speed": 33.0}
     three_d = {"target": "deuce", "azimuth_deg": 3.0, "brush_deg": 20.0, "server_y": 0.5, "toss_vz": -2.0}
     b = client.post("/api/serve", json={**base, **three_d}).json()
-    ref = simulate_serve(
-        Player("custom", 2.5, 33.0), 30, 12, target="deuce", azimuth_deg=3.0, brush_deg=20.0, server_y=0.5, toss_vz=-2.0
-    )
+    ref = simulate(
+        PlayerProfile("custom", 2.5, 33.0),
+        30,
+        12,
+        target="deuce",
+        azimuth_deg=3.0,
+        brush_deg=20.0,
+        server_y=0.5,
+        toss_vz=-2.0,
+        trajectory=True,
+    ).to_dict()
     for k in ("speed", "spin_rpm", "launch_angle", "net_height", "landing_x", "success", "category"):
         assert b[k] == ref[k], k
     assert b["flight"]["landing"]["x"] == pytest.approx(ref["landing"]["x"], abs=1e-6)
@@ -239,10 +246,10 @@ def test_serve_custom_player_and_3d(client):
 
 
 def test_window_legend_counts_match_python(client):
-    from tennislab.serve.window import serve_window
+    from tennislab.serve import window
 
     r = client.post("/api/serve/window", json={"player": "junior", "step": 2}).json()
-    w = serve_window("junior", step=2.0).summary()
+    w = window("junior", step=2.0).summary()
     n = {it["label"]: it["n"] for it in r["legend"]}
     assert n["flat success"] == w["flat"]["n"] and n["topspin success"] == w["topspin"]["n"]
     assert r["summary"]["flat"]["n"] == w["flat"]["n"]

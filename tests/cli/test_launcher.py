@@ -202,7 +202,10 @@ def test_aim_text_output(capsys):
         ),
         (["launcher", "drill", "no_such_drill"], "--drill: 'no_such_drill' is not a file"),
         (["launcher", "rollers", "--speed-ms", 100], "--speed-ms: 100 m/s"),
-        (["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"], "--plot: x.xyz: unsupported file type"),
+        (
+            ["launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--plot", "x.xyz"],
+            "--plot: x.xyz: unsupported file type",
+        ),
         (["launcher", "drill", "lobs", "--csv", "/dev/null/x.csv"], "--csv: /dev/null/x.csv: /dev/null is a file"),
         (["launcher", "drill", "lobs", "--csv", "x" * 300 + ".csv"], "--csv: the file name is 304 characters"),
     ],

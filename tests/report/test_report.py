@@ -165,7 +165,7 @@ def test_table1_beside_the_paper(full_report):
 def test_table1_rows_are_the_window_summary():
     pytest.importorskip("tennislab.serve.window")
     from tennislab.report.serve_sections import PLAYERS, table1_rows
-    from tennislab.serve.window import serve_window
+    from tennislab.serve import window as serve_window
 
     ws = {p: serve_window(p, step=3.0) for p in PLAYERS}
     rows, classes = table1_rows(ws, None)

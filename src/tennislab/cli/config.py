@@ -24,7 +24,7 @@ from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
 from tennislab.io.config import read_config, read_player_file
-from tennislab.serve.players import Player, get_player, register_player
+from tennislab.serve.players import PlayerProfile, get_player, register_player
 
 #: the file looked for in the working folder when ``--config`` is not given
 CONFIG_NAME = "tennislab.toml"
@@ -77,20 +77,20 @@ def find_config(explicit: str | None, cwd: str | None = None) -> str | None:
     return local if os.path.isfile(local) else None
 
 
-def player_from_dict(name: str, fields: dict, where: str) -> Player:
-    """A :class:`~tennislab.serve.players.Player` from a profile's fields (the dataclass's field
+def player_from_dict(name: str, fields: dict, where: str) -> PlayerProfile:
+    """A :class:`~tennislab.serve.players.PlayerProfile` from a profile's fields (the dataclass's field
     names; ``name`` optional); an unknown or missing field is a one-line error naming it."""
-    known = [f.name for f in dataclasses.fields(Player)]
+    known = [f.name for f in dataclasses.fields(PlayerProfile)]
     d: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
     d.setdefault("name", name)
     for k in d:
         if k not in known:
             raise InputError(f"{where}{k}: unknown key; allowed: {', '.join(known)}")
-    missing = [k for k in known if k not in d and _required(Player, k)]
+    missing = [k for k in known if k not in d and _required(PlayerProfile, k)]
     if missing:
         raise InputError(f"{where}{missing[0]}: missing (a player needs {', '.join(k for k in known if k != 'name')})")
     try:
-        return Player(**d)
+        return PlayerProfile(**d)
     except InputError as exc:
         raise InputError(f"{where}{exc}") from None
     except TypeError as exc:
@@ -209,7 +209,7 @@ def resolve_profiles(args: argparse.Namespace, cfg: Config) -> None:
         args.player = load_player_file(player).name
 
 
-def load_player_file(path: str) -> Player:
+def load_player_file(path: str) -> PlayerProfile:
     """Read a one-player TOML file (:func:`tennislab.io.config.read_player_file`) and register it."""
     if not os.path.isfile(path):
         raise InputError(f"player: {path}: no such file")

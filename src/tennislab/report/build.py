@@ -39,7 +39,7 @@ from tennislab.io.files import atomic_write, check_output_dir, check_output_path
 from tennislab.plot.save import figure_data_uri
 from tennislab.report import flight_section, launcher_section, linecall_section, serve_sections
 from tennislab.report import html as H
-from tennislab.serve.players import SEED_PLAYERS, Player, get_player
+from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player
 
 #: (key, title, section function) in report order
 SECTIONS: list[tuple[str, str, Callable]] = [
@@ -123,14 +123,14 @@ def index_path(out: str) -> str:
     return out if out.lower().endswith((".html", ".htm")) else os.path.join(out, "index.html")
 
 
-def _players(players) -> tuple[Player, ...]:
+def _players(players) -> tuple[PlayerProfile, ...]:
     chosen = SEED_PLAYERS if players is None else players
-    if isinstance(chosen, (str, Player)):
+    if isinstance(chosen, (str, PlayerProfile)):
         chosen = (chosen,)
     return tuple(get_player(p) for p in chosen)
 
 
-def _player_box(players: tuple[Player, ...]) -> str:
+def _player_box(players: tuple[PlayerProfile, ...]) -> str:
     rows = [[p.name, H.num(p.impact_height, 2), H.num(p.racket_speed, 1)] for p in players]
     return "<h3>Players</h3>" + H.table(["player", "impact height [m]", "racket speed [m/s]"], rows)
 
@@ -147,7 +147,7 @@ def build_report(
     returns a summary dict.
 
     ``progress``: callable taking one line (default: stderr; ``None`` for silence).  ``only``: section
-    keys to build (default all).  ``players``: player names or :class:`~tennislab.serve.players.Player`
+    keys to build (default all).  ``players``: player names or :class:`~tennislab.serve.players.PlayerProfile`
     profiles for the serve sections (default the paper's three).  Returns ``{"index": path,
     "sections": {key: status}, "figures": [...], "seconds": total, "players": [...]}``.
     """

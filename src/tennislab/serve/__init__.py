@@ -15,7 +15,6 @@ the command's ``--json``):
 from tennislab.serve.mc import MonteCarloResult, monte_carlo
 from tennislab.serve.players import (
     SEED_PLAYERS,
-    Player,
     PlayerProfile,
     get_player,
     player_names,
@@ -38,7 +37,6 @@ __all__ = [
     "SEED_PLAYERS",
     "ImpactSummary",
     "MonteCarloResult",
-    "Player",
     "PlayerProfile",
     "SeedCriteria",
     "ServeResult",

@@ -90,9 +90,6 @@ class PlayerProfile:
         )
 
 
-#: The previous name of :class:`PlayerProfile` (the app and older scripts build ``Player(name, h, v)``).
-Player = PlayerProfile
-
 _PLAYERS: dict[str, PlayerProfile] = {}
 _ALIASES: dict[str, str] = {}
 

@@ -35,7 +35,7 @@ from tennislab.serve.setup import (
 from tennislab.serve.verdict import advise, describe
 from tennislab.units import KMH, RPM
 
-__all__ = ["ServeResult", "Verdict", "simulate", "simulate_serve", "judge", "launch_3d", "REASONS"]
+__all__ = ["ServeResult", "Verdict", "simulate", "judge", "launch_3d", "REASONS"]
 
 
 @dataclass(frozen=True)
@@ -216,16 +216,6 @@ def simulate(
         if trajectory
         else None,
     )
-
-
-def simulate_serve(player, alpha_deg: float, beta_deg: float, **kw) -> dict:
-    """``simulate(...).to_dict()`` with the SciPy trajectory under ``"_trajectory"`` when asked
-    (``trajectory=True``): the dict form used by callers that index the result."""
-    res = simulate(player, alpha_deg, beta_deg, **kw)
-    out = res.to_dict()
-    if res.trajectory is not None:
-        out["_trajectory"] = res.trajectory
-    return out
 
 
 # ---------------------------------------------------------------------------------------- verdict

@@ -47,7 +47,7 @@ from tennislab.serve.setup import (
 )
 from tennislab.units import RPM
 
-__all__ = ["ServeWindow", "ServeWindows", "window", "windows", "serve_window", "default_serve", "window_chunk"]
+__all__ = ["ServeWindow", "ServeWindows", "window", "windows", "default_serve", "window_chunk"]
 
 SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
 
@@ -364,10 +364,6 @@ def window(
         "seed-2d" if target is None else box_name(target),
         (*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target)),
     )
-
-
-#: The name of :func:`window` used by the app and older scripts.
-serve_window = window
 
 
 def windows(players, **kw) -> ServeWindows:
