@@ -13,3 +13,16 @@ def _clean_working_folder(tmp_path_factory):
     os.chdir(tmp_path_factory.mktemp("cwd"))
     yield
     os.chdir(old)
+
+
+@pytest.fixture(scope="session")
+def client():
+    """One running web app (with its worker processes) shared by every test that talks to it."""
+    pytest.importorskip("fastapi")
+    pytest.importorskip("httpx")
+    from fastapi.testclient import TestClient
+
+    from tennislab.app.server import create_app
+
+    with TestClient(create_app(allowed_hosts=["testserver"])) as c:
+        yield c

@@ -218,7 +218,12 @@ def test_serve_custom_player_and_3d(client):
 
     base = {"player": "custom", "height": 2.5, "racket_speed": 33.0, "impact_angle": 30, "face_angle": 12}
     a = client.post("/api/serve", json=base).json()
-    assert a["player"] == {"name": "custom", "height": 2.5, "racket_speed": 33.0}
+    assert a["player"] == "custom"
+    assert {k: a["player_profile"][k] for k in ("name", "impact_height", "racket_speed")} == {
+        "name": "custom",
+        "impact_height": 2.5,
+        "racket_speed": 33.0,
+    }
     three_d = {"target": "deuce", "azimuth_deg": 3.0, "brush_deg": 20.0, "server_y": 0.5, "toss_vz": -2.0}
     b = client.post("/api/serve", json={**base, **three_d}).json()
     ref = simulate(
@@ -239,7 +244,7 @@ def test_serve_custom_player_and_3d(client):
     assert b["landing_y"] > a["landing_y"] + 0.3  # the face turned toward +y
     # a named player ignores the custom height and speed
     c = client.post("/api/serve", json={**base, "player": "junior"}).json()
-    assert c["player"] == {"name": "junior", "height": 2.2, "racket_speed": 25.0}
+    assert (c["player_profile"]["impact_height"], c["player_profile"]["racket_speed"]) == (2.2, 25.0)
     # 3-D options need a real service box: a clear message, nothing computed
     msg = err(client.post("/api/serve", json={**base, "azimuth_deg": 2.0}))
     assert "azimuth" in msg and "deuce" in msg

@@ -44,7 +44,9 @@ def test_aim_json_contract(capsys, tmp_path):
     assert rc == 0 and png.stat().st_size > 10_000
     d = json.loads(out)
     s = d["settings"]
-    assert s["height_m"] == 1.2 and abs(s["speed_kmh"] - 80) <= 3 and d["deviation"]["spin_vector_rpm"] <= 100
+    assert s["height_m"] == 1.2 and abs(s["speed_kmh"] - 80) <= 3
+    assert d["tolerances"]["spin_axis_deg"] == 10  # the default: the axis may turn by 10 deg at 1500 +- 100 rpm
+    assert abs(s["spin_rpm"] - 1500) <= 100 and abs(s["spin_axis_deg"]) <= 10
     assert d["asked"] == {"height_m": 1.2, "speed_kmh": 80, "spin_rpm": 1500, "spin_axis_deg": 0}
     assert isinstance(s["elevation_deg"], float) and isinstance(s["heading_deg"], float)
     assert d["rollers"]["rpm1"] < d["rollers"]["rpm2"]
@@ -73,6 +75,8 @@ def test_aim_exact_tolerances_keep_the_asked_settings(capsys):
         "--speed-tolerance-kmh",
         0,
         "--spin-tolerance-rpm",
+        0,
+        "--spin-axis-tolerance-deg",
         0,
         "--json",
     )

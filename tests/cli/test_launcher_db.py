@@ -144,6 +144,8 @@ def test_lookup_agrees_with_aim(built, capsys, target, speed, spin):
             "0",
             "--spin-tolerance-rpm",
             "0",
+            "--spin-axis-tolerance-deg",
+            "0",
             "--json",
         )
         if rc == 0:

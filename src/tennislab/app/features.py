@@ -71,12 +71,14 @@ def synthetic_track(seed: int = 7, sigma: float = 0.003, rate: float = 340.0):
 
 
 def sample_track(v: dict | None = None) -> str:
-    """CSV text of :func:`synthetic_track` (the example serve, sigma 3 mm at 340 Hz)."""
+    """CSV text of :func:`synthetic_track` (the example serve, sigma 3 mm at 340 Hz), every number at full
+    precision, so that ``tennislab call --track`` on it and the report's line-call section (the same
+    samples) give the same call to the last digit."""
     data, _ = synthetic_track()
     buf = io.StringIO()
     buf.write("t,x,y,z,sigma\n")
     for row in data:
-        buf.write(f"{row[0]:.6f},{row[1]:.5f},{row[2]:.5f},{row[3]:.5f},0.003\n")
+        buf.write(",".join(repr(float(c)) for c in row) + ",0.003\n")
     return buf.getvalue()
 
 

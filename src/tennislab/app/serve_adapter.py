@@ -51,7 +51,8 @@ def opening_serve(player: str = "professional") -> dict:
 
 def serve(v: dict) -> dict:
     """One serve (form ``serve``): ``simulate(...).to_dict()`` (the JSON of ``tennislab serve``, with
-    ``verdict`` and ``caveats``) plus the player used and the trajectory's plot points."""
+    ``verdict``, ``caveats`` and ``player_profile``; every key unchanged) plus the trajectory's plot
+    points."""
     player = player_of(v)
     target = None if v["target"] == "seed-2d" else v["target"]
     res = simulate(
@@ -67,7 +68,6 @@ def serve(v: dict) -> dict:
     )
     out = res.to_dict()
     tr = res.trajectory
-    out["player"] = {"name": player.name, "height": player.impact_height, "racket_speed": player.racket_speed}
     out["regime"] = out["impact"]["regime"]
     out["contact_time_ms"] = out["impact"]["contact_time_ms"]
     out["landing_y"] = out["landing"]["y"]

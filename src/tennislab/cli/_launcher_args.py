@@ -11,7 +11,7 @@ from tennislab.cli.common import add_speed_flags, parse_spin_axis
 from tennislab.errors import InputError
 from tennislab.io.files import check_output_path
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
-from tennislab.launcher.preferences import TRAJECTORIES
+from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, TRAJECTORIES
 from tennislab.plot.save import FIGURE_SUFFIXES
 
 #: Physics flags' dests (cli.common.add_physics_flags) a database compares with its own physics.
@@ -93,8 +93,9 @@ def add_tolerance_flags(p, *, speed: float, spin: float, axis: bool = True) -> N
         g.add_argument(
             "--spin-axis-tolerance-deg",
             type=float,
-            default=0.0,
-            help="also let the spin axis turn this far [deg] at the asked rate +- the spin tolerance (default 0)",
+            default=DEFAULT_SPIN_AXIS_TOLERANCE_DEG,
+            help="also let the spin axis turn this far [deg] at the asked rate +- the spin tolerance "
+            f"(default {DEFAULT_SPIN_AXIS_TOLERANCE_DEG:g}; 0 = only within the spin tolerance as a vector)",
         )
 
 

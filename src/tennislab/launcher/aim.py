@@ -44,7 +44,13 @@ from tennislab.launcher.machine import (
     settings_states,
     speed_in_kmh,
 )
-from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm, wrap_deg
+from tennislab.launcher.preferences import (
+    DEFAULT_SPIN_AXIS_TOLERANCE_DEG,
+    Preferences,
+    Tolerances,
+    spin_change_rpm,
+    wrap_deg,
+)
 from tennislab.launcher.rollers import roller_geometry, roller_speeds
 from tennislab.results import Result
 from tennislab.units import KMH, RPM
@@ -517,7 +523,7 @@ def aim(
     trajectory: str | None = None,
     speed_tolerance_kmh: float = 3.0,
     spin_tolerance_rpm: float = 100.0,
-    spin_axis_tolerance_deg: float = 0.0,
+    spin_axis_tolerance_deg: float = DEFAULT_SPIN_AXIS_TOLERANCE_DEG,
     max_apex_m: float | None = None,
     net_clearance_m: tuple[float, float] | None = None,
     max_flight_time_s: float | None = None,

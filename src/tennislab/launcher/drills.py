@@ -32,7 +32,7 @@ from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
 from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_dict, rollers_rpm
 from tennislab.launcher.machine import MachineSpec
-from tennislab.launcher.preferences import Preferences
+from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, Preferences
 from tennislab.results import Result
 
 
@@ -86,7 +86,7 @@ SHOT_DEFAULTS: dict[str, object] = {
     "interval_s": 4.0,
     "speed_tolerance_kmh": 3.0,
     "spin_tolerance_rpm": 100.0,
-    "spin_axis_tolerance_deg": 0.0,
+    "spin_axis_tolerance_deg": DEFAULT_SPIN_AXIS_TOLERANCE_DEG,
     "max_apex_m": None,
     "net_clearance_m": None,
     "max_flight_time_s": None,
@@ -115,7 +115,7 @@ class ShotSpec:
     interval_s: float
     speed_tolerance_kmh: float = 3.0
     spin_tolerance_rpm: float = 100.0
-    spin_axis_tolerance_deg: float = 0.0
+    spin_axis_tolerance_deg: float = DEFAULT_SPIN_AXIS_TOLERANCE_DEG
     max_apex_m: float | None = None
     net_clearance_m: tuple | None = None
     max_flight_time_s: float | None = None

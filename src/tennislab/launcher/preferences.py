@@ -134,13 +134,20 @@ class Preferences:
         }
 
 
+#: Default turn of the spin axis allowed while aiming [deg]: the ball keeps cos 10 deg = 98.5 % of its
+#: spin about the asked axis and gains at most sin 10 deg = 17 % of it about the perpendicular one, so a
+#: topspin drive stays a topspin drive; the turn moves the bounce across the flight, which the 1 deg
+#: heading steps alone cannot do finer than ~0.37 m at 21 m (docs/launcher.md, "Aiming on the steps").
+DEFAULT_SPIN_AXIS_TOLERANCE_DEG = 10.0
+
+
 @dataclass(frozen=True)
 class Tolerances:
     """How far ``aim`` may move speed [km/h] and spin [rpm] from what was asked (module docstring)."""
 
     speed_kmh: float = 3.0
     spin_rpm: float = 100.0
-    spin_axis_deg: float = 0.0
+    spin_axis_deg: float = DEFAULT_SPIN_AXIS_TOLERANCE_DEG
 
     def __post_init__(self):
         object.__setattr__(self, "speed_kmh", check_range("speed_tolerance_kmh", self.speed_kmh, 0, 170, "km/h"))
