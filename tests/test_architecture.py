@@ -163,3 +163,16 @@ def test_io_is_a_leaf_and_core_reads_no_file():
 def test_no_try_import_of_own_modules(part):
     bad = [f"{m}:{ln} -> {t}" for m, ts in EDGES.items() if _part(m) == part for t, ln, g in ts if g]
     assert not bad, bad
+
+
+def test_domain_packages_are_independent():
+    """trajectory, serve, launcher, linecall and calibrate each stand on core/batch/io alone."""
+    domains = {"trajectory", "serve", "launcher", "linecall", "calibrate"}
+    bad = [
+        f"{m}:{ln} -> {t}"
+        for m, ts in EDGES.items()
+        if _part(m) in domains
+        for t, ln, _ in ts
+        if _part(t) in domains and _part(t) != _part(m)
+    ]
+    assert not bad, bad
