@@ -6,6 +6,7 @@ and the app's Flight page), so the numbers here are the ones those give for the 
 
 from __future__ import annotations
 
+from tennislab.core.aero import DEFAULT_AERO
 from tennislab.core.flight import FlightParams
 from tennislab.plot.trajectory import plot_trajectories
 from tennislab.report import html as H
@@ -20,7 +21,8 @@ SHOTS: list[tuple[str, tuple[float, float, float], dict]] = [
     ),
     ("flat serve 180 km/h", (-11.885, 0.5, 2.8), {"velocity": (49.5, -1.5, -4.5)}),
 ]
-MODELS = ["stepanek1988", "cross2014", "launcher2015", "constant"]
+#: the default model first (:data:`tennislab.core.aero.DEFAULT_AERO`), then the seeds' and the others
+MODELS = [DEFAULT_AERO] + [m for m in ("stepanek1988", "cross2014", "launcher2015", "constant") if m != DEFAULT_AERO]
 
 HEADER = [
     "shot",
@@ -69,10 +71,12 @@ def flight(ctx) -> None:
     fig = plot_trajectories(flights, labels=labels, title="topspin groundstroke, 100 km/h, 2500 rpm: aero models")
     sec.add(
         H.para(
-            "The same launch flown with each registered aerodynamic model. Štěpánek (1988) is the model of "
-            "Grosen, Kousted & Treichel (2021); Cross & Lindsey (2014) and the launcher model of Wójcicki, "
-            "Pucilowski & Kulesza use a lower drag coefficient measured in flight. Where the models disagree, "
-            "the landing point moves by metres: the choice of model matters more than the integrator."
+            "The same launch flown with each registered aerodynamic model. The default, choppin2018 (drag "
+            "coefficient 0.60 of match balls measured on 9,224 Hawk-Eye serves, Choppin et al. 2018), is the "
+            "one real tracked balls support (docs/validation.md); Štěpánek (1988) is the model of Grosen, "
+            "Kousted & Treichel (2021); Cross & Lindsey (2014) and the launcher model of Wójcicki, Pucilowski & "
+            "Kulesza use a lower drag coefficient measured on a launcher. Where the models disagree, the landing "
+            "point moves by metres: the choice of model matters more than the integrator."
         ),
         H.figure(ctx.save(fig, "flight_models.png"), "A topspin groundstroke under four aero models"),
         H.table(HEADER, rows, left_cols=2),

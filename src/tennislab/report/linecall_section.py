@@ -17,7 +17,7 @@ from matplotlib.patches import Circle, Ellipse, Rectangle
 from tennislab.core.court import ITF_COURT
 from tennislab.linecall import call_track
 from tennislab.linecall.synth import sample_serve
-from tennislab.plot.court import draw_court_side
+from tennislab.plot.court import draw_court_side, frame_views
 from tennislab.report import html as H
 
 TARGET = "deuce-box"
@@ -76,8 +76,7 @@ def linecall(ctx) -> None:
     ts = res.track[0] if res.track is not None else tr.t - tr.t[0]  # the call's relative clock
     pts = fit.positions(np.linspace(ts[0], ts[-1], 400))
     ax2.plot(pts[:, 0], pts[:, 2], "-", color="#d62828", lw=1.5, label="fitted flight and bounce")
-    ax2.set_xlim(-8, 11)
-    ax2.set_ylim(0, 3)
+    frame_views(ax2, None, np.vstack([tr.xyz, pts]), margin=1.0, pad=0.5)
     ax2.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
 
