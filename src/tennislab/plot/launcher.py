@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.patches import Rectangle
 
-from tennislab.plot.court import court_figure
+from tennislab.plot.court import court_figure, frame_views
 
 
 def _draw_machine(ax_side, ax_top, position, height):
@@ -30,7 +30,8 @@ def plot_aim(solution, trajectory, title: str | None = None):
     ax_top.plot(*solution.target, "x", ms=10, mew=2.5, color="#c0392b", zorder=6, label="target")
     ax_top.plot(*solution.landing, "o", ms=6, color="#f2e600", mec="k", zorder=6, label="landing")
     _draw_machine(ax_side, ax_top, solution.position, st.height_m)
-    ax_side.set_ylim(0, max(3.5, float(np.nanmax(ys[:, 2])) + 0.5))
+    machine = [[solution.position[0], solution.position[1], st.height_m]]
+    frame_views(ax_side, ax_top, np.vstack([ys[:, 0:3], machine]), margin=1.0, pad=0.5)
     ax_top.legend(loc="upper left", fontsize=8)
     return fig
 
@@ -40,7 +41,7 @@ def plot_drill(compiled, trajectories, title: str | None = None):
     shot, from :func:`tennislab.launcher.drills.drill_trajectories`); zones green = passed, red = failed."""
     d = compiled.drill
     fig, ax_side, ax_top = court_figure(title=title or f"drill: {d.name} ({len(compiled.shots)} shots)")
-    zmax = 3.5
+    drawn = []
     colors = ["#f2e600", "#4fc3f7", "#ff8a65", "#ba68c8", "#aed581", "#ffffff", "#90a4ae", "#f06292"]
     for i, (u, tr) in enumerate(zip(compiled.unique, trajectories)):
         c = colors[i % len(colors)]
@@ -57,9 +58,10 @@ def plot_drill(compiled, trajectories, title: str | None = None):
         ax_top.plot(ys[:, 0], ys[:, 1], lw=1.5, color=c)
         ax_top.plot(*u.solution.landing, "o", ms=5, color=c, mec="k", zorder=6)
         ax_top.plot(*u.shot.target, "x", ms=7, mew=2, color="#c0392b", zorder=6)
-        zmax = max(zmax, float(np.nanmax(ys[:, 2])) + 0.5)
+        drawn.append(ys[:, 0:3])
     h = max(u.shot.height_m for u in compiled.unique)
     _draw_machine(ax_side, ax_top, d.spec.position, h)
-    ax_side.set_ylim(0, zmax)
+    drawn.append(np.array([[d.spec.position[0], d.spec.position[1], h]]))
+    frame_views(ax_side, ax_top, np.vstack(drawn), margin=1.0, pad=0.5)
     ax_side.legend(loc="upper right", fontsize=7)
     return fig

@@ -7,6 +7,8 @@ baseline_rally`` prints.
 
 from __future__ import annotations
 
+import numpy as np
+
 from tennislab.launcher import PAPER, compile_drill, launcher_params, load_drill
 from tennislab.launcher.aim import solution_dict
 from tennislab.launcher.drills import drill_trajectories
@@ -37,14 +39,14 @@ def _shots(name: str = "baseline_rally"):
 def drill(ctx) -> None:
     import matplotlib.pyplot as plt  # the report's figures: matplotlib is loaded only when a report is built
 
-    from tennislab.plot.court import draw_court_side, draw_court_top
+    from tennislab.plot.court import draw_court_side, draw_court_top, frame_views
 
     sec = ctx.section
     name, shots, summary = _shots()
     fig, (ax_side, ax_top) = plt.subplots(2, 1, figsize=(10, 8.5), height_ratios=[1, 1.25])
     draw_court_side(ax_side)
     draw_court_top(ax_top)
-    zmax = 3.0
+    drawn = []
     rows = []
     for i, s in enumerate(shots, 1):
         _, ys = s["trajectory"].sample(300)
@@ -53,7 +55,7 @@ def drill(ctx) -> None:
         lx, ly = s["landing"]["x"], s["landing"]["y"]
         ax_top.plot(lx, ly, "o", ms=6, color=line.get_color(), mec="k")
         ax_top.annotate(str(i), (lx, ly), xytext=(5, 5), textcoords="offset points", color="white", fontweight="bold")
-        zmax = max(zmax, float(ys[:, 2].max()) + 0.5)
+        drawn.append(ys[:, 0:3])
         st = s["settings"]
         rows.append(
             [
@@ -74,7 +76,7 @@ def drill(ctx) -> None:
                 H.num(s["net_clearance_m"], 2),
             ]
         )
-    ax_side.set_ylim(0, zmax)
+    frame_views(ax_side, ax_top, np.vstack(drawn), margin=1.0, pad=0.5)
     ax_side.legend(loc="upper right", fontsize=8)
     fig.suptitle(f"launcher drill: {name}")
     sec.add(
