@@ -12,6 +12,8 @@ Workflows (plain parameters in, a frozen :class:`~tennislab.results.Result` out)
   (:class:`SensitivityResult`).
 * :func:`calibrate_tracks` - the coefficients fitted to time-stamped free-flight tracks
   (:class:`TrackCalibrationResult`).
+* :func:`calibrate_surface` - the court's restitution and friction fitted to measured bounces
+  (:class:`SurfaceCalibrationResult`; its surface file is what ``--surface FILE.toml`` reads).
 
 :func:`synthetic_serves` draws serves flown by a known model (for tests and examples).
 
@@ -35,6 +37,7 @@ from tennislab.calibrate.serves import (
     serves_from_columns,
     split_serves,
 )
+from tennislab.calibrate.surface import SurfaceCalibrationResult, calibrate_surface
 from tennislab.calibrate.synth import serves_csv, synthetic_serves
 from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
 from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
@@ -46,12 +49,14 @@ __all__ = [
     "ModelValidation",
     "Prediction",
     "SensitivityResult",
+    "SurfaceCalibrationResult",
     "Serves",
     "SpinAxis",
     "TrackCalibrationResult",
     "ValidationResult",
     "aero_table_csv",
     "calibrate_serves",
+    "calibrate_surface",
     "calibrate_tracks",
     "check_serves",
     "family_coefficients",

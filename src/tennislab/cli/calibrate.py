@@ -17,16 +17,19 @@ import sys
 
 from tennislab.calibrate import (
     calibrate_serves,
+    calibrate_surface,
     calibrate_tracks,
     registered_models,
     sensitivity_serves,
     validate_serves,
 )
-from tennislab.cli.common import atomic_write, emit_json, figure_file, output_file, save_figure
+from tennislab.cli.common import atomic_write, emit_json, figure_file, output_file, save_figure, surface_from_arg
 from tennislab.core.aero import DEFAULT_AERO
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
+from tennislab.io.hawkeye import read_points
 from tennislab.io.track import read_track
+from tennislab.linecall import call_rally, call_track
 
 
 def _physics_flags(p) -> None:
@@ -162,6 +165,86 @@ def register(sub) -> None:
     )
     _common(t, serves=False)
     t.set_defaults(func=run_tracks)
+    _register_surface(sp)
+
+
+def _register_surface(sp) -> None:
+    u = sp.add_parser(
+        "surface",
+        help="fit the court's restitution and friction to measured bounces (tracks with points after the bounce)",
+        description="Fit the bounce model's e and mu (and e_x) to the bounces of real tracks: the line-call fit "
+        "measures each ball's velocity and spin before the bounce and its velocity after it.",
+    )
+    u.add_argument("--rally", nargs="+", default=[], metavar="FILE|DIR", help="Hawk-Eye-style point JSON")
+    u.add_argument("--track", nargs="+", default=[], metavar="FILE.csv", help="t,x,y,z[,sigma] tracks through a bounce")
+    u.add_argument("--base", default="hard", help="surface the fit starts from and keeps the other values of")
+    u.add_argument("--fit", default="e,mu", help="free parameters among e, mu, e_x (default e,mu)")
+    u.add_argument("--name", default="calibrated", help="name of the fitted surface (default calibrated)")
+    u.add_argument(
+        "--out-surface",
+        metavar="FILE.toml",
+        type=output_file((".toml",)),
+        help="write the fitted surface as a surface file (--surface FILE.toml of fly and call)",
+    )
+    u.add_argument("--csv", metavar="FILE", type=output_file((".csv",)), help="one row per bounce")
+    u.add_argument("--json", action="store_true", help="print one JSON object")
+    u.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    u.set_defaults(func=run_surface)
+
+
+def _measured_bounces(args):
+    """(velocity_in, spin_in, velocity_out) of every called bounce whose outgoing velocity was measured
+    from the samples after it (the line-call fit's ``velocity_out_from == "post-fit"``)."""
+    shots = []
+    for f in args.rally:
+        shots += call_rally(read_points(f), surface=args.base).to_dict()["shots"]
+    for f in args.track:
+        t = read_track(f)
+        shots.append(call_track(t.t, t.xyz, t.sigma, surface=args.base).to_dict())
+    vi, wi, vo = [], [], []
+    for d in shots:
+        b, fit = d.get("bounce"), d.get("fit") or {}
+        if b and fit.get("velocity_out_from") == "post-fit" and b.get("velocity_out") is not None:
+            vi.append(b["velocity_in"])
+            wi.append(b["spin_in"])
+            vo.append(b["velocity_out"])
+    if not args.quiet:
+        print(f"calibrate surface: {len(vo)} measured bounces in {len(shots)} shots", file=sys.stderr)
+    return vi, wi, vo, len(shots)
+
+
+def run_surface(args) -> int:
+    if not args.rally and not args.track:
+        raise InputError("--rally: give tracks with points after the bounce (--rally FILE or --track FILE.csv)")
+    base = surface_from_arg(args.base)
+    args.base = base
+    vi, wi, vo, n_shots = _measured_bounces(args)
+    if not vo:
+        raise InputError(f"--rally: none of the {n_shots} shots has a bounce with points after it to measure")
+    fit = tuple(k.strip() for k in args.fit.split(",") if k.strip())
+    res = calibrate_surface(vi, wi, vo, base=base, fit=fit, name=args.name)
+    if args.out_surface:
+        text = res.surface_toml()
+        atomic_write(args.out_surface, lambda fh: fh.write(text))
+    if args.csv:
+        _write_rows(args.csv, res.rows())
+    if args.json:
+        emit_json(res)
+        return 0
+    d = res.to_dict()
+    vals = ", ".join(
+        f"{k} = {d['surface'][k]:.3f}" + (f" +- {d['sd'][k]:.3f}" if k in d["sd"] else " (kept)")
+        for k in ("e", "mu", "e_x")
+    )
+    print(f"surface fitted to {res.n_bounces} bounces: {vals}")
+    print(
+        f"outgoing velocity rms: {res.rms_before_ms:.3f} m/s ({d['base']['name']}) -> {res.rms_after_ms:.3f} m/s; "
+        f"court pace rating {d['cpr']:.1f} ({d['cpr_category']})"
+    )
+    for extra in (args.out_surface, args.csv):
+        if extra:
+            print(f"wrote {extra}")
+    return 0
 
 
 def _progress(args):

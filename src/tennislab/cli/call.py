@@ -17,7 +17,14 @@ from __future__ import annotations
 import csv
 import os
 
-from tennislab.cli.common import add_physics_flags, atomic_write, emit_json, physics_from_args, save_figure
+from tennislab.cli.common import (
+    add_physics_flags,
+    atomic_write,
+    emit_json,
+    physics_from_args,
+    save_figure,
+    surface_from_arg,
+)
 from tennislab.errors import InputError
 from tennislab.io.cameras import read_cameras, read_detections
 from tennislab.io.hawkeye import read_points
@@ -54,7 +61,11 @@ def register(sub) -> None:
         help="drop point from a state: numeric flight (default) or seed 001's closed form",
     )
     p.add_argument("--detections", metavar="FILE.csv", help="2-D detections t,camera,u,v[,sigma_px]")
-    p.add_argument("--surface", default="hard", help="court surface: clay, grass, hard, carpet (default hard)")
+    p.add_argument(
+        "--surface",
+        default="hard",
+        help="court surface: clay, grass, hard, carpet, or a surface file FILE.toml (default hard)",
+    )
     g = p.add_mutually_exclusive_group()
     g.add_argument("--line", help="call against one line (baseline, service, singles-left, ... near-...)")
     g.add_argument("--target", help="area the shot must land in (singles, doubles, deuce-box, ad-box, near-...)")
@@ -240,6 +251,7 @@ def run(args) -> int:
     _check_out("--plot", args.plot, (".png", ".svg", ".pdf"))
     if args.csv and args.rally is None:
         raise InputError("--csv: only with --rally (one row per shot)")
+    args.surface = surface_from_arg(args.surface)
     params = physics_from_args(args)
     if args.rally is not None:
         if args.line:

@@ -19,9 +19,11 @@ import json
 from tennislab.core.aero import DEFAULT_AERO, aero_model_names
 from tennislab.core.flight import PRESETS, FlightParams
 from tennislab.core.launch import SPIN_AXES_DEG, spin_axis_angle
+from tennislab.core.surfaces import Surface, get_surface, register_surface
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path
+from tennislab.io.surface_file import is_surface_file, read_surface
 from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
 from tennislab.results import jsonable
 
@@ -290,3 +292,17 @@ def launch_from_args(args) -> dict:
         spin_rpm=args.spin_rpm,
         spin_axis=axis,
     )
+
+
+# ------------------------------------------------------------------ court surface
+def surface_from_arg(value: str | None) -> str | None:
+    """``--surface NAME|FILE``: a registered surface (clay, grass, hard, carpet, ...) or a surface file
+    (``.toml``/``.json``, e.g. written by ``tennislab calibrate surface``), read and registered under
+    its name; returns the name to pass to the workflows (None stays None)."""
+    if value is None:
+        return None
+    if is_surface_file(value):
+        d = read_surface(value)
+        s = Surface(d["name"], e=d["e"], mu=d["mu"], e_x=d.get("e_x", 0.0), source=d.get("source", value))
+        return register_surface(s).name
+    return get_surface(value).name

@@ -19,11 +19,12 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
+from tennislab.cli.common import surface_from_arg
 from tennislab.core.flight import FlightParams
-from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
 from tennislab.io.config import read_config, read_player_file
+from tennislab.io.surface_file import is_surface_file
 from tennislab.serve.players import PlayerProfile, get_player, register_player
 
 #: the file looked for in the working folder when ``--config`` is not given
@@ -124,8 +125,11 @@ def load_config(path: str | None) -> Config:
     except InputError as exc:
         raise InputError(f"{path}: physics.{exc}") from None
     if "surface" in data["court"]:
+        surf = data["court"]["surface"]
+        if isinstance(surf, str) and is_surface_file(surf) and not os.path.isabs(surf):
+            data["court"]["surface"] = surf = os.path.join(base, surf)
         try:
-            get_surface(data["court"]["surface"])
+            surface_from_arg(surf)
         except InputError as exc:
             raise InputError(f"{path}: court.{exc}") from None
     players = {

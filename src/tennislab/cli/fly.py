@@ -15,6 +15,7 @@ from tennislab.cli.common import (
     launch_from_args,
     physics_from_args,
     save_figure,
+    surface_from_arg,
 )
 from tennislab.errors import InputError
 from tennislab.plot.trajectory import plot_trajectories
@@ -66,7 +67,8 @@ def register(sub) -> None:
         "--surface",
         default=None,
         metavar="NAME",
-        help="court surface of the bounces: clay, grass, hard, carpet (default hard; only with --bounces)",
+        help="court surface of the bounces: clay, grass, hard, carpet, or a surface file FILE.toml "
+        "(tennislab calibrate surface; default hard; only with --bounces)",
     )
     p.add_argument(
         "--net",
@@ -92,7 +94,7 @@ def run(args) -> int:
         position,
         **launch_from_args(args),
         params=params,
-        surface=args.surface or "hard",
+        surface=surface_from_arg(args.surface) or "hard",
         bounces=args.bounces,
         net=args.net,
     )
