@@ -209,7 +209,7 @@ def run_rollers(args) -> int:
     if args.contact_area_m2 is not None:
         kw["contact_area"] = args.contact_area_m2
     rep = roller_report(v, w, spec, params.ball, **kw)
-    out = rep.as_dict()
+    out = rep.to_dict()
     if args.json:
         emit_json(out)
         return 0
@@ -243,7 +243,7 @@ def run_power(args) -> int:
         params.ball,
         slip=args.slip,
     )
-    out = rep.as_dict()
+    out = rep.to_dict()
     if args.json:
         emit_json(out)
         return 0

@@ -57,7 +57,7 @@ def run_young(args) -> int:
         diameter = 2 * SEED_BALL_RADIUS
     area = SEED_CONTACT_AREA if args.contact_area_m2 is None else args.contact_area_m2
     res = young_modulus(load, dl, diameter, area)
-    out = res.as_dict()
+    out = res.to_dict()
     if args.json:
         emit_json(out)
         return 0
@@ -75,7 +75,7 @@ def run_young(args) -> int:
 def run_friction(args) -> int:
     ang, cl = read_friction_angles(args.csv)
     res = friction_coefficient(ang, cl)
-    out = res.as_dict()
+    out = res.to_dict()
     if args.json:
         emit_json(out)
         return 0

@@ -385,9 +385,6 @@ class CompiledDrill(Result):
             "shots": self.rows(),
         }
 
-    def as_dict(self) -> dict:
-        return self.to_dict()
-
 
 def _aim_shot(shot: ShotSpec, spec: MachineSpec, params: FlightParams) -> AimSolution:
     p = shot.preferences

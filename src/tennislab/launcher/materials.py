@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tennislab.errors import InputError, check_range
+from tennislab.results import Result
 
 #: Standard gravity used to turn a load in kg into a force [m/s^2] (CGPM 1901).
 G0 = 9.80665
@@ -96,7 +97,7 @@ SEED_TABLE3 = {
 
 
 @dataclass(frozen=True)
-class YoungResult:
+class YoungResult(Result):
     """Per-row moduli [Pa], their mean, min, max, and the least-squares slope modulus [Pa]."""
 
     load: np.ndarray
@@ -109,7 +110,7 @@ class YoungResult:
     contact_area: float
     diameter: float
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         rows = [
             {"load_n": float(f), "deformation_m": float(d), "young_modulus_mpa": float(e) / 1e6}
             for f, d, e in zip(self.load, self.deformation, self.modulus)
@@ -193,7 +194,7 @@ def itf_young_moduli(diameter: float = 2 * SEED_BALL_RADIUS, contact_area: float
 
 
 @dataclass(frozen=True)
-class FrictionResult:
+class FrictionResult(Result):
     """mu = tan(eta) per row, with optional contact lengths [m]; mean and maximum."""
 
     angle_deg: np.ndarray
@@ -202,7 +203,7 @@ class FrictionResult:
     mean: float
     maximum: float
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         rows = []
         for i, (a, m) in enumerate(zip(self.angle_deg, self.mu)):
             r = {"friction_angle_deg": float(a), "friction_coefficient": float(m)}

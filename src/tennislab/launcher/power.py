@@ -60,6 +60,7 @@ from tennislab.core.ball import Ball
 from tennislab.errors import check_range
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
 from tennislab.launcher.rollers import roller_geometry, roller_speeds, surface_speeds
+from tennislab.results import Result
 from tennislab.units import RPM
 
 #: Default roller mass [kg] (implied by seed 002's 35 s start-up at 45 W; see module docstring).
@@ -71,7 +72,7 @@ DEFAULT_THROW_TIME = 1.0
 
 
 @dataclass(frozen=True)
-class PowerReport:
+class PowerReport(Result):
     """Energy and power of one throw (SI units)."""
 
     speed: float  #: V [m/s]
@@ -101,7 +102,7 @@ class PowerReport:
         """Start-up time of the slower-starting roller at constant motor power [s] (eq 31)."""
         return max(self.startup_energy) / self.motor_power
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "energy_per_throw_j": self.energy_per_throw,
             "throw_power_w": self.throw_power,

@@ -50,6 +50,7 @@ from tennislab.core.ball import Ball
 from tennislab.errors import InputError, check_range
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
 from tennislab.launcher.materials import SEED_CONTACT_AREA  # 2.12 cm^2 implied by seed Tables 1-2
+from tennislab.results import Result
 from tennislab.units import RPM
 
 #: Ball Young's modulus adopted by seed 002 (section 5.1, mean of its Table 2) [Pa].
@@ -122,7 +123,7 @@ def ball_from_rollers(omega_1, omega_2, roller_radius: float, deformed_radius: f
 
 
 @dataclass(frozen=True)
-class RollerReport:
+class RollerReport(Result):
     """Roller speeds and the pull-in and no-slip checks for one throw (SI units, rpm where named)."""
 
     speed: float  #: ball speed V [m/s]
@@ -151,7 +152,7 @@ class RollerReport:
     def rpm2(self) -> float:
         return self.omega_2 / RPM
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         g = self.geometry
         return {
             "rpm1": self.rpm1,
