@@ -58,7 +58,7 @@ def register(sub) -> None:
         "--method",
         choices=("numeric", "closed-form"),
         default="numeric",
-        help="drop point from a state: numeric flight (default) or seed 001's closed form",
+        help="drop point from a state: numeric flight (default) or the closed form of Deng (2014)",
     )
     p.add_argument("--detections", metavar="FILE.csv", help="2-D detections t,camera,u,v[,sigma_px]")
     p.add_argument(
