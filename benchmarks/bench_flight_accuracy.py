@@ -23,28 +23,29 @@ from test_flight_accuracy import shot_states
 from tennislab.core.aero import get_aero_model
 from tennislab.core.flight import FlightParams, fly, fly_batch
 
-MODELS = ("stepanek1988", "launcher2015", "cross2014")
+MODELS = tuple(os.environ.get("BENCH_MODELS", "choppin2018 stepanek1988 launcher2015 cross2014").split())
 
 
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--shots", type=int, default=3000)
     ap.add_argument("--seeds", type=int, nargs="+", default=[23])
-    ap.add_argument("--tol", type=float, nargs="+", default=[2e-7])
+    ap.add_argument("--tol", type=float, nargs="+", default=[0.0], help="rtol = atol; 0: the model's batch_tol")
     args = ap.parse_args([] if argv is None else argv)  # run_all.py calls main() without arguments
     worst = {}
     for model in MODELS:
         p = FlightParams(aero=get_aero_model(model))
-        errs = {tol: [] for tol in args.tol}
-        steps = {tol: [] for tol in args.tol}
+        tols = [t if t > 0 else p.aero.batch_tol for t in args.tol]
+        errs: dict = {tol: [] for tol in tols}
+        steps: dict = {tol: [] for tol in tols}
         for seed in args.seeds:
             S = shot_states(args.shots, seed=seed)
             ref = np.array([[tr.landing.x, tr.landing.y] for tr in (fly(s[:3], s[3:6], s[6:], p) for s in S)])
-            for tol in args.tol:
+            for tol in tols:
                 tb = fly_batch(S, p, rtol=tol, atol=tol)
                 errs[tol].append(np.hypot(ref[:, 0] - tb["land_x"], ref[:, 1] - tb["land_y"]) * 1e3)
                 steps[tol].append(tb["n_steps"])
-        for tol in args.tol:
+        for tol in tols:
             e, n = np.concatenate(errs[tol]), np.concatenate(steps[tol])
             worst[(model, tol)] = float(e.max())
             print(

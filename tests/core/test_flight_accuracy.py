@@ -38,7 +38,7 @@ def shot_states(n, seed=1):
     return np.array(out)
 
 
-@pytest.mark.parametrize("aero", ["stepanek1988", "launcher2015", "cross2014"])
+@pytest.mark.parametrize("aero", ["choppin2018", "stepanek1988", "launcher2015", "cross2014"])
 def test_batch_landing_within_0p01_mm_of_reference(aero):
     p = FlightParams(aero=get_aero_model(aero))
     S = shot_states(90, seed=zlib.crc32(aero.encode()) % 1000)  # same shots in every run

@@ -567,21 +567,29 @@ class FlightTable:
 
 
 def fly_batch(
-    states, params: FlightParams | None = None, *, rtol: float = 2e-7, atol: float = 2e-7, parallel: bool = True
+    states,
+    params: FlightParams | None = None,
+    *,
+    rtol: float | None = None,
+    atol: float | None = None,
+    parallel: bool = True,
 ) -> FlightTable:
     """Integrate N flights (states (N, 9): position, velocity, spin) to first ground contact.
 
     Compiled with Numba (``parallel=True`` uses all cores via ``prange``).  The
-    default tolerance (rtol = atol = 2e-7) keeps landing points within 0.006 mm
-    of the reference :func:`fly` at rtol 1e-10 for serves, groundstrokes and
-    lobs with up to 6000 rpm about any axis, for every built-in aero model
-    (18,000 shots: docs/flight.md; tests/core/test_flight_accuracy.py).
+    default tolerance (rtol = atol = the aero model's ``batch_tol``: 2e-7, or
+    5e-8 for the capped lift of ``choppin2018``) keeps landing points within
+    0.01 mm of the reference :func:`fly` at rtol 1e-10 for serves, groundstrokes
+    and lobs with up to 6000 rpm about any axis, for every built-in aero model
+    (docs/flight.md; benchmarks/bench_flight_accuracy.py; tests/core/test_flight_accuracy.py).
 
     Rows outside the physical range are not refused but marked (``status``, see
     :class:`FlightTable`), so that one bad row never stops millions of good ones;
     a malformed ``states`` array or bad parameters raise :class:`InputError`.
     """
     params = params or FlightParams()
+    rtol = params.aero.batch_tol if rtol is None else rtol
+    atol = params.aero.batch_tol if atol is None else atol
     check_range("rtol", rtol, 1e-14, 1e-2)
     check_range("atol", atol, 1e-16, 1e-2)
     try:
