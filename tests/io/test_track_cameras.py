@@ -43,6 +43,7 @@ def test_reader_good_and_roundtrip():
         (b"t,x,y,z\n\xff\xfe", "UTF-8"),
         ("t,x,y,z\n" + "".join(f"{i},0,0,5000\n" for i in range(12)), "1000 m"),
         ("t,x,y,z\n" + "".join(f"{i},0,0,1\n" for i in range(MIN_POINTS - 1)), "too few points"),
+        ("t,x,y,z\n", "too few points"),
     ],
 )
 def test_reader_errors(text, msg):

@@ -196,7 +196,7 @@ def test_cli_position(capsys):
 
 
 BAD = {
-    "few": "t,x,y,z\n0,0,0,1\n0.1,1,0,1\n",
+    "few": "t,x,y,z\n",
     "nonincreasing": "t,x,y,z\n"
     + "".join(f"{t},0,0,1\n" for t in [0, 0.1, 0.2, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]),
     "nan": "t,x,y,z\n" + "".join(f"{i / 10},{'nan' if i == 4 else 0},0,1\n" for i in range(12)),
@@ -218,8 +218,17 @@ def test_cli_no_bounce_in_range(capsys, tmp_path):
     up = lob.t < 0.4
     p = tmp_path / "up.csv"
     p.write_text(track_to_csv(lob.t[up], lob.xyz[up]))
-    rc, out, err = run(capsys, "call", "--track", p)
-    assert rc == 2 and "no bounce in range" in err
+    rc, out, err = run(capsys, "call", "--track", p, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["call"] == "review" and "no bounce in range" in d["review_reasons"][0]
+
+
+def test_cli_short_track_is_review_not_refused(capsys, tmp_path):
+    p = tmp_path / "few.csv"
+    p.write_text("t,x,y,z\n0,0,0,1\n0.02,0.6,0,1\n")
+    rc, out, err = run(capsys, "call", "--track", p, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["call"] == "review" and "too few points (2)" in d["review_reasons"][0]
 
 
 def test_cli_missing_velocity_and_file(capsys, tmp_path):

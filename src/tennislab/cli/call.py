@@ -157,7 +157,9 @@ def _single(args, params) -> TrackCall:
     if args.track is not None:
         tk = read_track(args.track)
         sigma = tk.sigma if tk.sigma is not None else args.sigma
-        return call_track(tk.t, tk.xyz, sigma, **opts)
+        # a well-formed track that cannot be called (too short, no bounce in reach) is answered
+        # review with the reason, as in a rally: never refused (issue 13)
+        return call_track(tk.t, tk.xyz, sigma, strict=False, **opts)
     if not args.detections:
         raise InputError("--cameras needs --detections FILE.csv")
     cams = read_cameras(args.cameras)

@@ -27,7 +27,7 @@ import numpy as np
 
 from tennislab.errors import InputError
 
-MIN_POINTS = 10  #: fewest rows of a track
+MIN_POINTS = 1  #: fewest rows of a track (a short one is the caller's to judge: linecall answers review)
 MAX_ROWS = 2_000_000  #: largest track read [rows]
 MAX_BYTES = 200_000_000  #: largest track file read [bytes]
 REQUIRED = ("t", "x", "y", "z")
