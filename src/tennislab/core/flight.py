@@ -578,7 +578,7 @@ def fly_batch(
 
     Compiled with Numba (``parallel=True`` uses all cores via ``prange``).  The
     default tolerance (rtol = atol = the aero model's ``batch_tol``: 2e-7, or
-    5e-8 for the capped lift of ``choppin2018``) keeps landing points within
+    2e-8 for the capped lift of ``choppin2018``) keeps landing points within
     0.01 mm of the reference :func:`fly` at rtol 1e-10 for serves, groundstrokes
     and lobs with up to 6000 rpm about any axis, for every built-in aero model
     (docs/flight.md; benchmarks/bench_flight_accuracy.py; tests/core/test_flight_accuracy.py).
