@@ -169,3 +169,14 @@ def test_label_message(form, message, want):
     from tennislab.app.fields import label_message
 
     assert label_message(form, message.replace("\\n", "\n")) == want
+
+
+def test_choice_labels_name_the_paper_not_the_seed():
+    """The page shows the success criteria by the paper's name; the value sent stays ``seed-2d``."""
+    from tennislab.app.fields import FORMS
+
+    f = FORMS["serve"].by_name()["target"]
+    spec = f.spec()
+    assert spec["choices"][0] == "seed-2d" and "Grosen" in spec["choice_labels"][0]
+    assert len(spec["choice_labels"]) == len(spec["choices"])
+    assert not any("seed" in lab for lab in spec["choice_labels"])

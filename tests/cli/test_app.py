@@ -81,7 +81,7 @@ def test_missing_optional_dependencies(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "uvicorn", None)
     assert main(["app", "--port", "8123"]) == 2
     err = capsys.readouterr().err
-    assert "tennislab[app]" in err and "Traceback" not in err
+    assert "make demo" in err and "pip install '.[app]'" in err and "Traceback" not in err
 
 
 def test_real_server_on_another_loopback_address():

@@ -865,3 +865,14 @@ def test_migration_5_gives_stored_hits_their_branch(tmp_path, params, table_db):
     conn.close()
     agree = np.mean([derived[i] == b for i, b in flown.items()])
     assert agree > 0.99
+
+
+def test_refusal_names_the_bound_that_excludes_the_asked_branch(table_db):
+    """When low hits land there but peak too high, the refusal names max_apex_m (not the trajectory,
+    even if the nearest hit of any branch is a high one)."""
+    hdb = HitsDB(table_db)
+    ok = hdb.lookup((9.0, 2.0), 100.0, trajectory="low")
+    cap = 0.5 * (ok.hit["apex_z_m"] + 1.0)  # below that low flight's apex, above the launch height
+    with pytest.raises(InputError, match=r"^max_apex_m: no hit within .* peaks higher") as exc:
+        hdb.lookup((9.0, 2.0), 100.0, trajectory="low", max_apex_m=min(cap, 1.05))
+    assert "only high ones" not in str(exc.value)

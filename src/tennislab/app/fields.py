@@ -49,6 +49,7 @@ class Field:
     unit : unit shown and named in messages
     step : input step in the page (does not restrict the server)
     choices : allowed values of a ``choice`` field
+    choice_labels : text shown in the page for each of ``choices`` (default the value itself)
     """
 
     name: str
@@ -60,6 +61,7 @@ class Field:
     unit: str = ""
     step: float | None = None
     choices: tuple = ()
+    choice_labels: tuple = ()
     lo_open: bool = False
     help: str = ""
 
@@ -102,6 +104,7 @@ class Field:
         """The JSON description sent to the page."""
         d = asdict(self)
         d["choices"] = list(self.choices)
+        d["choice_labels"] = list(self.choice_labels) or list(self.choices)
         return d
 
 
@@ -183,7 +186,12 @@ _form(
             "choice",
             "seed-2d",
             choices=("seed-2d", "deuce", "ad"),
-            help="seed-2d: the paper's 2-D test; deuce/ad: the real service box in 3-D",
+            choice_labels=(
+                "the paper's 2-D test (Grosen, Kousted & Treichel 2021)",
+                "deuce service box (3-D)",
+                "ad service box (3-D)",
+            ),
+            help="the paper's 2-D test (value seed-2d), or the real deuce / ad service box in 3-D",
         ),
         Field(
             "azimuth_deg",

@@ -32,6 +32,7 @@ matches.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -152,14 +153,7 @@ class ServeFit:
 
     def params(self, vals: dict) -> FlightParams:
         aero = self.aero or family_model(vals["cd"], vals["cl"], vals["cd_s"], radius=self.base.ball.radius)
-        return FlightParams(
-            ball=self.base.ball,
-            atmosphere=self.base.atmosphere,
-            aero=aero,
-            court=self.base.court,
-            spin_decay=self.base.spin_decay,
-            t_max=self.base.t_max,
-        )
+        return dataclasses.replace(self.base, aero=aero)
 
     # ------------------------------------------------------------------ evaluation
     def predict(self, x, *, remember: bool = True) -> Prediction:

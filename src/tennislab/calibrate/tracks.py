@@ -20,6 +20,7 @@ chi-square (at least 1).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -158,14 +159,7 @@ class _TrackProblem:
 
     def params(self, vals) -> FlightParams:
         aero = self.aero or family_model(vals["cd"], vals["cl"], vals["cd_s"], radius=self.base.ball.radius)
-        return FlightParams(
-            ball=self.base.ball,
-            atmosphere=self.base.atmosphere,
-            aero=aero,
-            court=self.base.court,
-            spin_decay=self.base.spin_decay,
-            t_max=self.base.t_max,
-        )
+        return dataclasses.replace(self.base, aero=aero)
 
     def unpack(self, x):
         k = len(self.free)

@@ -10,6 +10,7 @@ part measures the model, not the fit.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -69,14 +70,7 @@ def _resolve(models, aero_table) -> list[tuple[str, AeroModel]]:
 
 def with_aero(base: FlightParams, aero: AeroModel) -> FlightParams:
     """``base`` with another aero model."""
-    return FlightParams(
-        ball=base.ball,
-        atmosphere=base.atmosphere,
-        aero=aero,
-        court=base.court,
-        spin_decay=base.spin_decay,
-        t_max=base.t_max,
-    )
+    return dataclasses.replace(base, aero=aero)
 
 
 @dataclass(frozen=True)

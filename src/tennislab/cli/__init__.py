@@ -108,7 +108,9 @@ def flag_message(message: str, options: set[str]) -> str:
     """A library error names its parameter (``speed_kmh: ...``); the CLI says its flag (``--speed-kmh: ...``).
 
     The leading name is rewritten when the command has that flag; so are other parameter names with
-    an underscore in the text (``give spin_rpm and spin_axis together`` -> ``--spin-rpm``, ``--spin-axis``).
+    an underscore in the text (``give spin_rpm and spin_axis together`` -> ``--spin-rpm``, ``--spin-axis``),
+    but not in a text that names a file's columns or keys (``missing column(s) spin_rpm``): those are
+    the file's words, not the command's.
     """
     m = _PARAM.match(message)
     if m:
@@ -121,7 +123,9 @@ def flag_message(message: str, options: set[str]) -> str:
         return flag if flag in options else mm.group(1)
 
     head, sep, rest = message.partition(": ")
-    return head + sep + _INNER.sub(inner, rest) if sep else message
+    if not sep or re.search(r"\b(column|columns|column\(s\)|header|key|keys)\b", rest):
+        return message
+    return head + sep + _INNER.sub(inner, rest)
 
 
 def _one_line(text: object) -> str:

@@ -98,7 +98,10 @@ def run(args) -> int:
         import fastapi  # noqa: F401
         import uvicorn
     except ImportError as exc:
-        msg = f"app: the web app needs the optional dependencies: pip install 'tennislab[app]' ({exc})"
+        msg = (
+            "app: the web app needs the optional dependencies: `make demo` in a clone, "
+            f"or pip install '.[app]' there ({exc})"
+        )
         raise InputError(msg) from None
     # imported here, not at the top: tennislab.app.server needs fastapi, an optional extra
     from tennislab.app.server import create_app

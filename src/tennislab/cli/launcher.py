@@ -60,13 +60,16 @@ def _float_flags(p, flags) -> None:
         p.add_argument(flag, type=float, default=None, help=text)
 
 
-def _model_flags(p, func, machine: bool = True, position: bool = True, physics: bool = True) -> None:
+def _model_flags(
+    p, func, machine: bool = True, position: bool = True, physics: bool = True, ball_only: bool = False
+) -> None:
     """The machine flags (``--machine-position`` if *position*), the physics flags (the paper's preset,
-    aero ``launcher2015``) and *func* as the sub-command's action."""
+    aero ``launcher2015``; only the ball's ``--mass`` and ``--radius`` if *ball_only*: a command that
+    flies nothing must not offer flags it would ignore) and *func* as the sub-command's action."""
     if machine:
         add_machine_flags(p, position=position)
     if physics:
-        add_physics_flags(p, preset="seed002")
+        add_physics_flags(p, preset="seed002", flags=("mass", "radius") if ball_only else None)
     p.set_defaults(func=func)
 
 
@@ -101,7 +104,7 @@ def register(sub) -> None:
     add_spin_flags(r, axis=False)
     _float_flags(r, _ROLLER_FLAGS)
     add_output_flags(r)
-    _model_flags(r, run_rollers, position=False)
+    _model_flags(r, run_rollers, position=False, ball_only=True)
 
     w = lsub.add_parser("power", help="energy per throw, motor power, start-up time (the paper's eqs 18-31)")
     add_speed(w, required=True, note="(30-200)")
@@ -111,7 +114,7 @@ def register(sub) -> None:
         "--slip", action="store_true", help="ball starts at rest and slips (rollers give twice the ball's energy)"
     )
     add_output_flags(w)
-    _model_flags(w, run_power, position=False)
+    _model_flags(w, run_power, position=False, ball_only=True)
 
     d = lsub.add_parser(
         "drill",

@@ -510,7 +510,12 @@ class HitsDB:
             )
         near = None
         if p is not None and lk.any_near(conn, x, y, q, max_m):  # something lands there: say which bound
-            near = lk.nearest_hit(conn, x, y, query=free, max_m=max_m)
+            near = None
+            if p.trajectory != "any":  # the nearest of the asked branch, judged against the other bounds
+                only_branch = replace(p, max_apex_m=None, max_flight_time_s=None, net_clearance_m=None)
+                near = lk.nearest_hit(conn, x, y, query=replace(free, preferences=only_branch), max_m=max_m)
+            if near is None:
+                near = lk.nearest_hit(conn, x, y, query=free, max_m=max_m)
         if near is not None and p is not None:
             where = f"within {max_m:g} m of ({x:g}, {y:g}) m"
             if p.trajectory != "any" and int(near.get("branch") or 0) != (0 if p.trajectory == "low" else 1):

@@ -98,7 +98,7 @@ def call_mark(
     name, and ``lines``: the same three numbers for each line bounding the target.
     """
     if line is not None and target is not None:
-        raise InputError("--line and --target: give one, not both")
+        raise InputError("target: give a line or a target area, not both")
     off = _offsets(bounce_cov, n_samples, seed)
     discs = mark.discs
     if line is not None:

@@ -206,15 +206,24 @@ def _running_median(z, w=5):
     return np.median(np.lib.stride_tricks.sliding_window_view(pad, w), axis=1)
 
 
-def _robust_poly(t, y, deg=2, rounds: int = 3):
+def _robust_poly(t, y, deg=2, rounds: int = 3, floor: float = 0.0):
     """Least-squares polynomial with up to ``rounds`` rounds of 5-MAD outlier removal (degree lowered
-    to fit the points); each round judges every point afresh against the fit of the previous one."""
+    to fit the points); each round judges every point afresh against the fit of the previous one,
+    never closer than ``floor`` [m] (a smooth track's own departure from a polynomial is no outlier).
+    The first fit leaves out the points far from a 5-sample running median: two gross outliers among
+    30 points could otherwise tilt it so far that the rounds keep the outliers and drop the track."""
     deg = min(deg, t.size - 1)
     c = np.polyfit(t, y, deg)
+    if t.size >= 7:
+        d = y - _running_median(y)
+        s = 1.4826 * np.median(np.abs(d - np.median(d)))
+        start = np.abs(d) <= max(5 * s, floor, 1e-6)
+        if start.sum() > deg + 2 and not start.all():
+            c = np.polyfit(t[start], y[start], deg)
     for _ in range(rounds):
         r = y - np.polyval(c, t)
         mad = 1.4826 * np.median(np.abs(r - np.median(r))) + 1e-9
-        keep = np.abs(r) < 5 * mad + 1e-6
+        keep = np.abs(r) < max(5 * mad, floor) + 1e-6
         if keep.sum() <= deg + 2 or keep.all():
             break
         c = np.polyfit(t[keep], y[keep], deg)
@@ -334,7 +343,7 @@ def _post_velocity(tau: np.ndarray, xyz: np.ndarray) -> tuple[np.ndarray, np.nda
     v = np.empty(3)
     bad = np.zeros(tau.size, dtype=bool)
     for c in range(3):
-        cc = _robust_poly(tau, xyz[:, c], deg)
+        cc = _robust_poly(tau, xyz[:, c], deg, floor=5 * NOISE_FLOOR)
         v[c] = np.polyval(np.polyder(cc), 0.0)
         r = xyz[:, c] - np.polyval(cc, tau)
         mad = 1.4826 * np.median(np.abs(r - np.median(r))) + 1e-9
@@ -671,7 +680,8 @@ def fit_track(
             later = np.nonzero((t > t_out + 0.002) & (t <= t_out + POST_SPAN))[0]
             if later.size >= MIN_POST_POINTS:
                 v_out, bad = _post_velocity(t[later] - t_out, xyz[later])
-                if np.all(np.isfinite(v_out)) and v_out[2] > 0:
+                few_bad = np.count_nonzero(bad) <= MAX_REJECT_FRACTION * later.size
+                if np.all(np.isfinite(v_out)) and v_out[2] > 0 and few_bad:
                     p[M.P_VOUT] = v_out
                     vout_source = "post-fit"
                     seg[later[~bad]] = M.SEG_POST

@@ -324,6 +324,7 @@ def optimum(ctx) -> None:
     )
     for ax, (p, w) in zip(axes[:, 0], ws.items()):
         draw_court_side(ax, zmax=3.6)
+        drawn = []  # every flight drawn, so that the view frames them all
         for cat, color in (("flat", "tab:blue"), ("topspin", "tab:green")):
             opt = w.optimum(cat)
             if opt is None:
@@ -333,6 +334,7 @@ def optimum(ctx) -> None:
             tr = simulate(w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False).trajectory
             assert tr is not None  # asked for with trajectory=True
             _, ys = tr.sample(300)
+            drawn.append(ys[:, :3])
             ax.plot(
                 ys[:, 0],
                 ys[:, 2],
@@ -347,7 +349,12 @@ def optimum(ctx) -> None:
                 pp = pub.OPTIMUM[p][cat]
                 rows.append(["", "", "paper"] + [H.num(pp[k], d) for k, d in keys])
                 classes.append("paper")
-        ax.set_xlim(-13, 8)
+        pts = np.concatenate(drawn) if drawn else np.zeros((0, 3))
+        x_lo = min(-13.0, float(pts[:, 0].min()) - 0.5) if len(pts) else -13.0
+        x_hi = max(8.0, float(pts[:, 0].max()) + 0.5) if len(pts) else 8.0
+        z_hi = max(3.6, float(pts[:, 2].max()) * 1.08 + 0.2) if len(pts) else 3.6
+        ax.set_xlim(x_lo, x_hi)
+        ax.set_ylim(0.0, z_hi)
         ax.set_title(p)
         ax.legend(loc="upper right", fontsize=8)
     axes[-1, 0].set_xlabel("x [m] (server at the near baseline, x = -11.885; far service line x = 6.40)")

@@ -12,6 +12,13 @@ const state = {
 window.tennislab = state;  // for the curious and for the browser tests
 const AUTO_DELAY_MS = 300;
 
+// the page's label of a serve's success criteria (the field's choice labels; the value as a fallback)
+function criteriaLabel(value) {
+  const f = (specs("serve") || []).find((x) => x.name === "target");
+  const i = f ? f.choices.indexOf(value || "seed-2d") : -1;
+  return i >= 0 && f.choice_labels ? f.choice_labels[i] : (value || "seed-2d");
+}
+
 function $(sel) { return document.querySelector(sel); }
 function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
 
@@ -64,7 +71,10 @@ function buildForm(formName, container, opts = {}) {
     let inp;
     if (f.kind === "choice") {
       inp = document.createElement("select");
-      for (const c of f.choices) { const o = document.createElement("option"); o.value = o.textContent = c; inp.appendChild(o); }
+      f.choices.forEach((c, i) => {
+        const o = document.createElement("option"); o.value = c;
+        o.textContent = (f.choice_labels && f.choice_labels[i]) || c; inp.appendChild(o);
+      });
       inp.value = f.default;
     } else {
       inp = document.createElement("input"); inp.type = "text"; inp.inputMode = "decimal";
@@ -260,8 +270,8 @@ function renderVerdict(r) {
   head.textContent = ok ? "In: a successful serve" : `Fault${v && v.reason ? ": " + (REASONS[v.reason] || v.reason) : ""}`;
   const detail = document.createElement("p"); detail.id = "serve-verdict-detail";
   detail.textContent = v ? (v.detail || "") : (ok
-    ? `It succeeds by the criteria “${r.criteria || "seed-2d"}”.`
-    : `It fails the criteria “${r.criteria || "seed-2d"}”; this version of the serve model does not say why.`);
+    ? `It succeeds by the criteria “${criteriaLabel(r.criteria)}”.`
+    : `It fails the criteria “${criteriaLabel(r.criteria)}”.`);
   box.append(head, detail);
   if (v && v.advice) {
     const adv = document.createElement("p"); adv.id = "serve-verdict-advice";
