@@ -100,3 +100,17 @@ def test_bad_surface_files_are_one_line(tmp_path, capsys, text, frag):
     rc = main(["fly", "--speed-kmh", "100", "--elevation-deg", "10", "--bounces", "1", "--surface", str(f)])
     err = capsys.readouterr().err
     assert rc == 2 and frag in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_measured_bounces_take_only_post_fit_bounces():
+    from tennislab.calibrate import measured_bounces
+
+    b = {"velocity_in": [20.0, 0.0, -5.0], "spin_in": [0.0, 100.0, 0.0], "velocity_out": [15.0, 0.0, 4.0]}
+    calls = [
+        {"bounce": b, "fit": {"velocity_out_from": "post-fit"}},
+        {"bounce": b, "fit": {"velocity_out_from": "bounce-model"}},  # the model's own answer: not a measurement
+        {"bounce": None, "fit": None},  # a net ball
+        {"bounce": {**b, "velocity_out": None}, "fit": {"velocity_out_from": "post-fit"}},
+    ]
+    vi, wi, vo = measured_bounces(calls)
+    assert vi == [b["velocity_in"]] and wi == [b["spin_in"]] and vo == [b["velocity_out"]]

@@ -37,7 +37,7 @@ from tennislab.calibrate.serves import (
     serves_from_columns,
     split_serves,
 )
-from tennislab.calibrate.surface import SurfaceCalibrationResult, calibrate_surface
+from tennislab.calibrate.surface import SurfaceCalibrationResult, calibrate_surface, measured_bounces
 from tennislab.calibrate.synth import serves_csv, synthetic_serves
 from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
 from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
@@ -57,6 +57,7 @@ __all__ = [
     "aero_table_csv",
     "calibrate_serves",
     "calibrate_surface",
+    "measured_bounces",
     "calibrate_tracks",
     "check_serves",
     "family_coefficients",

@@ -106,6 +106,22 @@ def _array(name: str, a) -> np.ndarray:
     return x
 
 
+def measured_bounces(calls) -> tuple[list, list, list]:
+    """(velocity_in, spin_in, velocity_out) lists of the bounces whose outgoing velocity was measured
+    from the samples after them: ``calls`` are line calls as dicts (``TrackCall.to_dict()``, or a rally's
+    ``shots``), of which those whose fit says ``velocity_out_from == "post-fit"`` count."""
+    vi: list = []
+    wi: list = []
+    vo: list = []
+    for d in calls:
+        b, fit = d.get("bounce"), d.get("fit") or {}
+        if b and fit.get("velocity_out_from") == "post-fit" and b.get("velocity_out") is not None:
+            vi.append(b["velocity_in"])
+            wi.append(b["spin_in"])
+            vo.append(b["velocity_out"])
+    return vi, wi, vo
+
+
 def calibrate_surface(
     velocity_in,
     spin_in,

@@ -19,6 +19,7 @@ from tennislab.calibrate import (
     calibrate_serves,
     calibrate_surface,
     calibrate_tracks,
+    measured_bounces,
     registered_models,
     sensitivity_serves,
     validate_serves,
@@ -193,21 +194,15 @@ def _register_surface(sp) -> None:
 
 
 def _measured_bounces(args):
-    """(velocity_in, spin_in, velocity_out) of every called bounce whose outgoing velocity was measured
-    from the samples after it (the line-call fit's ``velocity_out_from == "post-fit"``)."""
+    """The line calls of every shot of ``--rally`` / ``--track``, and their measured bounces
+    (:func:`tennislab.calibrate.surface.measured_bounces`)."""
     shots = []
     for f in args.rally:
         shots += call_rally(read_points(f), surface=args.base).to_dict()["shots"]
     for f in args.track:
         t = read_track(f)
         shots.append(call_track(t.t, t.xyz, t.sigma, surface=args.base).to_dict())
-    vi, wi, vo = [], [], []
-    for d in shots:
-        b, fit = d.get("bounce"), d.get("fit") or {}
-        if b and fit.get("velocity_out_from") == "post-fit" and b.get("velocity_out") is not None:
-            vi.append(b["velocity_in"])
-            wi.append(b["spin_in"])
-            vo.append(b["velocity_out"])
+    vi, wi, vo = measured_bounces(shots)
     if not args.quiet:
         print(f"calibrate surface: {len(vo)} measured bounces in {len(shots)} shots", file=sys.stderr)
     return vi, wi, vo, len(shots)
