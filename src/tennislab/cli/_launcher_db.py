@@ -35,7 +35,7 @@ from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_wr
 from tennislab.errors import InputError
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
-from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, format_duration, make_grid, plan_fill
+from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, FillReports, format_duration, make_grid, plan_fill
 from tennislab.results import jsonable
 
 _RANGE_FLAGS = (
@@ -281,10 +281,7 @@ def run_table(args) -> int:
             )
         )
     if args.json:
-        if len(reports) == 1:
-            emit_json(reports[0])
-        else:
-            emit_json({"fills": reports, "hits_total": reports[-1].hits_total})
+        emit_json(FillReports(tuple(reports)))
         return 0
     for rep in reports:
         back = f", {rep.chunks_restored} read back from --out-dir" if rep.chunks_restored else ""
@@ -381,11 +378,11 @@ def run_drills(args) -> int:
         return 0
     db = HitsDB(args.db)
     if args.action == "import":
-        infos = db.import_drills(args.files)
+        res = db.import_drills(args.files)
         if args.json:
-            emit_json({"imported": infos})
+            emit_json(res)
         else:
-            for r in infos:
+            for r in res.imported:
                 print(f"{r['name']}: revision {r['revision']}, {r['n_shots']} shots ({r['n_distinct']} distinct)")
         return 0
     files = list(args.files)

@@ -241,6 +241,20 @@ class DrillList(Result):
         return {"drills": self.drills}
 
 
+@dataclass(frozen=True)
+class DrillsImported(Result):
+    """Drills stored by ``import_drills`` (the JSON of ``launcher drills import``): per drill its
+    ``name``, ``revision``, ``n_shots`` and ``n_distinct``."""
+
+    imported: list
+
+    def rows(self) -> list[dict]:
+        return list(self.imported)
+
+    def to_dict(self) -> dict:
+        return {"imported": self.imported}
+
+
 def safe_filename(name: str, key: str) -> str:
     """A base name safe to write in the working folder from a name stored in a file (never a path).
 
@@ -602,7 +616,7 @@ class HitsDB:
                 )
         return DrillList(out)
 
-    def import_drills(self, names) -> list[dict]:
+    def import_drills(self, names) -> DrillsImported:
         """Validate every drill (file or shipped name) first, then store them; nothing is created on bad input."""
         parsed = []
         for name in names:
@@ -614,7 +628,7 @@ class HitsDB:
             conn = _db.open_db(self.path)
         try:
             with self._errors(conn):
-                return [_db.import_drill(conn, rec, data, fname) for rec, data, fname in parsed]
+                return DrillsImported([_db.import_drill(conn, rec, data, fname) for rec, data, fname in parsed])
         finally:
             conn.close()
 

@@ -47,7 +47,7 @@ from tennislab.core.flight import fly_batch
 from tennislab.errors import InputError, check_finite
 from tennislab.launcher.machine import launch_states
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW
-from tennislab.results import Result
+from tennislab.results import Result, jsonable
 from tennislab.units import RPM
 
 #: Elevation step [deg] of the second flight that tells a hit's branch (low: it lands farther).
@@ -373,8 +373,18 @@ class FillReport(Result):
     seconds: float
     chunks_restored: int = 0  #: of ``chunks_run``: read back from ``out_dir`` instead of flown
 
-    def as_dict(self) -> dict:
-        return self.to_dict()
+
+@dataclass(frozen=True)
+class FillReports(Result):
+    """The fills of one ``launcher table`` run (one per drill shot with ``--drill``): its JSON is the
+    one report itself, or ``{"fills": [...], "hits_total": N}`` for several."""
+
+    fills: tuple
+
+    def to_dict(self) -> dict:
+        if len(self.fills) == 1:
+            return self.fills[0].to_dict()
+        return jsonable({"fills": list(self.fills), "hits_total": self.fills[-1].hits_total if self.fills else 0})
 
 
 @dataclass(frozen=True)
