@@ -139,9 +139,9 @@ def commands(block: Block) -> list[Command]:
     console = block.lang == "console"
     for k, line in enumerate(lines):
         s = line.strip()
-        if console:
-            if not s.startswith("$ "):
-                continue
+        if console and not s.startswith("$ "):
+            continue
+        if s.startswith("$ "):  # the prompt is optional in every block
             s = s[2:].strip()
         if re.match(r"^tennislab( [\w-]+)*: ", s):  # a message the command printed, not a command
             continue

@@ -153,3 +153,35 @@ def test_safe_basename_is_always_a_plain_visible_name(name):
     assert not s.startswith(".") and s not in (".", "..")
     assert len(s.encode("utf-8")) <= 200
     assert all(ch.isprintable() for ch in s)
+
+
+def test_read_text_refuses_a_file_over_its_limit_instead_of_cutting_it(tmp_path):
+    from tennislab.io.files import read_text
+
+    p = tmp_path / "s.toml"
+    p.write_text("e = 0.8\nmu = 0.6\n" + "#" * 100)
+    assert read_text(str(p), 200).startswith("e = 0.8")
+    with pytest.raises(InputError, match=r"s.toml: larger than 50 bytes"):
+        read_text(str(p), 50)
+
+
+@pytest.mark.parametrize(
+    "text,frag", [("a = " + "[" * 100_000, "nested too deeply|not valid TOML"), ("a = " + "9" * 5000, "not valid TOML")]
+)
+def test_toml_nesting_and_huge_integers_are_one_line(tmp_path, text, frag):
+    from tennislab.io.config import read_toml
+
+    p = tmp_path / "c.toml"
+    p.write_text(text)
+    with pytest.raises(InputError, match=frag) as exc:
+        read_toml(str(p))
+    assert "\n" not in str(exc.value)
+
+
+def test_surface_file_over_its_limit_is_refused(tmp_path):
+    from tennislab.io.surface_file import MAX_BYTES, read_surface
+
+    p = tmp_path / "big.toml"
+    p.write_text("e = 0.8\nmu = 0.6\n" + "#" * MAX_BYTES)
+    with pytest.raises(InputError, match="larger than"):
+        read_surface(str(p))

@@ -33,6 +33,7 @@ from tennislab.cli._launcher_args import (
 )
 from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError
+from tennislab.io.files import check_output_dir, check_output_path
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
 from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, FillReports, format_duration, make_grid, plan_fill
@@ -237,6 +238,10 @@ def _drill_grids(spec, params, args, ranges, strides) -> list:
 
 
 def run_table(args) -> int:
+    # where the fill writes, checked before any work (the plan flies a sample of the grid)
+    check_output_path("db", args.db)
+    if getattr(args, "out_dir", None) is not None:
+        check_output_dir("out_dir", args.out_dir)
     spec = spec_from_args(args)
     params = physics_from_args(args)
     ranges, strides = _ranges_from_args(spec, args)

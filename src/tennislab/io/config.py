@@ -71,13 +71,15 @@ def _unknown(where: str, key: str, allowed) -> InputError:
 
 def read_toml(path: str, limit: int = MAX_BYTES) -> dict:
     """Parse the TOML file ``path`` (UTF-8, at most ``limit`` bytes) into a dict."""
-    text = read_text(path, limit + 1)
-    if len(text.encode("utf-8")) > limit:
-        raise InputError(f"{path}: larger than {limit} bytes")
+    text = read_text(path, limit)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML: {' '.join(str(exc).split())}") from None
+    except RecursionError:
+        raise InputError(f"{path}: not valid TOML: nested too deeply") from None
+    except ValueError as exc:  # e.g. an integer of thousands of digits (Python's int-string limit)
+        raise InputError(f"{path}: not valid TOML: {' '.join(str(exc).split())[:120]}") from None
 
 
 def _short(value) -> str:

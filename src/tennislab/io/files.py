@@ -219,12 +219,15 @@ def atomic_write(path: str, write_fn, mode: str = "w", *, makedirs: bool = True)
 
 
 def read_text(path: str, limit: int) -> str:
-    """Read at most ``limit`` bytes of ``path`` as UTF-8 text (a BOM is dropped).
+    """Read ``path`` as UTF-8 text (a BOM is dropped), refusing a file of more than ``limit`` bytes.
 
-    Not UTF-8 -> :class:`InputError` ``"PATH: not UTF-8 text"``.
+    Larger -> :class:`InputError` ``"PATH: larger than LIMIT bytes"`` (never a silently cut file);
+    not UTF-8 -> :class:`InputError` ``"PATH: not UTF-8 text"``.
     """
     with open(path, "rb") as fh:
-        data = fh.read(limit)
+        data = fh.read(limit + 1)
+    if len(data) > limit:
+        raise InputError(f"{path}: larger than {limit:,} bytes")
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:
