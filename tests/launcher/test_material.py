@@ -80,5 +80,12 @@ def test_csv_readers(tmp_path):
         read_load_deformation(str(f))
     f.write_text("load_n,deformation_m\n5.4,-0.001\n")
     load, dl = read_load_deformation(str(f))
-    with pytest.raises(InputError, match=r"deformation_m: row 1: -0.001 m is outside the allowed range \(0, "):
+    with pytest.raises(InputError, match=r"deformation_m: row 1: -0.001 m is outside the allowed range \[1e-06, "):
         young_modulus(load, dl)
+
+
+@pytest.mark.parametrize("load,dl", [(1e308, 1e-308), (10.0, 1e-320), (2e4, 0.005)])
+def test_absurd_material_rows_are_refused_with_the_range(load, dl):
+    """Loads and deformations no ball press gives are refused (they answered inf or NaN moduli)."""
+    with pytest.raises(InputError, match=r"allowed range"):
+        young_modulus([load], [dl])

@@ -123,7 +123,7 @@ def flag_message(message: str, options: set[str]) -> str:
         return flag if flag in options else mm.group(1)
 
     head, sep, rest = message.partition(": ")
-    if not sep or re.search(r"\b(column|columns|column\(s\)|header|key|keys)\b", rest):
+    if not sep or re.search(r"\b(column|columns|column\(s\)|header|key|keys|field|fields)\b", rest):
         return message
     return head + sep + _INNER.sub(inner, rest)
 

@@ -20,6 +20,7 @@ import os
 import sys
 
 from tennislab.batch.cli import add_scheduler_flag
+from tennislab.batch.store import MANIFEST, load_manifest
 from tennislab.cli._launcher_args import (
     add_preference_flags,
     add_speed,
@@ -242,6 +243,8 @@ def run_table(args) -> int:
     check_output_path("db", args.db)
     if getattr(args, "out_dir", None) is not None:
         check_output_dir("out_dir", args.out_dir)
+        if os.path.exists(os.path.join(args.out_dir, MANIFEST)):
+            load_manifest(args.out_dir)  # a malformed manifest: one line, before the plan's sample flies
     spec = spec_from_args(args)
     params = physics_from_args(args)
     ranges, strides = _ranges_from_args(spec, args)
@@ -383,6 +386,8 @@ def run_drills(args) -> int:
         return 0
     db = HitsDB(args.db)
     if args.action == "import":
+        if not os.path.exists(args.db):  # a new database: where it goes, checked before anything is read
+            check_output_path("db", args.db)
         res = db.import_drills(args.files)
         if args.json:
             emit_json(res)
@@ -425,14 +430,14 @@ def run_drills(args) -> int:
 
 
 def _check_out(path: str) -> None:
-    """Refuse an output path under a regular file, or a directory (one line, before writing anything)."""
-    if os.path.isdir(path):
+    """Refuse an output path that is a directory, under a regular file, or an unusable name (one line,
+    before writing anything); the missing folders of the path the user named are created."""
+    if os.path.isdir(path) or path.endswith(("/", os.sep)):
         raise InputError(f"drills export: {path}: is a directory")
-    d = os.path.dirname(os.path.abspath(path))
-    while d and not os.path.exists(d):
-        d = os.path.dirname(d)
-    if d and not os.path.isdir(d):
-        raise InputError(f"drills export: {path}: {d} is a file, not a folder")
+    full = os.path.abspath(path)
+    check_output_dir("drills export", os.path.dirname(full), create=True)
+    if os.path.isdir(os.path.dirname(full)):  # the name itself (length, writable) where the folder exists
+        check_output_path("drills export", full)
 
 
 def _shipped_only():

@@ -164,7 +164,7 @@ def add_output_flags(
     if json_first:
         p.add_argument("--json", action="store_true", help="print one JSON object")
     if csv is not None:
-        p.add_argument("--csv", metavar=csv_metavar, type=output_file(), help=csv)
+        p.add_argument("--csv", metavar=csv_metavar, type=output_file((".csv",)), help=csv)
     if plot is not None:
         p.add_argument("--plot", metavar="FILE.png", type=figure_file(), help=plot)
     if not json_first:

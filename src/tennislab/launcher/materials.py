@@ -143,6 +143,10 @@ def _arrays(*named):
     return out
 
 
+MAX_LOAD_N = 10_000.0  #: largest load of a material test row [N]
+MIN_DEFORMATION_M = 1e-6  #: smallest deformation of a material test row [m]
+
+
 def young_modulus(
     load_n, deformation_m, diameter: float = 2 * SEED_BALL_RADIUS, contact_area: float = SEED_CONTACT_AREA
 ) -> YoungResult:
@@ -155,14 +159,18 @@ def young_modulus(
     """
     diameter = check_range("diameter", diameter, 0, 0.2, "m", lo_open=True)
     f, dl = _arrays(("load_n", load_n), ("deformation_m", deformation_m))
-    if (f <= 0).any():
+    # physical ranges: a ball press loads a ball with tens to hundreds of newtons (the ITF test: 8.165 kg,
+    # 80 N), and no press resolves less than a micrometre of deformation
+    bad_f = (f <= 0) | (f > MAX_LOAD_N)
+    if bad_f.any():
+        bad = int(np.argmax(bad_f))
+        raise InputError(f"load_n: row {bad + 1}: {f[bad]:g} N is outside the allowed range (0, {MAX_LOAD_N:g}] N")
+    bad_dl = (dl < MIN_DEFORMATION_M) | (dl >= diameter)
+    if bad_dl.any():
+        bad = int(np.argmax(bad_dl))
         raise InputError(
-            f"load_n: row {int(np.argmax(f <= 0)) + 1}: {f[f <= 0][0]:g} N must be > 0 (allowed (0, inf) N)"
-        )
-    if (dl <= 0).any() or (dl >= diameter).any():
-        bad = int(np.argmax((dl <= 0) | (dl >= diameter)))
-        raise InputError(
-            f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range (0, {diameter:g}) m"
+            f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range "
+            f"[{MIN_DEFORMATION_M:g}, {diameter:g}) m"
         )
     if not (math.isfinite(contact_area) and 0 < contact_area < 0.01):
         raise InputError(f"contact_area_m2: {contact_area:g} m^2 is outside the allowed range (0, 0.01) m^2")
