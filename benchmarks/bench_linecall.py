@@ -1,26 +1,33 @@
 """Line calling on synthetic tracks whose truth flies with another model than the fit's (issues 4, 13).
 
 Truth: ``cross2014`` with C_D = 0.6 and C_L = 0.6 S, spin about every axis (topspin, sidespin, spin along
-the path), contact time 4.0 ms (:mod:`tennislab.linecall.synth_points`); the fit: Stepanek 1988 with its
-drag and lift scales free under priors, contact time 4.5 ms.  Synthetic truth proves the code, not the
-physics: real tracks are the test of the physics (docs/linecall.md).
+the path), contact time 4.0 ms (:mod:`tennislab.linecall.synth_points`); the fit: the default aero model
+(:data:`tennislab.core.aero.DEFAULT_AERO`, named in the output) with its drag and lift scales free under
+priors, contact time 4.5 ms.  That truth is close to some of the models the fit may default to (it
+differs from ``choppin2018``, C_D 0.60 and C_L = smooth min(0.6 S, 0.5), only by the lift cap), so the
+same shots are also flown by a second truth with another drag *shape*: ``stepanek1988`` (C_D 0.55-0.75
+rising with spin, C_L = 1/(2 + 1/S)), each re-aimed so that its mark lands as far from its line as
+under the first truth.  Synthetic truth proves the code, not the physics: real tracks are the test of the physics
+(docs/linecall.md).
 
 Part 1, shots: serves (flat, slice, kick), groundstrokes and lobs, each aimed so that its true mark
 lands a random distance in [-30, +30] mm from a line, sampled at 50 Hz and at 340 Hz with 3-D noise
-sigma, fitted with sigma unknown (``call_track``).  Printed per rate: bounce-point error (median, p90,
-max, bias along the path), calls correct beyond 5 mm from the line, reviews, time per call; the same
-tracks under other fit settings (the approach and the bounce fitted jointly, aero scales fixed); the
-baseline of a quadratic extrapolation of the last 0.1 s to z = r; and, for reference, a truth flown
-with the fit's own model (self-consistent).
+sigma, fitted with sigma unknown (``call_track``).  Printed per rate and truth: bounce-point error
+(median, p90, max, mean, bias along the path), calls correct beyond 5 mm from the line, reviews, time per
+call, the fitted effective C_D at the bounce against the truth's; the same tracks under other fit
+settings (the approach and the bounce fitted jointly, aero scales fixed); the baseline of a quadratic
+extrapolation of the last 0.1 s to z = r; and, for reference, a truth flown with the fit's own model
+(self-consistent).
 
 Part 2, a match: ``--points`` points (about two shots each: serves, rallies, volleys, net cords, lets,
-net faults, double bounces; dropouts, a gap after each hit, an outlier per point) at 50 Hz, called by
-``call_rally`` with 1 and 2 workers: calls per second on the 2 cores (ratio against one reference
-``fly`` measured in the same run) and the calls against the truth.
+net faults, double bounces; dropouts, a gap after each hit, an outlier per point) at 50 Hz, flown by the
+first truth, called by ``call_rally`` with 1 and 2 workers: calls per second on the 2 cores (ratio
+against one reference ``fly`` measured in the same run) and the calls against the truth.
 
     .venv/bin/python benchmarks/bench_linecall.py [--n 40] [--points 400] [--sigma 0.003] [--seed 1]
 
-(about 5 minutes on 2 idle cores with the defaults.)
+(about 2 minutes on 2 shared cores with the defaults, 2026-12-01; ``--points 0`` skips part 2, ``--n 0``
+part 1.)
 """
 
 from __future__ import annotations
@@ -28,18 +35,29 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from typing import NamedTuple
 
 import numpy as np
 from scipy.optimize import brentq
 
+from tennislab.core.aero import DEFAULT_AERO
 from tennislab.core.flight import FlightParams, fly
 from tennislab.core.mark import MarkParams
 from tennislab.core.rally import fly_bounces
 from tennislab.io.hawkeye import parse_points
 from tennislab.linecall import call_rally, call_track
 from tennislab.linecall.decide import call_mark
-from tennislab.linecall.synth_points import TRUTH_CONTACT, simulate_shot, synthetic_match, truth_params
+from tennislab.linecall.synth_points import (
+    TRUTH_CONTACT,
+    ShotTruth,
+    simulate_shot,
+    synthetic_match,
+    truth_params,
+)
 from tennislab.units import RPM
+
+#: the second truth: another drag shape than the first truth's and the fit's (spin-dependent C_D)
+ALT_TRUTH_AERO = "stepanek1988"
 
 CONFIGS = {
     "default": {},
@@ -118,6 +136,16 @@ def poly_baseline(t, xyz, r):
     return np.polyval(np.polyfit(tt, xyz[sel, 0], 2), tau), np.polyval(np.polyfit(tt, xyz[sel, 1], 2), tau)
 
 
+class Shot(NamedTuple):
+    kind: str
+    st: ShotTruth  # the truth
+    target: str
+    true_mm: float  # the true mark's distance into the target [mm]
+    phase: float  # the sampling clock's phase [frames]
+    seed: int  # of the track noise
+    pos: tuple  # where the shot was hit [m]
+
+
 def make_shots(n, seed, params, mark_params):
     rng = np.random.default_rng(seed)
     shots, tries = [], 0
@@ -131,8 +159,25 @@ def make_shots(n, seed, params, mark_params):
         if st.net is not None or not st.bounces:
             continue
         true_mm = call_mark(st.bounces[0].mark, target=target)["distance_mm"]
-        shots.append((kind, st, target, true_mm, rng.uniform(), int(rng.integers(1 << 30))))
+        shots.append(Shot(kind, st, target, true_mm, rng.uniform(), int(rng.integers(1 << 30)), pos))
     return shots
+
+
+def reaim_shots(shots, params, mark_params):
+    """The same shots (position, direction, spin, sampling) flown by another truth, the speed scaled
+    so that each mark lands as far from its line as before (shots that cannot be re-aimed are left out)."""
+    out = []
+    for sh in shots:
+        v, w = sh.st.velocity, sh.st.spin
+        s = aim_distance(sh.pos, v, w, sh.target, sh.true_mm, params, mark_params)
+        if s is None:
+            continue
+        st = simulate_shot(sh.pos, v * s, w, 0.0, params, mark_params=mark_params, max_bounces=2)
+        if st.net is not None or not st.bounces:
+            continue
+        true_mm = call_mark(st.bounces[0].mark, target=sh.target)["distance_mm"]
+        out.append(sh._replace(st=st, true_mm=true_mm))
+    return out
 
 
 def sample(st, rate, sigma, phase, seed):
@@ -144,57 +189,87 @@ def sample(st, rate, sigma, phase, seed):
     return t[ok], x[ok] + rng.normal(0.0, sigma, (ok.sum(), 3))
 
 
+def truth_cd(shots, params):
+    """C_D of the truth at each shot's bounce (its incoming speed and spin)."""
+    r = params.ball.radius
+    out = []
+    for sh in shots:
+        b = sh.st.bounces[0]
+        out.append(params.aero.coefficients(np.linalg.norm(b.velocity_in), np.linalg.norm(b.spin_in), r)[0])
+    return np.array(out)
+
+
+def report_fits(shots, rate, sigma, cd_truth):
+    """One line per fit setting (:data:`CONFIGS`) and the quadratic baseline over ``shots``; ``cd_truth``:
+    the truth's C_D at each shot's bounce (:func:`truth_cd`)."""
+    for name, opts in CONFIGS.items():
+        err, along, ok, far, rev, cpu, cde = [], [], [], [], 0, [], []
+        dcd = []
+        for sh, cd_true in zip(shots, cd_truth):
+            t, x = sample(sh.st, rate, sigma, sh.phase, sh.seed)
+            c0 = time.process_time()
+            res = call_track(t, x, target=sh.target, **opts)
+            cpu.append((time.process_time() - c0) * 1000)
+            b = sh.st.bounces[0]
+            if res.bounce is None:
+                rev += 1
+                continue
+            cde.append(res.fit.get("cd_effective") or np.nan)
+            dcd.append(cde[-1] - cd_true)
+            dx, dy = res.bounce["x"] - b.x, res.bounce["y"] - b.y
+            h = b.velocity_in[:2] / np.hypot(*b.velocity_in[:2])
+            err.append(1000 * np.hypot(dx, dy))
+            along.append(1000 * (dx * h[0] + dy * h[1]))
+            rev += res.call == "review"
+            if abs(sh.true_mm) > 5:
+                far.append(True)
+                ok.append(res.call == ("in" if sh.true_mm >= 0 else "out") or res.call == "review")
+        e = np.array(err)
+        wrong = len(ok) - int(np.sum(ok))
+        print(
+            f"   {name:24s} bounce error median {np.median(e):5.2f} mm, p90 {np.percentile(e, 90):5.2f}, "
+            f"max {e.max():5.1f}, mean {e.mean():5.2f}, bias along the path {np.median(along):+5.2f} mm; "
+            f"wrong calls beyond 5 mm {wrong}/{len(far)}; review {rev}; {np.median(cpu):.0f} ms CPU per call; "
+            f"effective C_D at the bounce median {np.nanmedian(cde):.3f} (truth {np.median(cd_truth):.3f}; "
+            f"fit - truth per shot median {np.nanmedian(dcd):+.3f}, |.| p90 {np.nanpercentile(np.abs(dcd), 90):.3f})"
+        )
+    pe = []
+    for sh in shots:
+        t, x = sample(sh.st, rate, sigma, sh.phase, sh.seed)
+        bx, by = poly_baseline(t, x, 0.0335)
+        pe.append(1000 * np.hypot(bx - sh.st.bounces[0].x, by - sh.st.bounces[0].y))
+    print(
+        f"   {'quadratic baseline':24s} bounce error median {np.median(pe):5.1f} mm, p90 {np.percentile(pe, 90):5.1f}"
+    )
+
+
 def part_shots(n, seed, sigma):
     truth, mp = truth_params(), TRUTH_CONTACT
+    alt = FlightParams.from_options(aero=ALT_TRUTH_AERO)
     shots = make_shots(n, seed, truth, mp)
+    alt_shots = reaim_shots(shots, alt, mp)
     ref = make_shots(max(n // 2, 10), seed + 1, FlightParams(), MarkParams())
-    kinds = ", ".join(f"{k} {sum(s[0] == k for s in shots)}" for k in ("serve", "rally", "lob"))
-    print(f"Part 1: {len(shots)} shots ({kinds}) near lines; truth cross2014 C_D 0.6, C_L 0.6 S, T_c 4.0 ms")
+    kinds = ", ".join(f"{k} {sum(s.kind == k for s in shots)}" for k in ("serve", "rally", "lob"))
+    print(
+        f"Part 1: {len(shots)} shots ({kinds}) near lines; fit: default aero model {DEFAULT_AERO}, scales under "
+        f"priors, T_c 4.5 ms; truth A: cross2014 C_D 0.6, C_L 0.6 S, T_c 4.0 ms; truth B: the same shots "
+        f"re-aimed under {ALT_TRUTH_AERO} (C_L 1/(2 + 1/S)), T_c 4.0 ms: {len(alt_shots)} of {len(shots)}"
+    )
+    cd_a, cd_b = truth_cd(shots, truth), truth_cd(alt_shots, alt)
+    print(f"   truth B's C_D at the bounces: {cd_b.min():.3f}-{cd_b.max():.3f}, median {np.median(cd_b):.3f}")
     for rate in (50.0, 340.0):
         print(f"-- {rate:.0f} Hz, noise {sigma * 1000:.1f} mm per axis, sigma estimated")
-        for name, opts in CONFIGS.items():
-            err, along, ok, far, rev, cpu, cde = [], [], [], [], 0, [], []
-            for _kind, st, target, true_mm, ph, sd in shots:
-                t, x = sample(st, rate, sigma, ph, sd)
-                c0 = time.process_time()
-                res = call_track(t, x, target=target, **opts)
-                cpu.append((time.process_time() - c0) * 1000)
-                b = st.bounces[0]
-                if res.bounce is None:
-                    rev += 1
-                    continue
-                cde.append(res.fit.get("cd_effective") or np.nan)
-                dx, dy = res.bounce["x"] - b.x, res.bounce["y"] - b.y
-                h = b.velocity_in[:2] / np.hypot(*b.velocity_in[:2])
-                err.append(1000 * np.hypot(dx, dy))
-                along.append(1000 * (dx * h[0] + dy * h[1]))
-                rev += res.call == "review"
-                if abs(true_mm) > 5:
-                    far.append(True)
-                    ok.append(res.call == ("in" if true_mm >= 0 else "out") or res.call == "review")
-            e = np.array(err)
-            wrong = len(ok) - int(np.sum(ok))
-            print(
-                f"   {name:24s} bounce error median {np.median(e):5.2f} mm, p90 {np.percentile(e, 90):5.2f}, "
-                f"max {e.max():5.1f}, bias along the path {np.median(along):+5.2f} mm; wrong calls beyond 5 mm "
-                f"{wrong}/{len(far)}; review {rev}; {np.median(cpu):.0f} ms CPU per call; effective C_D at the "
-                f"bounce median {np.nanmedian(cde):.3f} (truth 0.6)"
-            )
-        pe = []
-        for _kind, st, _target, _true, ph, sd in shots:
-            t, x = sample(st, rate, sigma, ph, sd)
-            bx, by = poly_baseline(t, x, 0.0335)
-            pe.append(1000 * np.hypot(bx - st.bounces[0].x, by - st.bounces[0].y))
-        print(
-            f"   {'quadratic baseline':24s} bounce error median {np.median(pe):5.1f} mm, "
-            f"p90 {np.percentile(pe, 90):5.1f}"
-        )
+        print(f"  truth A (cross2014, {len(shots)} shots)")
+        report_fits(shots, rate, sigma, cd_a)
+        print(f"  truth B ({ALT_TRUTH_AERO}, {len(alt_shots)} shots)")
+        report_fits(alt_shots, rate, sigma, cd_b)
         re = []
-        for _kind, st, target, _true, ph, sd in ref:
-            t, x = sample(st, rate, sigma, ph, sd)
-            res = call_track(t, x, target=target)
+        for sh in ref:
+            t, x = sample(sh.st, rate, sigma, sh.phase, sh.seed)
+            res = call_track(t, x, target=sh.target)
             if res.bounce is not None:
-                re.append(1000 * np.hypot(res.bounce["x"] - st.bounces[0].x, res.bounce["y"] - st.bounces[0].y))
+                b = sh.st.bounces[0]
+                re.append(1000 * np.hypot(res.bounce["x"] - b.x, res.bounce["y"] - b.y))
         print(
             f"   {'self-consistent truth':24s} bounce error median {np.median(re):5.2f} mm, "
             f"p90 {np.percentile(re, 90):5.2f} ({len(re)} shots flown with the fit's own model)"
@@ -216,11 +291,14 @@ def part_match(n_points, seed, sigma):
     fly_ms = (time.perf_counter() - t1) / 20 * 1000
     results = {}
     for workers in (1, 2):
+        c0 = time.process_time()
         res = call_rally(points, workers=workers)
+        cpu = time.process_time() - c0  # this process only: the CPU of the calls with 1 worker
         results[workers] = res
         sm = res.summary
+        cpu_note = f", {1000 * cpu / max(len(res.shots), 1):.1f} ms CPU per call" if workers == 1 else ""
         print(
-            f"   workers {workers}: {sm['seconds']:.1f} s, {sm['calls_per_second']:.1f} calls per second "
+            f"   workers {workers}: {sm['seconds']:.1f} s, {sm['calls_per_second']:.1f} calls per second{cpu_note} "
             f"({1000 / sm['calls_per_second']:.1f} ms per call = {1000 / sm['calls_per_second'] / fly_ms:.1f} x one "
             f"reference fly of {fly_ms:.1f} ms)"
         )

@@ -263,7 +263,7 @@ def closed_form_study(
 
     Shots start at (-11.885, 0, height) toward +x with the given speeds [m/s],
     elevation angles [deg] and spins about the vertical axis [rad/s]; the same
-    physics (``params``, default tennislab's: Stepanek aero) drives both.
+    physics (``params``, default tennislab's: :data:`~tennislab.core.aero.DEFAULT_AERO`) drives both.
     Returns one row per shot: range of the numerical flight [m], error [m] and
     relative error.
     """

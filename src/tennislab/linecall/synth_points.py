@@ -1,11 +1,13 @@
 """Synthetic tracker points with known truth: serves, rallies, net cords, lets, volleys, double bounces.
 
-Made to test the line caller on what real play throws at it, with a flight model that is **not** the
-fit's default: the truth flies with ``cross2014`` at C_D = 0.6, C_L = 0.6 S (:data:`TRUTH_AERO`; the fit
-uses Stepanek 1988 with a free drag scale), spins about every axis (topspin, sidespin, spin along the
-path), a contact time of 4.0 ms (the fit's contact model assumes 4.5 ms), and samples like a tracker's:
-50 or 340 Hz with a random clock phase, Gaussian noise, random dropouts, a gap after each hit (the
-racket hides the ball) and a gross outlier or two.  Synthetic truth proves the code, not the physics.
+Made to test the line caller on what real play throws at it, with a flight model that is not quite the
+fit's default: the truth flies with ``cross2014`` at C_D = 0.6, C_L = 0.6 S uncapped (:data:`TRUTH_AERO`;
+the fit uses the default ``choppin2018``, C_D 0.60 and C_L capped at 0.5, with free drag and lift scales
+under priors; benchmarks/bench_linecall.py also flies the shots with ``stepanek1988``), spins about every
+axis (topspin, sidespin, spin along the path), a contact time of 4.0 ms (the fit's contact model assumes
+4.5 ms), and samples like a tracker's: 50 or 340 Hz with a random clock phase, Gaussian noise, random
+dropouts, a gap after each hit (the racket hides the ball) and a gross outlier or two.  Synthetic truth
+proves the code, not the physics.
 
 Shots are flown by the reference integrator (:func:`tennislab.core.flight.fly`, DOP853) and chained
 through the bounce model (:func:`tennislab.core.rally.bounce_at`).  The net is an obstacle here: a ball
