@@ -187,7 +187,7 @@ _form(
             "seed-2d",
             choices=("seed-2d", "deuce", "ad"),
             choice_labels=(
-                "the paper's 2-D test (Grosen, Kousted & Treichel 2021)",
+                "paper's 2-D test (Grosen et al. 2021)",
                 "deuce service box (3-D)",
                 "ad service box (3-D)",
             ),
