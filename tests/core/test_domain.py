@@ -251,3 +251,23 @@ def test_aero_coefficients_from_python_matches_kernel():
     want = m.kernel(20.0, 300.0, 0.033, m.params)
     assert aero_coefficients(inline_tag(m.kernel), 20.0, 300.0, 0.033, m.params) == want
     assert aero_coefficients(m.kernel, 20.0, 300.0, 0.033, m.params) == want
+
+
+def test_capped_lift_is_a_smooth_minimum_through_zero():
+    """C_L of a capped linear-lift model: 0 without spin, within 0.01 of min(c_l S, cap) everywhere,
+    within 0.00052 of c_l S up to S = 0.6, rising with spin, and the batch tolerance of a capped model."""
+    from tennislab.core.aero import CAPPED_BATCH_TOL, get_aero_model
+
+    m = get_aero_model("choppin2018")
+    r, v = 0.0335, 30.0
+    w = np.linspace(0.0, 2000.0, 4001)
+    _, cl = m.coefficients(v, w, r)
+    s = r * w / v
+    assert cl[0] == 0.0
+    assert np.all(np.diff(cl) > 0)
+    assert np.max(np.abs(cl - np.minimum(0.6 * s, 0.5))) <= 0.0100001
+    low = s <= 0.6
+    assert np.max(np.abs(cl[low] - 0.6 * s[low])) < 5.2e-4
+    assert m.batch_tol == CAPPED_BATCH_TOL
+    assert get_aero_model("cross2014").batch_tol == 2e-7  # uncapped: no blend, the usual tolerance
+    assert get_aero_model("cross2014", cl_max=0.5).batch_tol == CAPPED_BATCH_TOL

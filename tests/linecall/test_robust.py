@@ -231,3 +231,24 @@ def test_spin_vector_and_its_uncertainty():
         assert abs(sp[f"{k}_rpm"] - truth[f"{k}_rpm"]) < 3 * sp[f"{k}_sigma_rpm"] + 150, k
     assert all(0 < sp[f"{k}_sigma_rpm"] < 5000 for k in ("topspin", "sidespin", "along_path"))
     assert sp["tracker_rpm"] == 2500.0 and sp["topspin_minus_tracker_rpm"] == pytest.approx(sp["topspin_rpm"] - 2500)
+
+
+@pytest.mark.parametrize(
+    "sigma,n_out,seed,rate,within",
+    [
+        (0.0078125, 3, 148, 50.0, 0.06),  # outliers bent the first-guess quadratic up: "does not come down"
+        (1e-5, 4, 4880, 120.0, 0.005),  # 2 gross outliers among 30 post-bounce samples dropped 26 good ones
+    ],
+)
+def test_rejection_cases_hypothesis_found(serve_shot, sigma, n_out, seed, rate, within):
+    """The falsifying examples of test_rejection_is_bounded, kept: the fit finds the planted outliers
+    and no more than the rejection cap, and the bounce stays where it was."""
+    b = serve_shot.bounces[0]
+    t, x = sampled(serve_shot, rate, sigma, seed, t_end=b.t + 0.25)
+    rng = np.random.default_rng(seed)
+    idx = rng.choice(t.size, n_out, replace=False)
+    x[idx] += rng.normal(0, 0.5, (n_out, 3))
+    f = fit_track(t, x, None, DEFAULT)
+    used = np.count_nonzero(f.segment >= 0) + f.outlier.sum()
+    assert f.outlier.sum() <= MAX_REJECT_FRACTION * used + 1
+    assert np.hypot(*(f.bounce_xy - (b.x, b.y))) < within  # 8 mm noise at 50 Hz: centimetres

@@ -112,6 +112,9 @@ def flag_message(message: str, options: set[str]) -> str:
     but not in a text that names a file's columns or keys (``missing column(s) spin_rpm``): those are
     the file's words, not the command's.
     """
+    first = message.partition(": ")[0]
+    if "." in first or "/" in first:  # about a file's content (``d.yaml: shots.a.spin_axis: ...``): its words
+        return message
     m = _PARAM.match(message)
     if m:
         flag = "--" + _ALIASES.get(m.group(1), m.group(1)).replace("_", "-")

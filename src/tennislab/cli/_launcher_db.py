@@ -438,6 +438,10 @@ def _check_out(path: str) -> None:
     check_output_dir("drills export", os.path.dirname(full), create=True)
     if os.path.isdir(os.path.dirname(full)):  # the name itself (length, writable) where the folder exists
         check_output_path("drills export", full)
+    elif len(os.fsencode(os.path.basename(full))) > 255:  # the folder is made later: the name must fit it
+        raise InputError(
+            f"drills export: the file name is {len(os.path.basename(full))} characters long (limit 255 bytes)"
+        )
 
 
 def _shipped_only():

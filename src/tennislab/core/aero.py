@@ -32,7 +32,7 @@ Registered models (``get_aero_model(name, **params)``):
                    as in Cross 2020 (their lift data scatter widely).
 ``choppin2018``    Real balls in match play (the default): C_D = 0.60 (Choppin et
                    al. 2018, 9,224 Hawk-Eye serves: 0.579 new, 0.603 used
-                   balls), C_L = min(0.6 S, 0.5) (Cross 2020); evidence in
+                   balls), C_L = min(0.6 S, 0.5), blended smoothly (Cross 2020); evidence in
                    docs/validation.md.
 ``table``          C_D, C_L bilinearly interpolated over a grid of speed and
                    spin (e.g. wind-tunnel data), clamped at the grid's edges.
@@ -193,13 +193,18 @@ def _stepanek_kernel(v, w, r, p):
     return cd, cl
 
 
-#: Width [-] of the smooth cap of the linear-lift models: C_L = (a + b - sqrt((a - b)^2 + e^2)) / 2
-#: with a = c_l S, b = cl_max.  A hard min() puts a kink in the force that the embedded error
-#: estimate of the batch integrator does not see (choppin2018 landings 0.44 mm from the reference
-#: at rtol 2e-7, against 0.003 mm for the uncapped models); blended over e the kink is gone.  The
-#: blend lowers C_L by at most e / 2 at the cap and by less than e^2 / (4 |a - b|) away from it,
-#: i.e. < 0.0004 (0.2 %) for S < 0.6: far inside the scatter of measured lift (Cross 2020, +-0.05).
+#: Width [-] of the smooth cap of the linear-lift models: with a = c_l S and b = cl_max,
+#: C_L = (a + b - sqrt((a - b)^2 + e^2)) / 2 + (sqrt(b^2 + e^2) - b) / 2, a smooth minimum of a and
+#: b shifted so that C_L(0) = 0 exactly (no lift without spin, none reversed at low spin).  A hard
+#: min() puts a kink in the force that the embedded error estimate of the batch integrator does not
+#: see (choppin2018 landings 0.44 mm from the reference at rtol 2e-7, against 0.003 mm for the uncapped
+#: models).  Against min(a, b) the blend differs by at most e / 2 = 0.01 at a = b, by at most 0.00052
+#: (0.14 %) for S <= 0.6 at c_l = 0.6, and by e^2 / (4 b) = 0.0002 far above the cap: far inside the
+#: scatter of measured lift (Cross 2020, +-0.05).
 _CAP_BLEND = 0.02
+#: batch tolerance of a linear-lift model with a finite cap (docs/flight.md, Accuracy: the loosest with a
+#: margin over 1.5 on 9,000 shots of choppin2018); without a cap 2e-7
+CAPPED_BATCH_TOL = 2e-8
 
 
 @_inlinable
@@ -210,9 +215,10 @@ def _linear_lift_kernel(v, w, r, p):
         return p[0], 0.0
     cl = p[1] * r * w / v
     cap = p[2]
-    if cap < math.inf:  # a smooth minimum of c_l S and the cap (see _CAP_BLEND)
+    if cap < math.inf:  # a smooth minimum of c_l S and the cap, zero at S = 0 (see _CAP_BLEND)
         d = cap - cl
-        cl = 0.5 * (cl + cap - math.sqrt(d * d + _CAP_BLEND * _CAP_BLEND))
+        e2 = _CAP_BLEND * _CAP_BLEND
+        cl = 0.5 * (cl + cap - math.sqrt(d * d + e2)) + 0.5 * (math.sqrt(cap * cap + e2) - cap)
     return p[0], cl
 
 
@@ -328,6 +334,7 @@ def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = math.inf) ->
         _linear_lift_kernel,
         _params(cd, cl, cl_max),
         "seed 002 eqs 1, 3; c_d after Alam et al. 2007, c_l after Cross 2020",
+        batch_tol=CAPPED_BATCH_TOL if cl_max < math.inf else 2e-7,
     )
 
 
@@ -341,12 +348,13 @@ def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = math.inf) -> A
         _linear_lift_kernel,
         _params(cd, cl, cl_max),
         "Cross & Lindsey 2014 Sports Eng. 17:89; Cross 2020 Sports Eng. 23:9",
+        batch_tol=CAPPED_BATCH_TOL if cl_max < math.inf else 2e-7,
     )
 
 
 @register_aero("choppin2018")
 def choppin2018(cd: float = 0.60, cl: float = 0.6, cl_max: float = 0.5) -> AeroModel:
-    """Real balls in match play: C_D = 0.60 constant, C_L = min(0.6 S, 0.5) with S = r w / v.
+    """Real balls in match play: C_D = 0.60 constant, C_L = min(0.6 S, 0.5) (smoothly: :data:`_CAP_BLEND`), S = r w / v.
 
     C_D: Choppin et al. 2018 (Proceedings 2:265) found effective drag coefficients of 0.579 (new
     balls) and 0.603 (used balls) from 9,224 timed Hawk-Eye serves; the 50 Hz tracks of a
@@ -368,7 +376,7 @@ def choppin2018(cd: float = 0.60, cl: float = 0.6, cl_max: float = 0.5) -> AeroM
         # the cap's blend (_CAP_BLEND) still bends the force faster than the uncapped models; over
         # 9,000 shots the worst landing is 0.056 mm off at 2e-7, 0.0096 at 5e-8, 0.0073 at 3e-8 and
         # 0.0037 mm at 2e-8: the loosest with a margin over 1.5 (the rule of docs/flight.md), +48 % steps
-        batch_tol=2e-8 if cl_max < math.inf else 2e-7,
+        batch_tol=CAPPED_BATCH_TOL if cl_max < math.inf else 2e-7,
     )
 
 

@@ -129,10 +129,13 @@ def fly_bounces_batch(
     surface="hard",
     bounces: int = 1,
     contact_time: float = MarkParams().contact_time,
-    rtol: float = 1e-7,
-    atol: float = 1e-7,
+    rtol: float | None = None,
+    atol: float | None = None,
 ) -> dict[str, np.ndarray]:
     """N flights through ``bounces`` bounces with the compiled batch integrator.
+
+    ``rtol``, ``atol``: of :func:`~tennislab.core.flight.fly_batch` (default: half the aero model's
+    ``batch_tol``, since each bounce starts from the previous flight's end).
 
     Returns arrays (N, bounces): ``x``, ``y``, ``t`` of each first contact,
     ``vin``/``vout``/``wout`` (N, bounces, 3) and ``mode`` codes (index into
@@ -140,6 +143,8 @@ def fly_bounces_batch(
     The contact displacement is that of the mark model (as :func:`fly_bounces`).
     """
     params = params or FlightParams()
+    rtol = 0.5 * params.aero.batch_tol if rtol is None else rtol
+    atol = 0.5 * params.aero.batch_tol if atol is None else atol
     s = get_surface(surface)
     nb_ = int(check_range("bounces", bounces, 1, 100))
     st = np.ascontiguousarray(np.asarray(states, dtype=np.float64))

@@ -43,6 +43,8 @@ def read_aero_table(path: str):
     except InputError as exc:
         if str(exc).startswith(name):
             raise
+        if "larger than" in str(exc):  # a device or a file that grew: more bytes than its size said
+            raise InputError(f"{name}: larger than the {MAX_BYTES:,}-byte limit of an aero table") from None
         raise InputError(f"{name}: not UTF-8 text (a CSV file is expected)") from None
     if "\x00" in text:
         raise InputError(f"{name}: binary data, not a CSV text file")

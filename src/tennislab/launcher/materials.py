@@ -172,8 +172,8 @@ def young_modulus(
             f"deformation_m: row {bad + 1}: {dl[bad]:g} m is outside the allowed range "
             f"[{MIN_DEFORMATION_M:g}, {diameter:g}) m"
         )
-    if not (math.isfinite(contact_area) and 0 < contact_area < 0.01):
-        raise InputError(f"contact_area_m2: {contact_area:g} m^2 is outside the allowed range (0, 0.01) m^2")
+    if not (math.isfinite(contact_area) and 1e-6 <= contact_area < 0.01):  # 1 mm^2 to 100 cm^2
+        raise InputError(f"contact_area_m2: {contact_area:g} m^2 is outside the allowed range [1e-06, 0.01) m^2")
     e = f * diameter / (contact_area * dl)
     k = float(np.sum(f * dl) / np.sum(dl * dl))
     return YoungResult(
