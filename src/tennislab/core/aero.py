@@ -362,7 +362,7 @@ def choppin2018(cd: float = 0.60, cl: float = 0.6, cl_max: float = 0.5) -> AeroM
     launcher measurements found C_D independent of speed and spin (Cross & Lindsey 2014, Sports Eng.
     17:89, 0.507 +- 0.024 at 15-30 m/s).  C_L = 0.6 S as in Cross 2020 (Sports Eng. 23:9), capped at
     Stepanek's limit 1/2.  On 13,092 CourtVision serves (docs/validation.md) it reaches the measured
-    bounce with a held-out median miss of 0.225 m and -1.1 cm length bias (spin axis fitted per serve
+    bounce with a held-out median miss of 0.225 m and -1.3 cm length bias (spin axis fitted per serve
     type), as good as ``stepanek1988`` there, whose drag at rally spin ratios (0.69-0.75) is above
     what real match flights show.  The default model (:data:`DEFAULT_AERO`).
     """
