@@ -131,3 +131,10 @@ def test_any_parsed_document_gives_data_or_one_input_error(doc):
         assert "\n" not in str(exc) and str(exc).startswith("t.toml: ")
     else:
         assert set(out) == {"physics", "court", "defaults", "players", "machines"}
+
+
+def test_a_key_with_a_newline_stays_on_one_line():
+    """Hypothesis found it: TOML allows a quoted key "0\\n"; ``$`` in a regex matched before the newline."""
+    with pytest.raises(InputError) as exc:
+        parse_config({"0\n": None}, where="t.toml")
+    assert "\n" not in str(exc.value) and '"0\\n"' in str(exc.value)

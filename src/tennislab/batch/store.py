@@ -45,9 +45,9 @@ MANIFEST = "manifest.json"
 LEDGER = ".ledger.jsonl"
 LOCK = ".lock"
 FORMAT = "tennislab.batch/2"
-_PART_RE = re.compile(r"^part-(\d{5,})\.parquet$")
+_PART_RE = re.compile(r"^part-(\d{5,})\.parquet\Z")
 #: temporary files this module writes (and may remove): ``.<final name>.tmp-<random>``
-_TMP_RE = re.compile(r"^\.(part-\d{5,}\.parquet|manifest\.json)\.tmp-[0-9a-f]{16}$")
+_TMP_RE = re.compile(r"^\.(part-\d{5,}\.parquet|manifest\.json)\.tmp-[0-9a-f]{16}\Z")
 #: manifest keys that must agree for a rerun to resume into the same directory
 IDENTITY_KEYS = (
     "format",

@@ -53,13 +53,13 @@ FLAT_TABLES = {"physics": PHYSICS_KEYS, "court": COURT_KEYS, "defaults": DEFAULT
 PROFILE_TABLES = ("players", "machines")
 
 
-_BARE = re.compile(r"^[A-Za-z0-9_-]+$")
+_BARE = re.compile(r"[A-Za-z0-9_-]+")  # used with fullmatch: "$" would accept a trailing newline
 
 
 def _key(key) -> str:
     """A key as TOML writes it: bare when it can be, else quoted (so a message stays on one line)."""
     k = str(key)
-    return k if _BARE.match(k) else json.dumps(k)
+    return k if _BARE.fullmatch(k) else json.dumps(k)
 
 
 def _unknown(where: str, key: str, allowed) -> InputError:
@@ -153,7 +153,7 @@ def parse_config(data: dict, where: str = "") -> dict:
                 raise InputError(f"{prefix}{section}: expected tables [{section}.NAME]")
             keys = MACHINE_KEYS if section == "machines" else None
             for name, table in value.items():
-                if not _BARE.match(name):
+                if not _BARE.fullmatch(str(name)):
                     raise InputError(
                         f"{prefix}{section}.{_key(name)}: a profile name uses letters, digits, '_' and '-' only"
                     )
