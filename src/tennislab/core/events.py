@@ -29,8 +29,10 @@ the net (status :data:`STATUS_NET`, columns ``net_hit_*``):
               the path (~1 ms at 30 m/s); what the cord does to the ball (a let,
               a ball dropping back) is not modelled.
 
-So with the obstacle exactly the flights whose crossing says ``net`` without it
-end at the net, and every other flight is unchanged.
+So with the obstacle the flights whose crossing says ``net`` without it end at
+the net, and so does a ball whose surface reaches the mesh although it lands
+with its centre less than r before the net plane (its crossing says ``none``:
+it touched the bottom of the net); every other flight is unchanged.
 
 Conventions shared by both paths:
 
