@@ -219,3 +219,30 @@ def test_huge_aero_table_is_refused_without_reading_it(tmp_path):
     with pytest.raises(InputError, match="directory"):
         read_aero_table(str(tmp_path))
     assert os.path.getsize(f) == 64 * 1024 * 1024
+
+
+@pytest.mark.parametrize("elev", [1.0, 19.0, 45.0])
+def test_the_limits_themselves_are_allowed_whatever_the_round_off(elev):
+    """Hypothesis found it: 100 m/s at 19 deg comes back from its components as 100.00000000000001 m/s
+    and was refused as 'outside [0, 100]'; the same for 10,000 rpm about a tilted axis."""
+    e = math.radians(elev)
+    v = (100.0 * math.cos(e), 0.0, 100.0 * math.sin(e))
+    w = tuple(10_000 * 2 * math.pi / 60 * np.array([0.0, math.cos(e), math.sin(e)]))
+    p = FlightParams(aero=get_aero_model("stepanek1988"))
+    assert fly((-11.885, 0.0, 1.0), v, w, p).landing is not None
+    assert fly_batch(np.array([[-11.885, 0.0, 1.0, *v, *w]]), p)["status"][0] == STATUS_OK
+    with pytest.raises(InputError, match="outside the allowed range"):
+        fly((-11.885, 0.0, 1.0), (100.001, 0.0, 0.0), (0.0, 0.0, 0.0), p)
+
+
+@pytest.mark.parametrize("dz", [0.0, 7e-18, 1e-13, 1e-9])
+def test_a_launch_on_the_ground_to_round_off_finds_its_real_landing(dz):
+    """Hypothesis found it: a ball launched 7e-18 m above z = r and rising "landed" at t = 1e-14 s in
+    the batch path (a root in the interpolant's round-off); both paths now agree on the real hop."""
+    e = math.radians(1.0)
+    v = (math.cos(e), 0.0, math.sin(e))
+    p = FlightParams(aero=get_aero_model("stepanek1988"))
+    z = p.ball.radius + dz
+    tr = fly((-11.885, 0.0, z), v, (0.0, 0.0, 0.0), p)
+    tb = fly_batch(np.array([[-11.885, 0.0, z, *v, 0.0, 0.0, 0.0]]), p)
+    assert tr.landing.t > 3e-3 and tb["land_t"][0] == pytest.approx(tr.landing.t, rel=1e-6)

@@ -69,6 +69,9 @@ MAX_SPEED = 100.0
 #: Fastest spin accepted [rpm] (serves and groundstrokes carry up to ~5,000 rpm)
 MAX_SPIN_RPM = 10_000.0
 MAX_SPIN = MAX_SPIN_RPM * RPM  #: [rad/s]
+#: Relative round-off allowed at the speed and spin limits: a speed of exactly 100 m/s given as a
+#: speed and an elevation comes back from its components as 100.00000000000001
+_LIMIT_SLACK = 1.0 + 1e-12
 #: Largest |x|, |y| and z of a launch position [m] (a court is 24 x 11 m)
 POSITION_LIMIT = 1000.0
 #: Most step attempts (accepted and rejected) of one compiled trajectory; a mixed shot takes ~8-30
@@ -238,8 +241,8 @@ class FlightParams:
             t_max=float(self.t_max),
             rtol=float(rtol),
             atol=float(atol),
-            max_speed=MAX_SPEED,
-            max_spin=MAX_SPIN,
+            max_speed=MAX_SPEED * _LIMIT_SLACK,
+            max_spin=MAX_SPIN * _LIMIT_SLACK,
             max_position=POSITION_LIMIT,
             max_steps=float(MAX_STEPS),
         )
@@ -303,10 +306,10 @@ def check_start(y0: np.ndarray, params: FlightParams) -> None:
             "(the ball centre at least one radius above the ground)"
         )
     speed = math.hypot(*y0[3:6])  # (no overflow for huge components)
-    if speed > MAX_SPEED:
+    if speed > MAX_SPEED * _LIMIT_SLACK:
         raise InputError(f"velocity: speed {speed:g} m/s is outside the allowed range [0, {MAX_SPEED:g}] m/s")
     spin = math.hypot(*y0[6:9])
-    if spin > MAX_SPIN:
+    if spin > MAX_SPIN * _LIMIT_SLACK:
         raise InputError(f"spin: {spin / RPM:g} rpm is outside the allowed range [0, {MAX_SPIN_RPM:g}] rpm")
     # (the events' own rule: past the mesh event, or on the plane within r of the cord)
     inside = (abs(y0[0]) < r and _blocks(y0, params)) or (y0[0] == 0 and _blocks(y0, params, 1.0))
