@@ -12,14 +12,15 @@ command's ``--json``):
 
 Modules: :mod:`.machine` (spec, settings, launch states), :mod:`.aim`, :mod:`.preferences`,
 :mod:`.drills` and :mod:`.drill_schema` (drill programs and their file format), :mod:`.db`,
-:mod:`.lookup`, :mod:`.table` (the database), :mod:`.hitsdb`, :mod:`.rollers`, :mod:`.power`,
+:mod:`.lookup`, :mod:`.table` (the database), :mod:`.hitsdb` and :mod:`.hitsdb_results`, :mod:`.rollers`, :mod:`.power`,
 :mod:`.materials`.
 """
 
 from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
 from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
 from tennislab.launcher.drills import CompiledDrill, Drill, compile_drill, drill_key, expand_program
-from tennislab.launcher.hitsdb import DbInfo, DrillList, HitsDB, LookupResult, PlayResult
+from tennislab.launcher.hitsdb import HitsDB
+from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
 from tennislab.launcher.machine import (
     DEFAULT_POSITION,
     DEFAULT_SPEC,
@@ -45,6 +46,7 @@ __all__ = [
     "DbInfo",
     "Drill",
     "DrillList",
+    "DrillsImported",
     "FillPlan",
     "FillReport",
     "HitsDB",

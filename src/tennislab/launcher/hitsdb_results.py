@@ -1,0 +1,192 @@
+"""The results of :class:`tennislab.launcher.hitsdb.HitsDB`'s workflows: what a database holds
+(``launcher info``), a lookup, a drill played from the file, the drills listed and imported.
+Each ``to_dict()`` is the JSON its command prints."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import tennislab.launcher.db as _db
+from tennislab.launcher.machine import Settings
+from tennislab.launcher.preferences import BRANCH_HIGH, Preferences, Tolerances
+from tennislab.results import Result
+from tennislab.units import KMH
+
+
+@dataclass(frozen=True)
+class DbInfo(Result):
+    """What a database holds (the JSON of ``launcher info``)."""
+
+    path: str
+    size_bytes: int
+    schema_version: int
+    hash: str | None
+    created_utc: str | None
+    tennislab_version: str | None
+    machine: dict | None
+    physics: dict | None
+    hits: int
+    fills: list
+    ranges: dict
+    drills: list
+    quick_check: str | None
+
+    def describe(self) -> list[str]:
+        lines = [f"{self.path}: tennislab launcher database, schema {self.schema_version}, {self.size_bytes:,} bytes"]
+        if self.hash is None:
+            lines.append("  empty: no machine yet (fill it with `launcher table`)")
+            return lines
+        m, p = self.machine or {}, self.physics or {}
+        lines.append(f"  hash {self.hash[:12]}, created {self.created_utc} by tennislab {self.tennislab_version}")
+        lines.append(
+            f"  machine at ({m['position'][0]:g}, {m['position'][1]:g}) m, rollers r {m['roller_radius']:g} m, "
+            f"axes {m['roller_axis_distance']:g} m apart"
+        )
+        b, a = p.get("ball", {}), p.get("atmosphere", {})
+        lines.append(
+            f"  physics: aero {p.get('aero', {}).get('name')}, ball {b.get('mass')} kg r {b.get('radius')} m, "
+            f"air {a.get('density')} kg/m^3, g {a.get('gravity')}, wind {a.get('wind')}, "
+            f"spin decay {p.get('spin_decay')}"
+        )
+        lines.append(f"  hits: {self.hits:,} in {len(self.fills)} fill(s)")
+        for f in self.fills:
+            state = "finished" if f["finished_utc"] else f"{f['chunks_done']}/{f['n_chunks']} chunks"
+            lines.append(f"    fill {f['id']}: {f['n_rows']:,} settings, {state}")
+        for k, r in self.ranges.items():
+            if r["count"]:
+                lines.append(f"  {k}: {r['min']:g} .. {r['max']:g} ({r['count']} values)")
+        names = ", ".join(f"{d['name']} (rev {d['revision']}, {d['n_shots']} shots)" for d in self.drills)
+        lines.append(f"  drills: {names or 'none'}")
+        if self.quick_check is not None:
+            lines.append(f"  quick_check: {self.quick_check}")
+        return lines
+
+
+@dataclass(frozen=True)
+class LookupResult(Result):
+    """The stored hit a lookup chose, with the request (``to_dict()`` has ``launcher aim``'s keys and ``lookup_ms``)."""
+
+    path: str
+    hash: str
+    target: tuple
+    hit: dict
+    lookup_ms: float
+    machine: dict
+    physics: dict
+    rollers: tuple
+    asked: dict
+    tolerances: Tolerances
+    preferences: Preferences
+    index_entries_read: int = 0
+    hits_read: int = 0
+
+    @property
+    def settings(self) -> Settings:
+        return Settings(**{k: float(self.hit[k]) for k in _db.HIT_SETTINGS})
+
+    @property
+    def miss_mm(self) -> float:
+        return float(self.hit["miss_m"]) * 1e3
+
+    @property
+    def branch(self) -> str:
+        return "high" if int(self.hit.get("branch") or 0) == BRANCH_HIGH else "low"
+
+    def to_dict(self) -> dict:
+        h, st = self.hit, self.settings
+        dev = {
+            "speed_kmh": st.speed_kmh - self.asked["speed_kmh"] if self.asked.get("speed_kmh") is not None else None,
+            "spin_rpm": st.spin_rpm - self.asked["spin_rpm"] if self.asked.get("spin_rpm") is not None else None,
+        }
+        return {
+            "solution": "lookup",
+            "branch": self.branch,
+            "target": {"x": self.target[0], "y": self.target[1]},
+            "settings": st.as_dict(),
+            "rollers": {"rpm1": self.rollers[0], "rpm2": self.rollers[1]},
+            "landing": {"x": float(h["land_x"]), "y": float(h["land_y"])},
+            "miss_mm": self.miss_mm,
+            "net_clearance_m": float(h["net_clearance_m"]),
+            "net_result": "over",
+            "flight_time_s": float(h["flight_time_s"]),
+            "apex_z_m": float(h["apex_z_m"]),
+            "landing_speed_kmh": float(h["bounce_speed_ms"]) / KMH,
+            "bounce_spin_rpm": float(h["bounce_spin_rpm"]),
+            "asked": self.asked,
+            "deviation": dev,
+            "trajectory": self.preferences.trajectory,
+            "tolerances": self.tolerances.as_dict(),
+            "preferences": self.preferences.as_dict(),
+            "machine": self.machine,
+            "physics": self.physics,
+            "lookup_ms": self.lookup_ms,
+            "db": {
+                "path": self.path,
+                "hash": self.hash,
+                "hit_id": int(h["id"]),
+                "index_entries_read": self.index_entries_read,
+                "hits_read": self.hits_read,
+            },
+        }
+
+
+@dataclass(frozen=True)
+class PlayResult(Result):
+    """A drill run from the database: the timed settings a controller sends (``to_dict()``; ``rows()`` per shot)."""
+
+    drill: str
+    key: str
+    source: str
+    path: str
+    hash: str
+    machine: dict
+    distinct: list
+    sequence: list = field(default_factory=list)
+
+    @property
+    def duration_s(self) -> float:
+        return float(sum(r["interval_s"] for r in self.sequence))
+
+    def rows(self) -> list[dict]:
+        return list(self.sequence)
+
+    def to_dict(self) -> dict:
+        return {
+            "drill": self.drill,
+            "key": self.key,
+            "source": self.source,
+            "db": {"path": self.path, "hash": self.hash},
+            "machine": self.machine,
+            "n_shots": len(self.sequence),
+            "n_distinct": len(self.distinct),
+            "duration_s": self.duration_s,
+            "distinct": self.distinct,
+            "sequence": self.sequence,
+        }
+
+
+@dataclass(frozen=True)
+class DrillList(Result):
+    """Drills stored in a database and shipped with tennislab (the JSON of ``launcher drills list``)."""
+
+    drills: list
+
+    def rows(self) -> list[dict]:
+        return list(self.drills)
+
+    def to_dict(self) -> dict:
+        return {"drills": self.drills}
+
+
+@dataclass(frozen=True)
+class DrillsImported(Result):
+    """Drills stored by ``import_drills`` (the JSON of ``launcher drills import``): per drill its
+    ``name``, ``revision``, ``n_shots`` and ``n_distinct``."""
+
+    imported: list
+
+    def rows(self) -> list[dict]:
+        return list(self.imported)
+
+    def to_dict(self) -> dict:
+        return {"imported": self.imported}
