@@ -432,16 +432,7 @@ def run_drills(args) -> int:
 def _check_out(path: str) -> None:
     """Refuse an output path that is a directory, under a regular file, or an unusable name (one line,
     before writing anything); the missing folders of the path the user named are created."""
-    if os.path.isdir(path) or path.endswith(("/", os.sep)):
-        raise InputError(f"drills export: {path}: is a directory")
-    full = os.path.abspath(path)
-    check_output_dir("drills export", os.path.dirname(full), create=True)
-    if os.path.isdir(os.path.dirname(full)):  # the name itself (length, writable) where the folder exists
-        check_output_path("drills export", full)
-    elif len(os.fsencode(os.path.basename(full))) > 255:  # the folder is made later: the name must fit it
-        raise InputError(
-            f"drills export: the file name is {len(os.path.basename(full))} characters long (limit 255 bytes)"
-        )
+    check_output_path("drills export", path, create_dirs=True)
 
 
 def _shipped_only():

@@ -86,10 +86,11 @@ def _check_directory(param: str, shown: str, directory: str, *, create: bool) ->
             raise InputError(f"{param}: {shown}: a directory name is {len(part)} characters long (limit {limit} bytes)")
 
 
-def check_output_path(param: str, path, suffixes=None) -> str:
+def check_output_path(param: str, path, suffixes=None, *, create_dirs: bool = False) -> str:
     """Validate the output file ``path`` before any work is done; returns it (as a ``str``).
 
-    The parent directory must exist and be writable (it is not created), the path must not name a
+    The parent directory must exist and be writable (with ``create_dirs``: or be creatable, its
+    nearest existing ancestor a writable directory; the writer makes it), the path must not name a
     directory, the file name must fit the file system (``NAME_MAX``, 255 bytes), and with
     ``suffixes`` (e.g. ``(".png", ".pdf")``, case-insensitive) its extension must be one of them.
     An existing file is replaced. Raises :class:`InputError` ``"param: ..."`` (one line).
@@ -107,8 +108,8 @@ def check_output_path(param: str, path, suffixes=None) -> str:
         raise InputError(f"{param}: {p} is a directory, expected a file name")
     full = os.path.abspath(p)
     directory, name = os.path.split(full)
-    _check_directory(param, p, directory, create=False)
-    limit = _name_max(directory)
+    _check_directory(param, p, directory, create=create_dirs)
+    limit = _name_max(_nearest_existing(directory))
     if len(os.fsencode(name)) > limit:
         raise InputError(f"{param}: the file name is {len(name)} characters long (limit {limit} bytes)")
     if suffixes is not None:

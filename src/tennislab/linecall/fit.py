@@ -251,6 +251,14 @@ def _bounce_out(vin, win, surface, params: FlightParams) -> np.ndarray:
     return vout
 
 
+def _descents(cz: np.ndarray, r: float) -> list[float]:
+    """Times (after -0.05 s) at which the polynomial height ``cz`` comes down through z = ``r``."""
+    roots = np.roots(cz - np.array([0, 0, r]))
+    roots = np.real(roots[np.abs(np.imag(roots)) < 1e-9])
+    dz = np.polyder(cz)
+    return [float(x) for x in roots if np.polyval(dz, x) < 0 and x > -0.05]
+
+
 def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float, t_hint: float | None = None):
     """Starting parameters (NPARAM,) and whether there are usable post-bounce points.
 
@@ -287,20 +295,15 @@ def initial_guess(t, xyz, params: FlightParams, surface, contact_time: float, t_
     cy = _robust_poly(t[sel] - t0, xyz[sel, 1])
     if cz.size < 3:  # two points: a straight line; add gravity
         cz = np.array([-4.9, cz[0], cz[1]])
-    roots = np.roots(cz - np.array([0, 0, r]))
-    roots = np.real(roots[np.abs(np.imag(roots)) < 1e-9])
-    dz = np.polyder(cz)
-    cand = [x for x in roots if np.polyval(dz, x) < 0 and x > -0.05]
+    cand = _descents(cz, r)
     if not cand and sel.size >= 2:
         # outliers among few points can bend the free quadratic upward: fall back to a straight line
         # in z + g t^2 / 2, the curvature fixed by gravity (drag and lift only nudge it near the bounce)
         half_g = 0.5 * params.atmosphere.gravity
         lin = _robust_poly(t[sel] - t0, xyz[sel, 2] + half_g * (t[sel] - t0) ** 2, deg=1)
         cz = np.array([-half_g, lin[-2] if lin.size > 1 else 0.0, lin[-1]])
-        roots = np.roots(cz - np.array([0, 0, r]))
-        roots = np.real(roots[np.abs(np.imag(roots)) < 1e-9])
-        dz = np.polyder(cz)
-        cand = [x for x in roots if np.polyval(dz, x) < 0 and x > -0.05]
+        cand = _descents(cz, r)
+    dz = np.polyder(cz)
     if not cand:
         raise InputError("track: no bounce in range: the ball does not come down to the ground")
     tau = min(cand)
