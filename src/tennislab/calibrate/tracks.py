@@ -55,7 +55,7 @@ def _sample(y0, times, aero, ap, k, g, r, wx, wy, wz, dec, out):
         target = times[i]
         while target - t > 1e-12:
             h = min(H_MAX, target - t)
-            rk4_step(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, ynew)
+            rk4_step(y, h, aero, ap, k, k, g, r, wx, wy, wz, dec, work, ynew)
             for c in range(9):
                 y[c] = ynew[c]
             t += h

@@ -3,7 +3,7 @@
 State y (9): position (x, y, z) [m], velocity (vx, vy, vz) [m/s], spin vector
 (wx, wy, wz) [rad/s], in the court frame (see :mod:`tennislab.core.court`).
 
-    m dv/dt = -m g e_z - 1/2 rho A C_D |u| u + 1/2 rho A C_L |u|^2 (w x u)/(|w||u|)
+    m dv/dt = -m g e_z - 1/2 rho A s_D C_D |u| u + 1/2 rho A s_L C_L |u|^2 (w x u)/(|w||u|)
     dw/dt   = -lambda w
 
 where u = v - wind is the air-relative velocity, C_D and C_L come from the aero
@@ -13,6 +13,9 @@ showing almost none).  Cross & Lindsey 2014 measured about 2 % spin loss over
 6.4 m at 15-30 m/s, i.e. lambda ~ 0.05-0.1 /s.  Drag: seed 000 eq 1, seed 002
 eq 1; lift: seed 000 eq 2, seed 002 eqs 3 and 5-7 (whose component form is
 omega x v; its eq 3 writes v x omega, a sign slip noted in docs/seeds.md).
+s_D and s_L are scales of the aero model's coefficients (1 for a flight as
+modelled; the line-calling track fit frees them per shot), passed in as
+kd = k s_D and kl = k s_L.
 """
 
 from __future__ import annotations
@@ -26,11 +29,11 @@ from tennislab.core._jit import JIT
 from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
 
 _F = types.float64
-DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F)
+DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F, _F)
 
 
 @nb.njit(**JIT)
-def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
+def derivative(y, out, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z, decay):
     """Fill ``out`` with dy/dt.
 
     Parameters
@@ -41,7 +44,7 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
         or its inline tag (:func:`tennislab.core.aero.inline_tag`: the formula
         is compiled into the caller)
     aero_p : its parameters
-    k : 1/2 rho A / m [1/m]
+    kd, kl : 1/2 rho A / m [1/m] times the drag and the lift scale s_D, s_L
     g : gravity [m/s^2]
     r : ball radius [m]
     wind_x, wind_y, wind_z : wind velocity [m/s]
@@ -56,12 +59,12 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
     u = math.sqrt(ux * ux + uy * uy + uz * uz)
     w = math.sqrt(wx * wx + wy * wy + wz * wz)
     cd, cl = aero_coefficients(aero, u, w, r, aero_p)
-    d = -k * cd * u
+    d = -kd * cd * u
     ax = d * ux
     ay = d * uy
     az = d * uz - g
     if w > 0.0 and u > 0.0:
-        f = k * cl * u / w
+        f = kl * cl * u / w
         ax += f * (wy * uz - wz * uy)
         ay += f * (wz * ux - wx * uz)
         az += f * (wx * uy - wy * ux)
@@ -77,10 +80,10 @@ def derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
 
 
 @nb.njit(DERIVATIVE_SIGNATURE, **JIT)
-def derivative_call(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay):
+def derivative_call(y, out, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z, decay):
     """:func:`derivative` with a fixed signature, for calls from Python (the SciPy path).
 
     The aero kernel arrives as a first-class function, so this one compiled
     (and cached) entry point serves every model without recompiling.
     """
-    derivative(y, out, aero, aero_p, k, g, r, wind_x, wind_y, wind_z, decay)
+    derivative(y, out, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z, decay)

@@ -263,7 +263,7 @@ class FlightParams:
             if count[0] > limit:
                 raise EvaluationLimit(limit)
             out = np.empty(9)
-            derivative_call(np.ascontiguousarray(y, dtype=np.float64), out, kern, p, k, g, r, wx, wy, wz, lam)
+            derivative_call(np.ascontiguousarray(y, dtype=np.float64), out, kern, p, k, k, g, r, wx, wy, wz, lam)
             return out
 
         return f

@@ -329,7 +329,7 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     if speed > c.max_speed or spin > c.max_spin or abs(y[0]) > lim or abs(y[1]) > lim or y[2] > lim:
         _finish_row(row, c, STATUS_OUT_OF_RANGE, 0)
         return
-    derivative(y, fcur, aero, aero_p, k, g, r, wx, wy, wz, decay)
+    derivative(y, fcur, aero, aero_p, k, k, g, r, wx, wy, wz, decay)
     side = -1.0 if y[0] < 0.0 else (1.0 if y[0] > 0.0 else -math.copysign(1.0, y[3]))
     # ---- the events at the start (events.py: past -> at the start; on the target moving away -> armed)
     aim_e = -1
@@ -382,22 +382,22 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
         # stages, unrolled (Dormand-Prince tableau constants below)
         for i in range(9):
             ytmp[i] = y[i] + h * (_A21 * K[0, i])
-        derivative(ytmp, K[1], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ytmp, K[1], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         for i in range(9):
             ytmp[i] = y[i] + h * (_A31 * K[0, i] + _A32 * K[1, i])
-        derivative(ytmp, K[2], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ytmp, K[2], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         for i in range(9):
             ytmp[i] = y[i] + h * (_A41 * K[0, i] + _A42 * K[1, i] + _A43 * K[2, i])
-        derivative(ytmp, K[3], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ytmp, K[3], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         for i in range(9):
             ytmp[i] = y[i] + h * (_A51 * K[0, i] + _A52 * K[1, i] + _A53 * K[2, i] + _A54 * K[3, i])
-        derivative(ytmp, K[4], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ytmp, K[4], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         for i in range(9):
             ytmp[i] = y[i] + h * (_A61 * K[0, i] + _A62 * K[1, i] + _A63 * K[2, i] + _A64 * K[3, i] + _A65 * K[4, i])
-        derivative(ytmp, K[5], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ytmp, K[5], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         for i in range(9):
             ynew[i] = y[i] + h * (_B1 * K[0, i] + _B3 * K[2, i] + _B4 * K[3, i] + _B5 * K[4, i] + _B6 * K[5, i])
-        derivative(ynew, K[6], aero, aero_p, k, g, r, wx, wy, wz, decay)
+        derivative(ynew, K[6], aero, aero_p, k, k, g, r, wx, wy, wz, decay)
         errsum = 0.0
         ysum = 0.0
         for i in range(9):
@@ -520,7 +520,7 @@ def serial_kernel_fp(states, aero, aero_p, consts, events, out):
 
 
 @nb.njit(**JIT)
-def rk4_step(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
+def rk4_step(y, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, out):
     """One classical Runge-Kutta 4 step of size ``h`` [s] (negative: backward) from ``y`` into ``out``.
 
     For fixed-step integrations whose results must vary smoothly with their
@@ -533,15 +533,15 @@ def rk4_step(y, h, aero, ap, k, g, r, wx, wy, wz, dec, work, out):
     k3 = work[2]
     k4 = work[3]
     yt = work[4]
-    derivative(y, k1, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative(y, k1, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
     for i in range(9):
         yt[i] = y[i] + 0.5 * h * k1[i]
-    derivative(yt, k2, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative(yt, k2, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
     for i in range(9):
         yt[i] = y[i] + 0.5 * h * k2[i]
-    derivative(yt, k3, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative(yt, k3, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
     for i in range(9):
         yt[i] = y[i] + h * k3[i]
-    derivative(yt, k4, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative(yt, k4, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
     for i in range(9):
         out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
