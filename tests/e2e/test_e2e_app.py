@@ -514,3 +514,42 @@ def test_linecall_page(wide_page, tmp_path):
     assert "error" in page.get_attribute("#call-status", "class")
     assert page.inner_text("#call-status").startswith("track file:")
     assert results(page, "call-result") == {}
+
+
+def test_linecall_example_then_an_uploaded_track(page):
+    """Issue 23 point 1: the example is called against the deuce box (and the page says so); a track file
+    chosen next is called with the user's own target again (here the default: the singles court of the half
+    it lands in), as ``tennislab call --track`` calls it."""
+    from pathlib import Path
+
+    from tennislab.app import linecall_adapter
+
+    open_page(page, "linecall")
+    page.click("#call-sample")
+    idle(page)
+    assert page.input_value("#linecall-target") == "deuce-box"
+    assert results(page, "call-result")["against"] == "deuce-box"
+    assert "deuce service box" in page.inner_text("#call-status")
+    lob = Path(__file__).resolve().parents[2] / "examples" / "tracks" / "lob_baseline.csv"
+    page.set_input_files("#track-file", str(lob))
+    idle(page)
+    assert page.input_value("#linecall-target") == "auto"
+    got = results(page, "call-result")
+    ref = linecall_adapter.reference_call(lob.read_text())  # as `tennislab call --track lob_baseline.csv`
+    assert got["against"] == ref["target"] == "singles"
+    assert got["call"] == ref["call"] == "out"
+    assert float(got["distance_mm"]) == pytest.approx(ref["distance_mm"], abs=1e-3)
+    assert -100 < ref["distance_mm"] < 0  # out by millimetres, not metres
+    shown = page.inner_text('#call-result td[data-key="distance_mm"]')
+    assert shown == f"out by {abs(ref['distance_mm']):.1f} mm"
+    assert float(got["p_in"]) == pytest.approx(ref["p_in"], abs=1e-12)
+    page.snap("linecall-upload")
+    # a target the user picks after the example is the user's: kept for the next file
+    page.click("#call-sample")
+    idle(page)
+    page.select_option("#linecall-target", "deuce-box")
+    idle(page)
+    page.set_input_files("#track-file", str(lob))
+    idle(page)
+    assert page.input_value("#linecall-target") == "deuce-box"
+    assert results(page, "call-result")["against"] == "deuce-box"

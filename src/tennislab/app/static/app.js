@@ -7,7 +7,7 @@
 const P = window.TLPlots;
 const state = {
   meta: null, drill: [], lastAim: null, window: null, track: null, heat: null, views: {},
-  results: {}, timers: {}, aborts: {}, ran: {},
+  results: {}, timers: {}, aborts: {}, ran: {}, sampleOverride: null,
 };
 window.tennislab = state;  // for the curious and for the browser tests
 const AUTO_DELAY_MS = 300;
@@ -19,6 +19,12 @@ function criteriaLabel(value) {
   return i >= 0 && f.choice_labels ? f.choice_labels[i] : (value || "seed-2d");
 }
 
+/* A signed distance of a mark to a line or area [mm] in words (positive: in): "in by 7.6 mm",
+   "out by 5.50 m". */
+function inOutBy(mm) {
+  const a = Math.abs(mm), size = a < 1000 ? `${a.toFixed(1)} mm` : `${(a / 1000).toFixed(2)} m`;
+  return `${mm >= 0 ? "in" : "out"} by ${size}`;
+}
 function $(sel) { return document.querySelector(sel); }
 function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
 
@@ -145,11 +151,12 @@ async function post(page, path, body, statusEl) {
 function resultTable(el, rows, inputs) {
   el.innerHTML = "";
   const t = document.createElement("table"); t.className = "results";
-  for (const [label, value, key, unit, digits] of rows) {
+  for (const [label, value, key, unit, digits, text] of rows) {
     const tr = t.insertRow(); tr.insertCell().textContent = label;
     const c = tr.insertCell(); c.dataset.key = key;
     c.dataset.value = (value === null || value === undefined) ? "" : String(value);
-    c.textContent = typeof value === "number" ? fmt(value, digits ?? 2) + (unit ? " " + unit : "") : String(value ?? "–");
+    c.textContent = text && typeof value === "number" ? text(value)
+      : typeof value === "number" ? fmt(value, digits ?? 2) + (unit ? " " + unit : "") : String(value ?? "–");
   }
   el.appendChild(t);
   el.dataset.for = JSON.stringify(inputs || {});
@@ -461,7 +468,8 @@ async function runCall() {
   resultTable($("#call-result"), [
     ["call", r.call, "call"], ["why", why, "reason"], ["against", r.target || r.line || "–", "against"],
     ["line drawn", r.line ?? "–", "line"],
-    ["distance of the mark to the line", r.distance_mm, "distance_mm", "mm", 1],
+    [body.line !== "auto" ? `mark vs the ${body.line}` : `mark vs ${r.target || "the area"} (lines included)`,
+      r.distance_mm, "distance_mm", "mm", 1, inOutBy],
     ["probability in", r.p_in, "p_in", "", 3], ["bounce x", bo.x, "bounce.x", "m", 4], ["bounce y", bo.y, "bounce.y", "m", 4],
     ["bounce sigma", bo.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", mm(mk.length), "mark.length_mm", "mm", 1],
     ["mark width", mm(mk.width), "mark.width_mm", "mm", 1], ["fit rms", fit.rms_mm, "fit.rms_mm", "mm", 2],
@@ -481,8 +489,20 @@ async function runCall() {
   const rows = [...$("#call-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
   state.results.call = {inputs: body, rows, track: r.track, fitted: r.fitted};
   exportsEnabled();
+  return r;
+}
+/* The example serve is called against the deuce service box: the page sets the target area for it (and
+   says so); a file chosen next is called with the user's own choice again, the one before the example,
+   unless the user picked a target or line since. */
+function restoreAfterSample() {
+  const o = state.sampleOverride;
+  if (!o) return;
+  state.sampleOverride = null;
+  $("#linecall-target").value = o.target; $("#linecall-line").value = o.line;
+  readForm("linecall"); updateURL("linecall");
 }
 function callFromFile() {
+  restoreAfterSample();
   const f = $("#track-file").files[0];
   if (!f) { state.track = null; PAGES.linecall.clear(); setStatus($("#call-status"), "track file: choose a track file first", "error"); return; }
   if (f.size > state.meta.limits.track_bytes) {
@@ -495,13 +515,23 @@ function callFromFile() {
   rd.readAsText(f);
 }
 async function callSample() {
-  $("#linecall-target").value = "deuce-box"; $("#linecall-line").value = "auto";
+  const t = $("#linecall-target"), l = $("#linecall-line");
+  if (!state.sampleOverride) state.sampleOverride = {target: t.value, line: l.value};
+  t.value = SAMPLE_TARGET; l.value = "auto";
+  updateURL("linecall");
   await now("linecall", async () => {
     const r = await fetch("/api/linecall/sample");
     if (!r.ok) { PAGES.linecall.clear(); setStatus($("#call-status"), `example track: HTTP ${r.status}`, "error"); return; }
     state.track = await r.text();
-    await runCall();
+    if (await runCall()) {
+      setStatus($("#call-status"), `example serve: called against the ${areaLabel(SAMPLE_TARGET)} (target area set for it; a file you choose next is called against ${areaLabel(state.sampleOverride ? state.sampleOverride.target : t.value)})`, "ok");
+    }
   });
+}
+const SAMPLE_TARGET = "deuce-box";
+function areaLabel(v) {
+  if (v === "auto") return "singles court of the half it lands in";
+  return {"deuce-box": "deuce service box", "ad-box": "ad service box"}[v] || v;
 }
 
 /* ---------- exports: PNG of each plot, CSV of the numbers ---------- */
@@ -646,7 +676,10 @@ async function init() {
   $("#clear-drill").addEventListener("click", () => { state.drill = []; renderDrill(); });
   $("#download-drill").addEventListener("click", downloadDrill);
 
-  buildForm("linecall", $("#linecall-form"), {onEdit: () => onEdit("linecall"), onSubmit: callFromFile, submit: "call from file"});
+  buildForm("linecall", $("#linecall-form"), {onEdit: n => {
+    if (n === "target" || n === "line") state.sampleOverride = null;  // the user's own choice from now on
+    onEdit("linecall");
+  }, onSubmit: callFromFile, submit: "call from file"});
   $("#track-file").addEventListener("change", callFromFile);
   $("#call-sample").addEventListener("click", callSample);
 
