@@ -37,7 +37,7 @@ def test_default_is_pass_through_and_the_option_round_trips():
     assert PASS.net_obstacle is False and PASS.events() == FLIGHT_EVENTS
     assert STOP.events() == OBSTACLE_EVENTS
     assert FlightParams.from_options(net_obstacle=True).net_obstacle
-    assert FlightParams.from_options(**STOP.options()) == STOP
+    assert FlightParams.from_dict(STOP.to_dict()) == STOP
     with pytest.raises(InputError, match="net_obstacle"):
         FlightParams(net_obstacle="yes")  # type: ignore[arg-type]
 

@@ -41,7 +41,10 @@ Registered models (``get_aero_model(name, **params)``):
 from __future__ import annotations
 
 import collections
+import dataclasses
+import functools
 import hashlib
+import inspect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -71,6 +74,19 @@ class AeroModel:
     #: default rtol = atol of :func:`tennislab.core.flight.fly_batch` for this model: the loosest that
     #: keeps landings within 0.01 mm of the reference (benchmarks/bench_flight_accuracy.py) [-]
     batch_tol: float = 2e-7
+    #: the keyword arguments of the registered factory that built this model (``None`` values left out;
+    #: ``{}`` = its defaults), so that ``get_aero_model(name, **options)`` rebuilds it; ``None`` for a
+    #: model that no factory built (a callable), which cannot be rebuilt from its name
+    options: dict | None = field(default=None, repr=False, compare=False)
+
+    def __eq__(self, other) -> bool:
+        """Same name, kernel, parameter values, reference and tolerance (the arrays compared by value)."""
+        if not isinstance(other, AeroModel):
+            return NotImplemented
+        return (
+            (self.name, self.kernel, self.reference, self.batch_tol)
+            == (other.name, other.kernel, other.reference, other.batch_tol)
+        ) and bool(np.array_equal(self.params, other.params))
 
     def coefficients(self, speed, spin, radius: float):
         """(C_D, C_L) for speed(s) [m/s] and spin rate(s) |omega| [rad/s] of a ball of radius [m]."""
@@ -274,12 +290,24 @@ _REGISTRY: dict[str, Callable[..., AeroModel]] = {}
 
 
 def register_aero(name: str, *aliases: str):
-    """Decorator registering a factory ``f(**params) -> AeroModel`` under ``name``."""
+    """Decorator registering a factory ``f(**params) -> AeroModel`` under ``name``.
+
+    The registered factory records the arguments it was called with in the model's
+    :attr:`AeroModel.options` (what ``FlightParams.to_dict`` writes and ``from_dict`` rebuilds from).
+    """
 
     def deco(factory):
+        sig = inspect.signature(factory)
+
+        @functools.wraps(factory)
+        def build(*args, **kwargs) -> AeroModel:
+            model = factory(*args, **kwargs)
+            given = {k: v for k, v in sig.bind(*args, **kwargs).arguments.items() if v is not None}
+            return dataclasses.replace(model, options=given)
+
         for n in (name, *aliases):
-            _REGISTRY[n] = factory
-        return factory
+            _REGISTRY[n] = build
+        return build
 
     return deco
 

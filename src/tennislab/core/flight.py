@@ -24,6 +24,7 @@ answer.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -198,21 +199,70 @@ class FlightParams:
             **base,
         )
 
-    def options(self) -> dict:
-        """Plain (picklable) options that rebuild these parameters with :meth:`from_options`."""
+    def to_dict(self) -> dict:
+        """These parameters as JSON-ready plain data; :meth:`from_dict` rebuilds them.
+
+        Keys are :meth:`from_options`'s (SI, docs/conventions.md): ``aero`` (the model's name) and
+        ``aero_options`` (its factory's arguments, ``{}`` = the model's defaults; a non-finite number
+        as the string ``"inf"``), ``mass`` [kg], ``radius`` [m], ``inertia_factor`` [-],
+        ``air_density`` [kg/m^3], ``gravity`` [m/s^2], ``wind`` [m/s], ``spin_decay`` [1/s],
+        ``t_max`` [s], ``net_obstacle`` and ``court`` (its dimensions [m]).  It is what every result
+        reports as its ``physics`` and what a worker process is given: the dict is plain data (it
+        pickles), and so is a ``FlightParams`` itself for a model built by name.  A model given as a
+        Python callable has no options (``aero_options`` is ``None``) and cannot be rebuilt.
+        """
+        opts = self.aero.options
         return {
-            "aero": self.aero,
+            "aero": self.aero.name,
+            "aero_options": None if opts is None else {k: _plain_option(v) for k, v in opts.items()},
             "mass": self.ball.mass,
             "radius": self.ball.radius,
             "inertia_factor": self.ball.inertia_factor,
             "air_density": self.atmosphere.density,
             "gravity": self.atmosphere.gravity,
-            "wind": tuple(self.atmosphere.wind),
+            "wind": list(self.atmosphere.wind),
             "spin_decay": self.spin_decay,
             "t_max": self.t_max,
-            "court": self.court,
-            "net_obstacle": self.net_obstacle,
+            "net_obstacle": bool(self.net_obstacle),
+            "court": {f.name: getattr(self.court, f.name) for f in dataclasses.fields(self.court)},
         }
+
+    @classmethod
+    def from_dict(cls, d: dict) -> FlightParams:
+        """The parameters of a :meth:`to_dict` dict (missing keys keep their defaults).
+
+        Raises :class:`InputError` naming an unknown key, a model that cannot be rebuilt from its
+        name (a callable), or a value out of its range.
+        """
+        if not isinstance(d, dict):
+            raise InputError(f"physics: expected a dict of physics settings, got {type(d).__name__}")
+        unknown = sorted(set(d) - _DICT_KEYS)
+        if unknown:
+            raise InputError(f"{unknown[0]}: unknown physics setting; allowed: {', '.join(sorted(_DICT_KEYS))}")
+        opts = d.get("aero_options", {})
+        if opts is None:
+            raise InputError(f"aero: model {d.get('aero')!r} was given as a callable and cannot be rebuilt by name")
+        if not isinstance(opts, dict):
+            raise InputError("aero_options: expected a dict of the aero model's arguments")
+        aero = get_aero_model(d.get("aero"), **{k: _option_value(v) for k, v in opts.items()})
+        court = d.get("court")
+        if court is not None and not isinstance(court, dict):
+            raise InputError("court: expected a dict of court dimensions [m]")
+        bad = sorted(set(court or {}) - {f.name for f in dataclasses.fields(Court)})
+        if bad:
+            raise InputError(f"court: unknown dimension {bad[0]!r}")
+        given = {k: d[k] for k in ("mass", "radius", "inertia_factor") if k in d}
+        atm: dict = {k2: d[k] for k, k2 in (("air_density", "density"), ("gravity", "gravity")) if k in d}
+        if "wind" in d:
+            atm["wind"] = tuple(d["wind"])
+        rest = {k: d[k] for k in ("spin_decay", "t_max", "net_obstacle") if k in d}
+        return cls(
+            ball=Ball(**given),
+            atmosphere=Atmosphere(**atm),
+            aero=aero,
+            court=ITF_COURT if court is None else Court(**court),
+            **rest,
+        )
 
     @property
     def k(self) -> float:
@@ -267,6 +317,29 @@ class FlightParams:
             return out
 
         return f
+
+
+#: the keys of :meth:`FlightParams.to_dict`
+_DICT_KEYS = frozenset(
+    ("aero", "aero_options", "mass", "radius", "inertia_factor", "air_density", "gravity", "wind")
+    + ("spin_decay", "t_max", "net_obstacle", "court")
+)
+
+
+def _plain_option(v):
+    """An aero factory's argument as JSON: arrays as lists, a non-finite number as a string."""
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, (float, np.floating)) and not math.isfinite(v):
+        return str(float(v))
+    return v
+
+
+def _option_value(v):
+    """The inverse of :func:`_plain_option` for the numbers (``"inf"`` -> inf)."""
+    if isinstance(v, str) and v in ("inf", "-inf"):
+        return float(v)
+    return v
 
 
 class EvaluationLimit(RuntimeError):
