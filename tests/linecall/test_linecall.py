@@ -195,6 +195,28 @@ def test_cli_position(capsys):
     assert rc == 0 and d["bounce"]["sigma_mm"] == 0.0 and d["p_in"] in (0.0, 1.0)
 
 
+#: a state that `tennislab fly` stops at the net (mesh, 0.48 m high)
+INTO_NET = ["--position", "-11.885", "0", "1.0", "--velocity", "30", "0", "1"]
+
+
+@pytest.mark.parametrize("method", ["numeric", "closed-form"])
+def test_one_net_rule_a_state_fly_stops_at_the_net_is_called_net(capsys, method):
+    """issue 21: `call --position` let the ball through the net that `fly` stops it at (and called it in)."""
+    rc, out, _ = run(capsys, "fly", *INTO_NET, "--json")
+    flown = json.loads(out)
+    assert rc == 0 and flown["net_contact"]["part"] == "mesh" and flown["landing"] is None
+    rc, out, _ = run(capsys, "call", *INTO_NET, "--method", method, "--json")
+    d = json.loads(out)
+    assert rc == 0 and d["call"] == "net" and d["bounce"]["x"] is None and d["mark"] is None
+    assert d["net"]["contact"] and not d["net"]["crossed"]
+    assert d["net"]["z"] == pytest.approx(flown["net_contact"]["z"], abs=1e-12)
+    # the seeds' rule on request: the ball passes and lands beyond the net, as `fly --net through`
+    rc, out, _ = run(capsys, "call", *INTO_NET, "--net", "through", "--json")
+    through = json.loads(out)
+    rc, out, _ = run(capsys, "fly", *INTO_NET, "--net", "through", "--json")
+    assert through["call"] == "in" and through["bounce"]["x"] == pytest.approx(json.loads(out)["landing"]["x"])
+
+
 BAD = {
     "few": "t,x,y,z\n",
     "nonincreasing": "t,x,y,z\n"

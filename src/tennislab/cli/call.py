@@ -31,6 +31,7 @@ from tennislab.io.hawkeye import read_points
 from tennislab.io.track import read_track
 from tennislab.linecall import RallyCall, TrackCall, call_detections, call_rally, call_state, call_track
 from tennislab.plot.linecall import plot_call, plot_rally
+from tennislab.trajectory import NET_MODES
 
 
 def register(sub) -> None:
@@ -59,6 +60,13 @@ def register(sub) -> None:
         choices=("numeric", "closed-form"),
         default="numeric",
         help="drop point from a state: numeric flight (default) or the closed form of Deng (2014)",
+    )
+    p.add_argument(
+        "--net",
+        choices=NET_MODES,
+        default="obstacle",
+        help="--position: obstacle (default, as `tennislab fly`): a ball that meets the net is called net; "
+        "through: it passes (the seeds' models)",
     )
     p.add_argument("--detections", metavar="FILE.csv", help="2-D detections t,camera,u,v[,sigma_px]")
     p.add_argument(
@@ -152,6 +160,7 @@ def _single(args, params) -> TrackCall:
             line=args.line,
             target=args.target,
             method=args.method,
+            net=args.net,
         )
     opts = dict(params=params, surface=args.surface, line=args.line, target=args.target, **_fit_options(args))
     if args.track is not None:

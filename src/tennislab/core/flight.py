@@ -80,6 +80,13 @@ MAX_STEPS = 100_000
 #: Most evaluations of the right-hand side in one :func:`fly` (a flight takes ~1,000-3,000 at rtol 1e-10)
 MAX_RHS_EVALS = 200_000
 
+#: How a flight treats the net (the one net rule): ``obstacle`` stops the ball where it meets the net
+#: (mesh or tape), ``through`` lets it pass and only says whether it cleared (the seeds' models).
+#: Every workflow that flies a state a user gives (``fly``, ``call --position``) defaults to
+#: :data:`DEFAULT_NET`; :func:`with_net` applies a mode to a set of parameters.
+NET_MODES = ("obstacle", "through")
+DEFAULT_NET = "obstacle"
+
 #: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
 #: keep the dataclass defaults: ITF type-2 ball, ISA sea-level moist air, DEFAULT_AERO).
 PRESETS: dict[str, dict] = {
@@ -340,6 +347,13 @@ def _option_value(v):
     if isinstance(v, str) and v in ("inf", "-inf"):
         return float(v)
     return v
+
+
+def with_net(params: FlightParams | None, net: str = DEFAULT_NET) -> FlightParams:
+    """``params`` (default :class:`FlightParams`) with the net treated as ``net`` (:data:`NET_MODES`)."""
+    if net not in NET_MODES:
+        raise InputError(f"net: unknown mode {net!r}; allowed: {', '.join(NET_MODES)}")
+    return dataclasses.replace(params or FlightParams(), net_obstacle=(net == "obstacle"))
 
 
 class EvaluationLimit(RuntimeError):

@@ -40,7 +40,7 @@ import numpy as np
 
 import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import DEFAULT_NET, FlightParams, fly, with_net
 from tennislab.core.launch import describe_velocity, direction, spin_basis
 from tennislab.core.mark import BallMark, MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
@@ -484,10 +484,14 @@ def call_state(
     line: str | None = None,
     target: str | None = None,
     method: str = "numeric",
+    net: str = DEFAULT_NET,
 ) -> TrackCall:
     """Call the landing of a ball flown from a state: numerically (``method="numeric"``) or by seed
-    001's closed form (``"closed-form"``: its drop point with the numerical landing velocity)."""
-    params = params or FlightParams()
+    001's closed form (``"closed-form"``: its drop point with the numerical landing velocity).
+
+    ``net``: ``obstacle`` (default, as :func:`tennislab.trajectory.fly`) calls a ball that meets the
+    net ``net`` (no bounce); ``through`` lets it pass, as the seeds' models do."""
+    params = with_net(params, net)
     surf = get_surface(surface)
     if method not in ("numeric", "closed-form"):
         raise InputError(f"method: unknown {method!r}; allowed: numeric, closed-form")
@@ -495,6 +499,8 @@ def call_state(
     velocity = check_vector("velocity", velocity)
     spin = check_vector("spin", spin)
     tr = fly(position, velocity, spin, params)
+    if tr.net_contact is not None:
+        return _net_call(tr, params, surf, method)
     if tr.landing is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s (no bounce in range)")
     land = tr.landing
@@ -539,6 +545,37 @@ def call_state(
         physics=physics_dict(params),
         extra=extra,
         mark_result=mark,
+    )
+
+
+def _net_call(tr, params: FlightParams, surf, method: str) -> TrackCall:
+    """The call of a flown state that meets the net: ``net``, where it met it, no bounce."""
+    c = tr.net_contact
+    net = {
+        "checked": True,
+        "contact": True,
+        "crossed": False,
+        "t": c.t,
+        "y": c.y,
+        "z": c.z,
+        "clearance_m": tr.net.clearance,
+        "deviation_m": None,
+        "note": f"flown into the net ({c.part})",
+    }
+    return TrackCall(
+        method=method,
+        call="net",
+        provisional_call="net",
+        review_reasons=(),
+        decision=None,
+        bounce=None,
+        mark=None,
+        fit={"rms_mm": None, "outliers": 0, "n_points": 0},
+        spin=None,
+        net=net,
+        later_bounces=(),
+        surface=surf.name,
+        physics=physics_dict(params),
     )
 
 

@@ -16,14 +16,13 @@ never an answer.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from tennislab.core.court import ITF_COURT
-from tennislab.core.flight import FlightParams, Trajectory
+from tennislab.core.flight import DEFAULT_NET, NET_MODES, FlightParams, Trajectory, with_net
 from tennislab.core.flight import fly as _fly
 from tennislab.core.launch import describe_spin, describe_velocity, launch_spin, launch_velocity, spin_axis_angle
 from tennislab.core.rally import Rally, fly_bounces
@@ -43,9 +42,6 @@ MAX_SPIN_RPM = 10_000.0
 #: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long;
 #: the same limit as core.flight's guard rail).
 MAX_DISTANCE_M = 1000.0
-
-#: how the flight treats the net: stop the ball there, or let it pass (the seeds' models)
-NET_MODES = ("obstacle", "through")
 
 #: the launch speed's units: parameter -> (m/s per unit, unit label)
 _SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
@@ -282,7 +278,7 @@ def fly(
     params: FlightParams | None = None,
     surface="hard",
     bounces: int = 0,
-    net: str = "obstacle",
+    net: str = DEFAULT_NET,
 ) -> FlightResult:
     """Fly one ball from ``position`` [m] to its landing (``bounces=0``) or through ``bounces`` bounces
     on ``surface`` (a registered name or :class:`~tennislab.core.surfaces.Surface`).
@@ -296,9 +292,7 @@ def fly(
     ``net``: ``obstacle`` (default) ends the flight where the ball meets the net (the result's
     ``net_contact``; no landing); ``through`` lets it pass, as the seeds' models do.
     """
-    if net not in NET_MODES:
-        raise InputError(f"net: unknown mode {net!r}; allowed: {', '.join(NET_MODES)}")
-    params = dataclasses.replace(params or FlightParams(), net_obstacle=(net == "obstacle"))
+    params = with_net(params, net)
     pos = check_vector("position", position)
     for i, c in enumerate(pos):
         if abs(c) > MAX_DISTANCE_M:
