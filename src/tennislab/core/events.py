@@ -102,7 +102,7 @@ STATUS_OK = 0  # landed
 STATUS_NO_LANDING = 1  # still flying at t_max
 STATUS_BAD_START = 2  # a non-finite value, the ball below the ground (z < r) or inside the net
 STATUS_NET = 3  # stopped by the net (net_obstacle=True): see the net_hit_* columns
-STATUS_OUT_OF_RANGE = 4  # launch speed above MAX_SPEED or spin above MAX_SPIN (tennislab.core.flight)
+STATUS_OUT_OF_RANGE = 4  # launch speed above MAX_SPEED_MS or spin above MAX_SPIN_RPM (tennislab.core.flight)
 STATUS_FAILED = 5  # integration failed: step limit (rejected steps counted) or a non-finite state
 STATUS_NAMES = ("landed", "no landing", "bad start", "net", "out of range", "failed")
 

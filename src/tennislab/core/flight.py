@@ -12,8 +12,8 @@ descriptions (:mod:`tennislab.core.events`): first ground contact (ball centre
 at height r), first net-plane crossing, apex and, with
 ``FlightParams(net_obstacle=True)``, the ball meeting the net.
 
-Guard rails (issue 16): a launch faster than :data:`MAX_SPEED`, spinning faster
-than :data:`MAX_SPIN_RPM`, outside :data:`POSITION_LIMIT` or below the ground is
+Guard rails (issue 16): a launch faster than :data:`MAX_SPEED_MS`, spinning faster
+than :data:`MAX_SPIN_RPM`, outside :data:`MAX_DISTANCE_M` or below the ground is
 refused (:func:`fly`: :class:`~tennislab.errors.InputError` naming the
 parameter and the allowed range; :func:`fly_batch`: the row's status code,
 docs/flight.md); every integration is bounded (:data:`MAX_RHS_EVALS` evaluations
@@ -65,16 +65,19 @@ from tennislab.core.integrators import (
 from tennislab.errors import InputError, check_range, check_vector
 from tennislab.units import RPM
 
-#: Fastest launch accepted [m/s] (the fastest recorded serves are ~73 m/s; issue 17's guard rail)
-MAX_SPEED = 100.0
-#: Fastest spin accepted [rpm] (serves and groundstrokes carry up to ~5,000 rpm)
+# The guard rails of every flight (the one statement; tennislab.trajectory re-exports them):
+#: Fastest launch accepted [m/s]: the fastest recorded serves are about 263 km/h = 73 m/s (ATP, 2012);
+#: 100 m/s leaves room for studies beyond them and refuses numbers no racket or machine produces.
+MAX_SPEED_MS = 100.0
+#: Highest spin rate accepted [rpm]: the topspin of elite forehands reaches about 5,000 rpm (Kelley et
+#: al. 2008, Sports Eng.; reference-data.md); 10,000 rpm is twice that.
 MAX_SPIN_RPM = 10_000.0
-MAX_SPIN = MAX_SPIN_RPM * RPM  #: [rad/s]
+_MAX_SPIN = MAX_SPIN_RPM * RPM  # [rad/s]
 #: Relative round-off allowed at the speed and spin limits: a speed of exactly 100 m/s given as a
 #: speed and an elevation comes back from its components as 100.00000000000001
 _LIMIT_SLACK = 1.0 + 1e-12
-#: Largest |x|, |y| and z of a launch position [m] (a court is 24 x 11 m)
-POSITION_LIMIT = 1000.0
+#: Largest |x|, |y| and z of a launch position [m] (a court is 23.77 x 10.97 m)
+MAX_DISTANCE_M = 1000.0
 #: Most step attempts (accepted and rejected) of one compiled trajectory; a mixed shot takes ~8-30
 MAX_STEPS = 100_000
 #: Most evaluations of the right-hand side in one :func:`fly` (a flight takes ~1,000-3,000 at rtol 1e-10)
@@ -298,9 +301,9 @@ class FlightParams:
             t_max=float(self.t_max),
             rtol=float(rtol),
             atol=float(atol),
-            max_speed=MAX_SPEED * _LIMIT_SLACK,
-            max_spin=MAX_SPIN * _LIMIT_SLACK,
-            max_position=POSITION_LIMIT,
+            max_speed=MAX_SPEED_MS * _LIMIT_SLACK,
+            max_spin=_MAX_SPIN * _LIMIT_SLACK,
+            max_position=MAX_DISTANCE_M,
             max_steps=float(MAX_STEPS),
         )
 
@@ -383,7 +386,7 @@ def check_start(y0: np.ndarray, params: FlightParams) -> None:
     The same limits mark rows of :func:`fly_batch` (status codes) instead of raising.
     """
     r = params.ball.radius
-    lim = POSITION_LIMIT
+    lim = MAX_DISTANCE_M
     for i, name in ((0, "x"), (1, "y")):
         if abs(y0[i]) > lim:
             raise InputError(f"position: {name} = {y0[i]:g} m is outside the allowed range [-{lim:g}, {lim:g}] m")
@@ -393,10 +396,10 @@ def check_start(y0: np.ndarray, params: FlightParams) -> None:
             "(the ball centre at least one radius above the ground)"
         )
     speed = math.hypot(*y0[3:6])  # (no overflow for huge components)
-    if speed > MAX_SPEED * _LIMIT_SLACK:
-        raise InputError(f"velocity: speed {speed:g} m/s is outside the allowed range [0, {MAX_SPEED:g}] m/s")
+    if speed > MAX_SPEED_MS * _LIMIT_SLACK:
+        raise InputError(f"velocity: speed {speed:g} m/s is outside the allowed range [0, {MAX_SPEED_MS:g}] m/s")
     spin = math.hypot(*y0[6:9])
-    if spin > MAX_SPIN * _LIMIT_SLACK:
+    if spin > _MAX_SPIN * _LIMIT_SLACK:
         raise InputError(f"spin: {spin / RPM:g} rpm is outside the allowed range [0, {MAX_SPIN_RPM:g}] rpm")
     # (the events' own rule: past the mesh event, or on the plane within r of the cord)
     inside = (abs(y0[0]) < r and _blocks(y0, params)) or (y0[0] == 0 and _blocks(y0, params, 1.0))
@@ -510,7 +513,7 @@ def fly(
     Parameters
     ----------
     position : (x, y, z) of the ball centre [m]; r <= z <= 1000 m, |x|, |y| <= 1000 m
-    velocity : (vx, vy, vz) [m/s]; speed <= :data:`MAX_SPEED`
+    velocity : (vx, vy, vz) [m/s]; speed <= :data:`MAX_SPEED_MS`
     spin : spin vector omega [rad/s] (right-hand rule: topspin on a ball moving
         along +x is omega along +y, backspin along -y; see docs/conventions.md);
         rate <= :data:`MAX_SPIN_RPM`
@@ -619,8 +622,8 @@ class FlightTable:
     :attr:`status_name` are derived.  ``status`` (:mod:`tennislab.core.events`):
     0 landed, 1 no landing within ``t_max``, 2 bad start (non-finite, below the
     ground, inside the net), 3 stopped by the net (``net_obstacle=True``),
-    4 launch out of range (speed > :data:`MAX_SPEED`, spin > :data:`MAX_SPIN_RPM`,
-    position beyond :data:`POSITION_LIMIT`), 5 integration failed (step limit,
+    4 launch out of range (speed > :data:`MAX_SPEED_MS`, spin > :data:`MAX_SPIN_RPM`,
+    position beyond :data:`MAX_DISTANCE_M`), 5 integration failed (step limit,
     non-finite state).
     """
 

@@ -8,10 +8,10 @@ the launch vocabulary of :mod:`tennislab.core.launch` (``speed_ms``, ``elevation
 ``heading_deg``, ``spin_rpm`` about ``spin_axis``: a name such as ``topspin``, an angle [deg], or a
 vector); the speed may be given in km/h or mph instead (``speed_kmh``, ``speed_mph``).
 
-Guard rails: a launch outside what a tennis ball can do is refused with the allowed range
-(:data:`MAX_SPEED_MS`, :data:`MAX_SPIN_RPM`, :data:`MAX_DISTANCE_M`; a ball centre below its radius is
-refused by :func:`tennislab.core.flight.fly`), and a flight whose numbers are not finite is an error,
-never an answer.
+Guard rails (stated once, in :mod:`tennislab.core.flight`, and re-exported here): a launch outside
+what a tennis ball can do is refused with the allowed range (:data:`MAX_SPEED_MS`, :data:`MAX_SPIN_RPM`,
+:data:`MAX_DISTANCE_M`; a ball centre below its radius is refused by :func:`tennislab.core.flight.fly`),
+and a flight whose numbers are not finite is an error, never an answer.
 """
 
 from __future__ import annotations
@@ -22,7 +22,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tennislab.core.court import ITF_COURT
-from tennislab.core.flight import DEFAULT_NET, NET_MODES, FlightParams, Trajectory, with_net
+from tennislab.core.flight import (
+    DEFAULT_NET,
+    MAX_DISTANCE_M,
+    MAX_SPEED_MS,
+    MAX_SPIN_RPM,
+    NET_MODES,
+    FlightParams,
+    Trajectory,
+    with_net,
+)
 from tennislab.core.flight import fly as _fly
 from tennislab.core.launch import describe_spin, describe_velocity, launch_spin, launch_velocity, spin_axis_angle
 from tennislab.core.rally import Rally, fly_bounces
@@ -32,16 +41,6 @@ from tennislab.results import Result
 from tennislab.units import DEG, KMH, RPM
 
 __all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "NET_MODES", "FlightResult", "fly", "launch_vectors"]
-
-#: Fastest launch accepted [m/s]: the fastest recorded serves are about 263 km/h = 73 m/s (ATP, 2012);
-#: 100 m/s leaves room for studies beyond them and refuses numbers no racket or machine produces.
-MAX_SPEED_MS = 100.0
-#: Highest spin rate accepted [rpm]: the topspin of elite forehands reaches about 5,000 rpm (Kelley et
-#: al. 2008, Sports Eng.; reference-data.md); 10,000 rpm is twice that.
-MAX_SPIN_RPM = 10_000.0
-#: Farthest launch point from the centre of the net accepted, per coordinate [m] (a court is 23.77 m long;
-#: the same limit as core.flight's guard rail).
-MAX_DISTANCE_M = 1000.0
 
 #: the launch speed's units: parameter -> (m/s per unit, unit label)
 _SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
