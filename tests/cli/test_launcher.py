@@ -144,7 +144,7 @@ def test_aim_high_machine_position_and_physics_flags(capsys):
     d = json.loads(out)
     assert d["solution"] == "high" and d["settings"]["elevation_deg"] > 45
     assert d["machine"]["position"] == [-12, 1]
-    assert d["physics"] == {
+    given = {
         "aero": "cross2014",
         "mass": 0.057,
         "radius": 0.033,
@@ -152,6 +152,8 @@ def test_aim_high_machine_position_and_physics_flags(capsys):
         "gravity": 9.81,
         "wind": [1, 0, 0],
     }
+    assert {k: d["physics"][k] for k in given} == given  # (the keys of before; FlightParams.to_dict has every setting)
+    assert d["physics"]["aero_options"] == {} and d["physics"]["t_max"] == 20.0
 
 
 def test_aim_text_output(capsys):

@@ -24,7 +24,7 @@ from tennislab.calibrate.family import CL_MAX, FORMULA, aero_table_csv, family_m
 from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
 from tennislab.calibrate.serves import REASONS, Serves, split_serves
 from tennislab.calibrate.stats import by_group, summarize
-from tennislab.calibrate.validate import as_serves, physics_summary, usable, with_aero
+from tennislab.calibrate.validate import as_serves, legacy_physics, usable, with_aero
 from tennislab.core.aero import DEFAULT_AERO, get_aero_model
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
@@ -115,10 +115,10 @@ class CalibrationResult(Result):
                     "rows": int(cd.size),
                     "speed_ms": [float(v[0]), float(v[-1])],
                     "spin_rpm": [float(w[0] * 30 / np.pi), float(w[-1] * 30 / np.pi)],
-                    "radius_m": self.physics["radius_m"],
+                    "radius_m": self.physics["radius"],
                     "cl_max": CL_MAX,
                 },
-                "physics": self.physics,
+                "physics": legacy_physics(self.physics),
                 "cost": self.cost,
                 "evaluations": self.evaluations,
             }
@@ -248,7 +248,7 @@ def calibrate_serves(
         held_out_groups={
             g: by_group(pred_after.length[held], pred_after.width[held], used.group(g)[held]) for g in groups
         },
-        physics=physics_summary(base),
+        physics=base.to_dict(),
         cost=outcome.cost,
         evaluations=outcome.nfev,
         table=table,

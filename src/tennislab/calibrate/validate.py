@@ -138,7 +138,7 @@ class ValidationResult(Result):
                     "from the server), < 0 right",
                     "height": "the prediction is carried to the measured bounce height (ball centre z ~ 0.03 m)",
                 },
-                "physics": self.physics,
+                "physics": legacy_physics(self.physics),
                 "models": [m.to_dict() for m in self.models],
             }
         )
@@ -171,15 +171,10 @@ class ValidationResult(Result):
         return out
 
 
-def physics_summary(params: FlightParams) -> dict:
-    """The ball and air of a study (for its JSON)."""
-    return {
-        "mass_kg": params.ball.mass,
-        "radius_m": params.ball.radius,
-        "air_density": params.atmosphere.density,
-        "gravity": params.atmosphere.gravity,
-        "spin_decay": params.spin_decay,
-    }
+def legacy_physics(physics: dict) -> dict:
+    """A study's ``physics`` (:meth:`FlightParams.to_dict`) with the keys its JSON had before
+    (``mass_kg``, ``radius_m``: kept working, CHANGELOG.md)."""
+    return {**physics, "mass_kg": physics["mass"], "radius_m": physics["radius"]}
 
 
 def validate_serves(
@@ -253,7 +248,7 @@ def validate_serves(
         spin_axis=spin_axis if isinstance(spin_axis, str) else spin_axis.name,
         split=split_desc,
         models=tuple(out),
-        physics=physics_summary(base),
+        physics=base.to_dict(),
         serves=used,
         fit_mask=fit_mask,
     )

@@ -171,7 +171,7 @@ def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: Fl
         "net_limited": sol.net_limited,
         "deviation": sol.deviation(),
         "machine": machine_dict(spec, sol.position),
-        "physics": physics_summary(params),
+        "physics": params.to_dict(),
     }
 
 
@@ -187,17 +187,6 @@ def machine_dict(spec: MachineSpec, position=None) -> dict:
         "position": list(spec.position if position is None else position),
         "roller_radius_m": spec.roller_radius,
         "roller_axis_distance_m": spec.roller_axis_distance,
-    }
-
-
-def physics_summary(params: FlightParams) -> dict:
-    return {
-        "aero": params.aero.name,
-        "mass": params.ball.mass,
-        "radius": params.ball.radius,
-        "air_density": params.atmosphere.density,
-        "gravity": params.atmosphere.gravity,
-        "wind": list(params.atmosphere.wind),
     }
 
 

@@ -135,17 +135,6 @@ class TrackCall(Result):
         return jsonable(out)
 
 
-def physics_dict(params: FlightParams) -> dict:
-    return {
-        "aero": params.aero.name,
-        "mass": params.ball.mass,
-        "radius": params.ball.radius,
-        "air_density": params.atmosphere.density,
-        "gravity": params.atmosphere.gravity,
-        "wind": params.atmosphere.wind,
-    }
-
-
 def mark_dict(mark: BallMark) -> dict:
     return {
         "length": mark.length,
@@ -232,7 +221,7 @@ def review_call(reasons, params, surface, *, net=None, method="track-fit", extra
         net=net,
         later_bounces=(),
         surface=surface.name,
-        physics=physics_dict(params),
+        physics=params.to_dict(),
         extra=extra or {},
         track=track,
     )
@@ -394,7 +383,7 @@ def call_track(
             net=net_d,
             later_bounces=(),
             surface=surf.name,
-            physics=physics_dict(params),
+            physics=params.to_dict(),
             track=(t, xyz),
         )
     sel = np.arange(t.size)
@@ -466,7 +455,7 @@ def call_track(
         net=net_d,
         later_bounces=tuple(later),
         surface=surf.name,
-        physics=physics_dict(params),
+        physics=params.to_dict(),
         fit_result=fit,
         mark_result=mark,
         track=(ts, xs),
@@ -499,14 +488,14 @@ def call_state(
     velocity = check_vector("velocity", velocity)
     spin = check_vector("spin", spin)
     tr = fly(position, velocity, spin, params)
+    dp = closed_form_from_physics(position, velocity, spin, params) if method == "closed-form" else None
     if tr.net_contact is not None:
         return _net_call(tr, params, surf, method)
     if tr.landing is None:
         raise InputError(f"flight: the ball does not land within t_max = {params.t_max:g} s (no bounce in range)")
     land = tr.landing
     extra: dict = {}
-    if method == "closed-form":
-        dp = closed_form_from_physics(position, velocity, spin, params)
+    if dp is not None:
         pos = np.array([dp.x, dp.y])
         t_land = dp.t
         extra["closed_form"] = dp.as_dict()
@@ -542,7 +531,7 @@ def call_state(
         net=None,
         later_bounces=(),
         surface=surf.name,
-        physics=physics_dict(params),
+        physics=params.to_dict(),
         extra=extra,
         mark_result=mark,
     )
@@ -575,7 +564,7 @@ def _net_call(tr, params: FlightParams, surf, method: str) -> TrackCall:
         net=net,
         later_bounces=(),
         surface=surf.name,
-        physics=physics_dict(params),
+        physics=params.to_dict(),
     )
 
 

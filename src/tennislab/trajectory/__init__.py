@@ -218,14 +218,7 @@ class FlightResult(Result):
                 "result": tr.net.result,
             },
             "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "y": float(tr.apex.position[1]), "t": tr.apex.t},
-            "physics": {
-                "aero": p.aero.name,
-                "mass": p.ball.mass,
-                "radius": p.ball.radius,
-                "air_density": p.atmosphere.density,
-                "gravity": p.atmosphere.gravity,
-                "wind": p.atmosphere.wind,
-            },
+            "physics": p.to_dict(),
         }
         contact = tr.net_contact
         out["net_contact"] = (
