@@ -1,13 +1,14 @@
 # tennislab: two commands for a fresh machine with Python 3.11+.
 #   make demo   -> creates .venv, installs tennislab, runs the main job
-#   make test   -> creates .venv, installs tennislab with test extras, runs pytest
+#   make test   -> creates .venv, installs tennislab with test extras, runs lint and the whole test suite
+#   make check  -> lint and the fast tests (not slow, not browser end-to-end): under 2 minutes, while you work
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 TSTAMP := $(VENV)/.installed-test
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test check lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -32,8 +33,14 @@ lint: $(TSTAMP)
 test: $(TSTAMP) lint
 	$(PY) -m pytest
 
+# The fast tests: everything but the tests marked `slow` (long reproductions, real-data sweeps) and the
+# browser end-to-end tests (`e2e`); `make test` runs them all.
+check: $(TSTAMP) lint
+	$(PY) -m pytest -m "not slow and not e2e"
+
 bench: $(TSTAMP)
 	$(PY) benchmarks/run_all.py
 
 clean:
-	rm -rf $(VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) build *.egg-info src/*.egg-info
+	find out -mindepth 1 -maxdepth 1 ! -name .gitignore -exec rm -rf {} +

@@ -25,7 +25,8 @@ in the text).
 
 The examples of one page run in one fresh temporary folder (a reader's session), holding a copy of
 ``examples/`` and a link to ``src/`` (for the shipped data files), so outputs (``--plot fly.png``,
-``--out out/demo``) land there.
+``--out out/demo``) land there; a test fails when an example leaves a file in the folder's root
+(outputs go under ``out/``, which the clone ships empty).
 Failures in pages that other engineers are rewriting are marked in :data:`KNOWN_FAILURES`
 (``xfail``, not strict) with the reason; each is reported to the lead.
 """
@@ -265,6 +266,7 @@ def sandbox(block, tmp_path_factory, monkeypatch):
         if (ROOT / "examples").is_dir():
             shutil.copytree(ROOT / "examples", d / "examples")
         (d / "src").symlink_to(ROOT / "src", target_is_directory=True)
+        (d / "out").mkdir()  # the clone ships it empty (out/.gitignore): examples write there
         _SANDBOXES[block.path] = d
     for b in RUNNABLE:  # files the page wrote before this block (also when a block is run alone)
         if b.path == block.path and b.file and b.line < block.line:
@@ -290,8 +292,26 @@ def _namespace_before(block: Block) -> dict:
     return ns
 
 
+#: what a page's folder holds besides what its examples write: the clone's examples/, src/ and out/
+SANDBOX_ROOT = {"examples", "src", "out"}
+
+
+def _root_allowed(block: Block) -> set[str]:
+    """Names the examples of ``block``'s page may leave in the folder's root: the clone's own entries, the
+    files the page tells the reader to write (``file=NAME``) and the ``tennislab.toml`` it shows."""
+    own = {Path(b.file).parts[0] for b in RUNNABLE if b.path == block.path and b.file}
+    toml = {"tennislab.toml"} if any(b.path == block.path and _kind(b) == "toml" for b in RUNNABLE) else set()
+    return SANDBOX_ROOT | own | toml
+
+
 @pytest.mark.parametrize("block", list(_params()))
 def test_docs_example(block: Block, sandbox):
+    _run_block(block, sandbox)
+    stray = sorted(set(p.name for p in sandbox.iterdir()) - _root_allowed(block))
+    assert not stray, f"{block.id}: the examples leave {stray} in the clone's root; write outputs under out/"
+
+
+def _run_block(block: Block, sandbox: Path) -> None:
     kind = _kind(block)
     if kind == "file":
         (sandbox / block.file).parent.mkdir(parents=True, exist_ok=True)
