@@ -28,18 +28,14 @@ Parametrising by the bounce itself makes its covariance a block of the fit's.
 spin (3) at a reference time t0, then the drag and lift scales (``F_POS``, ``F_VEL``, ``F_SPIN``,
 ``F_DRAG``, ``F_LIFT``); integrated backward and forward from t0.
 
-Right-hand side: that of :func:`tennislab.core.dynamics.derivative` (seed 000 eqs 1-2, seed 002
-eqs 1, 3) with the drag and lift coefficients of the aero model multiplied by separate scales,
-C_D -> s_D C_D and C_L -> s_L C_L (the fit's handles on an aero model that is not exactly the
-ball's; s_D = s_L = 1 reproduces the shared right-hand side exactly, tested against
+Equations of motion and integration: core's, nothing of this module's own.  The right-hand side
+is :func:`tennislab.core.dynamics.derivative` (seed 000 eqs 1-2, seed 002 eqs 1, 3) with the drag
+and lift coefficients of the aero model multiplied by separate scales, C_D -> s_D C_D and
+C_L -> s_L C_L (the fit's handles on an aero model that is not exactly the ball's); the
+integration is :func:`tennislab.core.integrators.sweep_positions` (classical RK4 with a fixed
+step, 16 ms in the fit, so that the residuals are smooth functions of the parameters; cubic
+Hermite positions between steps; tests/linecall/test_linecall.py checks against
 :func:`tennislab.core.flight.fly`).
-
-Integration: classical RK4 with a fixed step (16 ms in the fit), fixed so that the residuals are
-smooth functions of the parameters (an adaptive step would make them jump when the step sequence
-changes), positions at the sample times by cubic Hermite interpolation on each step from the
-positions and velocities at its ends (error below 0.13 um for the shot library at 16 ms, 0.01 um
-at 8 ms;
-tests/linecall/test_linecall.py checks against :func:`tennislab.core.flight.fly`).
 """
 
 from __future__ import annotations
@@ -50,7 +46,8 @@ import numba as nb
 import numpy as np
 from numba import types
 
-from tennislab.core.aero import AERO_FUNCTION_TYPE, aero_coefficients
+from tennislab.core.aero import AERO_FUNCTION_TYPE
+from tennislab.core.integrators import sweep_positions
 from tennislab.core.mark import contact_displacement
 
 NPARAM = 20
@@ -105,107 +102,30 @@ _FREE_RES_SIG = types.void(_V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
 _FREE_JAC_SIG = types.void(_V, _I, _V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
 
 
-@nb.njit(cache=True)
-def _rhs(y, out, aero, ap, kd, kl, g, r, wind_x, wind_y, wind_z, decay):
-    """dy/dt of :func:`tennislab.core.dynamics.derivative` with k C_D -> kd C_D and k C_L -> kl C_L."""
-    ux = y[3] - wind_x
-    uy = y[4] - wind_y
-    uz = y[5] - wind_z
-    wx = y[6]
-    wy = y[7]
-    wz = y[8]
-    u = math.sqrt(ux * ux + uy * uy + uz * uz)
-    w = math.sqrt(wx * wx + wy * wy + wz * wz)
-    cd, cl = aero_coefficients(aero, u, w, r, ap)
-    d = -kd * cd * u
-    ax = d * ux
-    ay = d * uy
-    az = d * uz - g
-    if w > 0.0 and u > 0.0:
-        f = kl * cl * u / w
-        ax += f * (wy * uz - wz * uy)
-        ay += f * (wz * ux - wx * uz)
-        az += f * (wx * uy - wy * ux)
-    out[0] = y[3]
-    out[1] = y[4]
-    out[2] = y[5]
-    out[3] = ax
-    out[4] = ay
-    out[5] = az
-    out[6] = -decay * wx
-    out[7] = -decay * wy
-    out[8] = -decay * wz
-
-
-@nb.njit(cache=True)
-def _rk4(y, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, out):
-    """One classical Runge-Kutta 4 step (as :func:`tennislab.core.integrators.rk4_step`) of :func:`_rhs`."""
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    yt = work[4]
-    _rhs(y, k1, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + 0.5 * h * k1[i]
-    _rhs(yt, k2, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + 0.5 * h * k2[i]
-    _rhs(yt, k3, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        yt[i] = y[i] + h * k3[i]
-    _rhs(yt, k4, aero, ap, kd, kl, g, r, wx, wy, wz, dec)
-    for i in range(9):
-        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-
-
-#: integration steps allowed per sweep (bounds a sweep toward a far sample time: 40 s at 8 ms)
-MAX_STEPS = 5000
-
-
 @nb.njit(_SWEEP_SIG, cache=True)
 def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, dscale, lscale, out):
-    """Integrate from (y0, t0) in ``direction`` (+1/-1) and write positions at t[idx[0..n-1]]
-    (ordered away from t0) into out[idx[j]]; NaN beyond :data:`MAX_STEPS` steps or a non-finite state."""
+    """:func:`tennislab.core.integrators.sweep_positions` with the model's constants, the step
+    ``consts[C_H]`` in ``direction`` (+1/-1) and the drag and lift scales applied to k."""
     k = consts[C_K]
-    kd = k * dscale
-    kl = k * lscale
-    g = consts[C_G]
-    r = consts[C_R]
-    wx = consts[C_WX]
-    wy = consts[C_WY]
-    wz = consts[C_WZ]
-    dec = consts[C_DECAY]
-    h = consts[C_H] * direction
-    work = np.empty((5, 9))
-    ya = y0.copy()
-    yb = np.empty(9)
-    ta = t0
-    _rk4(ya, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, yb)
-    tb = t0 + h
-    steps = 1
-    for j in range(n):
-        ts = t[idx[j]]
-        while (ts - tb) * direction > 0.0 and steps <= MAX_STEPS:
-            for i in range(9):
-                ya[i] = yb[i]
-            ta = tb
-            _rk4(ya, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, yb)
-            tb = ta + h
-            steps += 1
-        if steps > MAX_STEPS or not (math.isfinite(yb[0]) and math.isfinite(yb[1]) and math.isfinite(yb[2])):
-            for c in range(3):
-                out[idx[j], c] = np.nan
-            continue
-        s = (ts - ta) / h
-        s2 = s * s
-        s3 = s2 * s
-        h00 = 2 * s3 - 3 * s2 + 1
-        h10 = s3 - 2 * s2 + s
-        h01 = -2 * s3 + 3 * s2
-        h11 = s3 - s2
-        for c in range(3):
-            out[idx[j], c] = h00 * ya[c] + h10 * h * ya[c + 3] + h01 * yb[c] + h11 * h * yb[c + 3]
+    sweep_positions(
+        y0,
+        t0,
+        t,
+        idx,
+        n,
+        consts[C_H] * direction,
+        aero,
+        ap,
+        k * dscale,
+        k * lscale,
+        consts[C_G],
+        consts[C_R],
+        consts[C_WX],
+        consts[C_WY],
+        consts[C_WZ],
+        consts[C_DECAY],
+        out,
+    )
 
 
 @nb.njit(cache=True)
