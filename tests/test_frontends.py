@@ -17,6 +17,7 @@ from tennislab.cli import main
 from tennislab.core.flight import FlightParams
 from tennislab.linecall import call_track
 from tennislab.linecall.synth import sample_serve
+from tennislab.plot.text import in_out_by
 from tennislab.report import html as H
 from tennislab.results import jsonable
 from tennislab.trajectory import fly
@@ -144,7 +145,7 @@ def test_line_call(client, capsys, tmp_path, report_html):
     same(app, ref, rel=1e-9)
     sec = report_html[report_html.index('id="line-calling"') : report_html.index('id="launcher-drill"')]
     assert f"{H.num(ref['bounce']['x'], 4)}, {H.num(ref['bounce']['y'], 4)}" in sec
-    assert f">{H.num(ref['distance_mm'], 1)}</td>" in sec and f">{H.num(ref['p_in'], 3)}</td>" in sec
+    assert f">{in_out_by(ref['distance_mm'])}</td>" in sec and f">{H.num(ref['p_in'], 3)}</td>" in sec
 
 
 # ------------------------------------------------------------------ launcher aim

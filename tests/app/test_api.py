@@ -254,10 +254,22 @@ def test_window_legend_counts_match_python(client):
     from tennislab.serve import window
 
     r = client.post("/api/serve/window", json={"player": "junior", "step": 2}).json()
-    w = window("junior", step=2.0).summary()
-    n = {it["label"]: it["n"] for it in r["legend"]}
-    assert n["flat success"] == w["flat"]["n"] and n["topspin success"] == w["topspin"]["n"]
+    win = window("junior", step=2.0)
+    w = win.summary()
+    n = {it["code"]: it["n"] for it in r["legend"]}
+    assert n[1] == w["flat"]["n"] and n[2] == w["topspin"]["n"]
     assert r["summary"]["flat"]["n"] == w["flat"]["n"]
+    # the answer is the workflow's to_dict() (the JSON of `tennislab serve-window`), extended for the heat map
+    ref = win.to_dict()
+    assert {k: r[k] for k in ref} == json.loads(json.dumps(ref))
+    assert [it["label"] for it in r["legend"]][1:3] == ["flat (< 1200 rpm)", "topspin (> 3200 rpm)"]
+    # the heat map's span holds every success
+    code = np.array(r["code"])
+    ib, ia = np.nonzero(code > 0)
+    sp = r["span"]
+    assert sp["beta_lo"] <= min(np.array(r["beta"])[ib]) and max(np.array(r["beta"])[ib]) <= sp["beta_hi"]
+    assert sp["alpha_lo"] <= min(np.array(r["alpha"])[ia]) and max(np.array(r["alpha"])[ia]) <= sp["alpha_hi"]
+    assert sp["beta_hi"] < 60  # every success of a junior lies far below beta 90
 
 
 @pytest.mark.parametrize(

@@ -50,7 +50,7 @@ def aim(v: dict) -> dict:
     """``launcher aim`` JSON (settings, rollers, landing, miss_mm, net_clearance_m, ...) plus the flight."""
     res = solve(v)
     out = res.to_dict()
-    out["flight"] = S.flight_result(fly_settings(res.settings, res.spec, res.params))
+    out["flight"] = S.flight_of(fly_settings(res.settings, res.spec, res.params))
     return out
 
 

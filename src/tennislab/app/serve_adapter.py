@@ -12,19 +12,10 @@ is :func:`tennislab.serve.default_serve`.
 
 from __future__ import annotations
 
-import numpy as np
-
 from tennislab.app import services as S
+from tennislab.plot.serve import WINDOW_COLORS, window_codes, window_labels, window_span
 from tennislab.serve import PlayerProfile, default_serve, get_player, player_names, simulate
 from tennislab.serve import window as serve_window
-
-#: heat-map codes: failure and success by category
-WINDOW_CODES = (
-    ("fail", "#e6e6e6"),
-    ("flat success", "#1f77b4"),
-    ("topspin success", "#2ca02c"),
-    ("other success", "#ff9f1c"),
-)
 
 
 def players() -> dict:
@@ -71,32 +62,32 @@ def serve(v: dict) -> dict:
     out["regime"] = out["impact"]["regime"]
     out["contact_time_ms"] = out["impact"]["contact_time_ms"]
     out["landing_y"] = out["landing"]["y"]
-    out["flight"] = S.flight_result(tr) if tr is not None and tr.landing is not None else None
+    out["flight"] = S.flight_of(tr) if tr is not None and tr.landing is not None else None
     return out
 
 
 def window(v: dict) -> dict:
-    """The alpha x beta window (form ``window``): category codes per cell for the heat map."""
+    """The alpha x beta window (form ``window``): ``serve.window(...).to_dict()`` (the JSON of
+    ``tennislab serve-window``, every key unchanged) plus what the heat map draws: the grid's ``alpha``
+    and ``beta`` [deg], the class ``code`` of every cell (:func:`tennislab.plot.serve.window_codes`), its
+    ``palette`` and ``legend`` (counted), the ``span`` where the window is and the per-cell ``speed``
+    [m/s] and ``spin_rpm`` (for the CSV)."""
     w = serve_window(player_of(v), step=v["step"])
-    cat = w.grid("category")
-    code = np.where(w.success, cat + 1, 0).astype(int)
-    d = w.to_dict()
-    legend = [
-        {"code": k, "label": lab, "color": col, "n": int((code == k).sum())}
-        for k, (lab, col) in enumerate(WINDOW_CODES)
-    ]
-    return {
-        "player": d["player"],
-        "alpha": w.alpha_deg.tolist(),
-        "beta": w.beta_deg.tolist(),
-        "step": v["step"],
-        "code": code.tolist(),
-        "palette": {str(k): c for k, (_, c) in enumerate(WINDOW_CODES)},
-        "legend": legend,
-        "summary": d["summary"],
-        "peak_spin_alpha": d["peak_spin_alpha"],
-        "optimum": d["optimum"],
-        "speed": w.speed.tolist(),
-        "spin_rpm": w.spin_rpm.tolist(),
-        "caveats": d["caveats"],
-    }
+    code = window_codes(w)
+    out = w.to_dict()
+    labels = window_labels(w)
+    out.update(
+        alpha=w.alpha_deg.tolist(),
+        beta=w.beta_deg.tolist(),
+        step=v["step"],
+        code=code.tolist(),
+        palette={str(k): c for k, c in enumerate(WINDOW_COLORS)},
+        legend=[
+            {"code": k, "label": lab, "color": col, "n": int((code == k).sum())}
+            for k, (lab, col) in enumerate(zip(labels, WINDOW_COLORS))
+        ],
+        span=dict(zip(("alpha_lo", "alpha_hi", "beta_lo", "beta_hi"), window_span(w))),
+        speed=w.grid("speed").tolist(),
+        spin_rpm=w.grid("spin_rpm").tolist(),
+    )
+    return out

@@ -2,20 +2,18 @@
 
 Nothing here knows about HTTP, and nothing here is physics: the flight page calls
 :func:`tennislab.trajectory.fly` (the workflow behind ``tennislab fly``) with its
-physics built by :meth:`FlightParams.from_options`; :func:`flight_result` shapes a
-:class:`~tennislab.core.flight.Trajectory` into the landing / net / apex / points
+physics built by :meth:`FlightParams.from_options`; :func:`flight_of` answers the
+flight of a serve or an aimed shot as that workflow's result (``to_dict()``) plus the points
 the page draws.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
-from tennislab.trajectory import fly
+from tennislab.trajectory import FlightResult, fly
 from tennislab.units import KMH
 
 #: points sampled along a trajectory for the page's plots
@@ -33,34 +31,14 @@ def trajectory_points(tr, n: int = PLOT_POINTS) -> list[list[float]]:
     return np.round(ys[:, 0:3], 4).tolist()
 
 
-def _finite(x) -> float | None:
-    return float(x) if math.isfinite(x) else None
-
-
-def flight_result(tr) -> dict:
-    """Landing, net crossing and apex of a :class:`~tennislab.core.flight.Trajectory` plus plot points
-    (used by the serve and launcher pages to draw their flights)."""
-    land = tr.landing
-    net = tr.net
-    return {
-        "landing": None
-        if land is None
-        else {
-            "x": land.x,
-            "y": land.y,
-            "t": land.t,
-            "speed_kmh": float(np.linalg.norm(land.velocity)) / KMH,
-            "areas": ITF_COURT.areas_at(land.x, land.y),
-        },
-        "net": {
-            "result": net.result,
-            "clearance": _finite(net.clearance),
-            "z": _finite(net.z),
-            "y": _finite(net.y),
-        },
-        "apex": {"z": tr.apex.z, "x": float(tr.apex.position[0]), "t": tr.apex.t},
-        "points": trajectory_points(tr),
-    }
+def flight_of(tr) -> dict:
+    """A flight the serve or launcher page draws, as the flight workflow answers it: the
+    :class:`~tennislab.trajectory.FlightResult` of the trajectory (``to_dict()``: the JSON of
+    ``tennislab fly --json``: ``landing``, ``net``, ``apex``, ``physics`` ...) plus its plot ``points``."""
+    res = FlightResult(tr)
+    out = res.to_dict()
+    out["points"] = res.points(PLOT_POINTS)
+    return out
 
 
 # ------------------------------------------------------------------ court

@@ -154,8 +154,18 @@ def _command_name(args: argparse.Namespace) -> str:
     return getattr(args, "command", None) or "tennislab"
 
 
+def _file_backend() -> None:
+    """The command line writes figures to files only: Matplotlib's Agg backend, chosen here (the entry
+    point) and never by the library, and only when nothing has imported Matplotlib yet (a notebook
+    calling :func:`main` keeps its own backend).  An environment variable, so that no Matplotlib is
+    loaded at start-up."""
+    if "matplotlib" not in sys.modules:
+        os.environ["MPLBACKEND"] = "Agg"
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    _file_backend()
     wants_help = any(a in ("-h", "--help", "--version") for a in argv)
     try:
         path, no_config = _pre_config(argv)

@@ -277,27 +277,13 @@ def _write_rows(path: str, rows: list[dict]) -> None:
 
 
 def _plot_misses(path: str, series: dict, title: str) -> None:
-    # Matplotlib is imported only when a plot is asked for (it adds ~0.3 s to every command's start)
-    import matplotlib
+    # the figure module is imported only when a plot is asked for (Matplotlib adds ~0.3 s to a start-up)
+    from tennislab.plot.calibrate import plot_misses
+    from tennislab.plot.save import close_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    bins = np.linspace(-1.5, 1.5, 61)
-    for label, (length, width) in series.items():
-        axes[0].hist(np.clip(length, -1.5, 1.5), bins=bins, histtype="step", label=label)
-        axes[1].hist(np.clip(width, -1.5, 1.5), bins=bins, histtype="step", label=label)
-    axes[0].set_xlabel("length miss [m] (> 0 long)")
-    axes[1].set_xlabel("width miss [m] (> 0 left of the bounce)")
-    for ax in axes:
-        ax.axvline(0.0, color="k", lw=0.6)
-        ax.set_ylabel("serves")
-    axes[0].legend(fontsize=7)
-    fig.suptitle(title)
+    fig = plot_misses(series, title)
     save_figure(fig, path)
-    plt.close(fig)
+    close_figure(fig)
 
 
 def _line(label: str, s: dict) -> str:

@@ -31,6 +31,7 @@ from tennislab.io.hawkeye import read_points
 from tennislab.io.track import read_track
 from tennislab.linecall import RallyCall, TrackCall, call_detections, call_rally, call_state, call_track
 from tennislab.plot.linecall import plot_call, plot_rally
+from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
 from tennislab.trajectory import NET_MODES
 
 
@@ -182,7 +183,7 @@ def _print_single(res: TrackCall, plot: str | None) -> None:
     if b.get("x") is not None:
         print(
             f"bounce: x = {b['x']:.4f} m, y = {b['y']:.4f} m at t = {b['t']:.4f} s"
-            + (f" (+- {b['sigma_mm']:.1f} mm)" if b.get("sigma_mm") else "")
+            + (f" (± {b['sigma_mm']:.1f} mm, 1σ in the worst direction)" if b.get("sigma_mm") else "")
         )
     if out["mark"]:
         print(f"mark: {out['mark']['length'] * 1000:.0f} x {out['mark']['width'] * 1000:.0f} mm")
@@ -194,30 +195,25 @@ def _print_single(res: TrackCall, plot: str | None) -> None:
         )
     what = f"line {out['line']}" if "line" in out else f"target {out.get('target')}"
     if out["p_in"] is not None:
-        print(
-            f"call: {out['call'].upper()} ({what}): mark reaches {out['distance_mm']:+.1f} mm "
-            f"{'inside' if out['distance_mm'] >= 0 else 'short of'} the line, p_in = {out['p_in']:.3f}"
-        )
+        print(f"call: {out['call'].upper()} ({what}): mark {in_out_by(out['distance_mm'])}, p_in = {out['p_in']:.3f}")
         if "line" not in out:
             for name, r in out.get("lines", {}).items():
-                print(f"  {name:16s} {r['call']:3s} {r['distance_mm']:+9.1f} mm  p_in {r['p_in']:.3f}")
+                print(f"  {name:16s} {r['call']:3s} {in_out_by(r['distance_mm']):>18s}  p_in {r['p_in']:.3f}")
     else:
         print(f"call: {out['call'].upper()}")
     if out["reason"]:
         print(f"review: {out['reason']}")
     f = out["fit"]
     if f.get("rms_mm") is not None:
-        print(
-            f"fit: rms {f['rms_mm']:.2f} mm, {f['outliers']} outlier(s), drag scale {f['drag_scale']:.3f}, "
-            f"{f['elapsed_ms']:.0f} ms"
+        scales = ", ".join(
+            f"{k.replace('_', ' ')} {plus_minus(f[k], f.get(k + '_sigma'), digits=3)}"
+            for k in ("drag_scale", "lift_scale")
+            if f.get(k) is not None
         )
+        print(f"fit: rms {f['rms_mm']:.2f} mm, {f['outliers']} outlier(s), {scales}, {f['elapsed_ms']:.0f} ms")
     sp = out.get("spin")
     if sp and out["method"] == "track-fit":
-        print(
-            f"spin: {sp['rpm']:.0f} rpm (topspin {sp['topspin_rpm']:+.0f} +- {sp.get('topspin_sigma_rpm', 0):.0f}, "
-            f"sidespin {sp['sidespin_rpm']:+.0f} +- {sp.get('sidespin_sigma_rpm', 0):.0f}, "
-            f"along the path {sp['along_path_rpm']:+.0f} +- {sp.get('along_path_sigma_rpm', 0):.0f})"
-        )
+        print(f"spin: {spin_fit_words(sp)}")
     for lb in out.get("bounces", []):
         print(f"later bounce (not called): x = {lb['x']:.3f} m, y = {lb['y']:.3f} m at t = {lb['t']:.3f} s")
     if "closed_form_error_mm" in out:
@@ -296,15 +292,7 @@ def run(args) -> int:
         return 0
     res = _single(args, params)
     if args.plot and res.mark_result is not None and res.decision is not None:
-        fig = plot_call(
-            res.mark_result,
-            res.decision,
-            params.court,
-            fit=res.fit_result,
-            track=res.track if res.fit_result is not None else None,
-            bounce_cov=None if res.fit_result is None else res.fit_result.bounce_cov,
-        )
-        save_figure(fig, args.plot)
+        save_figure(plot_call(res, params.court), args.plot)
     elif args.plot:
         raise InputError(f"--plot: nothing to draw: the call is {res.call} without a bounce")
     if args.json:

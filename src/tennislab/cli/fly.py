@@ -18,6 +18,7 @@ from tennislab.cli.common import (
     surface_from_arg,
 )
 from tennislab.errors import InputError
+from tennislab.plot.text import spin_words
 from tennislab.plot.trajectory import plot_trajectories
 from tennislab.trajectory import NET_MODES, fly
 
@@ -100,15 +101,14 @@ def run(args) -> int:
     )
     out = res.to_dict()
     if args.plot:
-        save_figure(plot_trajectories([res], title="tennislab fly"), args.plot)
+        save_figure(plot_trajectories([res]), args.plot)  # titled with what was flown
     if args.json:
         emit_json(out)
         return 0
     la = out["launch"]
-    axis = "" if la["spin_axis_deg"] is None else f" about {la['spin_axis_deg']:.0f} deg"
     print(
         f"launch: {la['speed_kmh']:.1f} km/h ({la['speed_ms']:.2f} m/s), elevation {la['elevation_deg']:.1f} deg, "
-        f"heading {la['heading_deg']:.1f} deg, spin {la['spin_rpm']:.0f} rpm{axis}"
+        f"heading {la['heading_deg']:.1f} deg, spin {spin_words(la['spin_rpm'], la['spin_axis_deg'])}"
     )
     b = out["landing"]
     if b is not None:

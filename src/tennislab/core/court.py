@@ -155,6 +155,20 @@ class Court:
         res = (x >= x0 - margin) & (x <= x1 + margin) & (y >= y0 - margin) & (y <= y1 + margin)
         return bool(res) if res.ndim == 0 else res
 
+    def judge(self, name: str, x: float, y: float) -> str:
+        """Where a ground point (x, y) [m] lands relative to a named area, lines included: ``"in"``,
+        ``"short"`` (on the near side of the area, toward the hitter), ``"long"`` (beyond its far
+        edge) or ``"wide"`` (beside it); long before wide when both hold (as a line judge calls it)."""
+        x0, x1, y0, y1 = self.area_bounds(name)
+        if self.contains(name, x, y):
+            return "in"
+        far = x0 >= 0.0 or (x0 < 0.0 < x1 and x > 0.0)  # an area spanning the net: by the half it lands in
+        if (x > x1) if far else (x < x0):
+            return "long"
+        if (x < x0) if far else (x > x1):
+            return "short"
+        return "wide"
+
     def areas_at(self, x: float, y: float) -> list[str]:
         """Names of every area containing the ground point (x, y)."""
         return [n for n in self.area_names() if self.contains(n, x, y)]

@@ -15,15 +15,33 @@ SURROUND_GREEN = "#2d5e35"
 LINE_WHITE = "#ffffff"
 #: smallest height shown in a side view [m] (a little above the net posts)
 MIN_SIDE_HEIGHT = 3.0
+#: (court, surround) colours of each registered surface as it looks: blue acrylic with a green
+#: surround, red-brown clay, green grass, grey-blue carpet; an unknown surface (one's own file)
+#: is drawn as hard
+SURFACE_COLORS = {
+    "hard": ("#3d6fa3", "#4f7f4a"),
+    "clay": ("#c4673a", "#a9552f"),
+    "grass": ("#4c8b3b", "#3d7330"),
+    "carpet": ("#5f7186", "#4a5a6b"),
+}
 
 
-def draw_court_top(ax, court: Court = ITF_COURT, margin: float = 3.0, color: str = COURT_GREEN) -> None:
-    """Draw the court seen from above on ``ax`` (x along, y across, metres)."""
+def surface_colors(surface: str | None) -> tuple[str, str]:
+    """(court, surround) colours of a surface by name (:data:`SURFACE_COLORS`; hard when unknown or None)."""
+    return SURFACE_COLORS.get(str(surface or "hard").lower(), SURFACE_COLORS["hard"])
+
+
+def draw_court_top(
+    ax, court: Court = ITF_COURT, margin: float = 3.0, color: str | None = None, surface: str | None = None
+) -> None:
+    """Draw the court seen from above on ``ax`` (x along, y across, metres) in the colours of
+    ``surface`` (:func:`surface_colors`; ``color`` overrides the court's)."""
     from matplotlib.patches import Rectangle  # drawing only: keeps Matplotlib out of the CLI's start-up
 
     L, d = court.half_length, court.doubles_width / 2
-    ax.set_facecolor(SURROUND_GREEN)  # the surround, however far the limits are moved
-    ax.add_patch(Rectangle((-L, -d), 2 * L, 2 * d, color=color, zorder=0.5))
+    inner, around = surface_colors(surface)
+    ax.set_facecolor(around)  # the surround, however far the limits are moved
+    ax.add_patch(Rectangle((-L, -d), 2 * L, 2 * d, color=color or inner, zorder=0.5))
     for x0, x1, y0, y1 in court.lines().values():
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color=LINE_WHITE, lw=0, zorder=1))
     ax.plot([0, 0], [-court.y_post, court.y_post], color="#222222", lw=2, zorder=2)
@@ -34,10 +52,13 @@ def draw_court_top(ax, court: Court = ITF_COURT, margin: float = 3.0, color: str
     ax.set_ylabel("y [m]")
 
 
-def draw_court_side(ax, court: Court = ITF_COURT, margin: float = 3.0, zmax: float = 4.0) -> None:
-    """Draw the side view (x-z): ground, baselines, service lines and the net at the centre strap."""
+def draw_court_side(
+    ax, court: Court = ITF_COURT, margin: float = 3.0, zmax: float = 4.0, surface: str | None = None
+) -> None:
+    """Draw the side view (x-z): the ground in the colour of ``surface``, baselines, service lines
+    (dashed) and the net at the centre strap."""
     L = court.half_length
-    ax.axhline(0, color="#5a4632", lw=2)
+    ax.axhline(0, color=surface_colors(surface)[0], lw=3)
     ax.plot([0, 0], [0, court.net_center_height], color="#222222", lw=3, label="net (centre)")
     ax.plot([0, 0], [court.net_center_height, court.net_post_height], color="#999999", lw=1, ls=":")
     for x in (-L, L, -court.service_line, court.service_line):
@@ -82,15 +103,16 @@ def frame_views(
         ax_top.set_ylim(lo[1], hi[1])
 
 
-def court_figure(court: Court = ITF_COURT, title: str | None = None):
-    """A figure with side view (top) and top view (bottom); returns (fig, ax_side, ax_top)."""
+def court_figure(court: Court = ITF_COURT, title: str | None = None, surface: str | None = None):
+    """A figure with side view (top) and top view (bottom) in the colours of ``surface``; returns
+    (fig, ax_side, ax_top)."""
     # pyplot is imported here, not at the top: it adds about 0.5 s to every `tennislab` command's start-up
     # (measured with python -X importtime), and most commands never draw.
     import matplotlib.pyplot as plt
 
     fig, (ax_side, ax_top) = plt.subplots(2, 1, figsize=(10, 8.5), height_ratios=[1, 1.25])
-    draw_court_side(ax_side, court)
-    draw_court_top(ax_top, court)
+    draw_court_side(ax_side, court, surface=surface)
+    draw_court_top(ax_top, court, surface=surface)
     if title:
         fig.suptitle(title)
     return fig, ax_side, ax_top

@@ -4,7 +4,6 @@ trajectories come from the launcher's workflows)."""
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.patches import Rectangle
 
 from tennislab.plot.court import court_figure, frame_views
 
@@ -38,7 +37,12 @@ def plot_aim(solution, trajectory, title: str | None = None):
 
 def plot_drill(compiled, trajectories, title: str | None = None):
     """Every distinct shot of a compiled drill with its trajectory (``trajectories``, one per distinct
-    shot, from :func:`tennislab.launcher.drills.drill_trajectories`); zones green = passed, red = failed."""
+    shot, from :func:`tennislab.launcher.drills.drill_trajectories`), numbered as in the drill's table;
+    its target (x), landing (o) and zone (dashed: green when the shot lands in it and clears the net, red
+    otherwise) and the machine (square), each explained in the legend."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Rectangle
+
     d = compiled.drill
     fig, ax_side, ax_top = court_figure(title=title or f"drill: {d.name} ({len(compiled.shots)} shots)")
     drawn = []
@@ -54,9 +58,11 @@ def plot_drill(compiled, trajectories, title: str | None = None):
         if u.solution is None or tr is None:
             continue
         _, ys = tr.sample(300)
-        ax_side.plot(ys[:, 0], ys[:, 2], lw=1.5, color=c, label=u.label)
-        ax_top.plot(ys[:, 0], ys[:, 1], lw=1.5, color=c)
-        ax_top.plot(*u.solution.landing, "o", ms=5, color=c, mec="k", zorder=6)
+        ax_side.plot(ys[:, 0], ys[:, 2], lw=1.6, color=c, label=f"{i + 1}: {u.label} ({u.shot.type})")
+        ax_top.plot(ys[:, 0], ys[:, 1], lw=1.6, color=c)
+        lx, ly = u.solution.landing
+        ax_top.plot(lx, ly, "o", ms=5, color=c, mec="k", zorder=6)
+        ax_top.annotate(str(i + 1), (lx, ly), xytext=(5, 5), textcoords="offset points", color="white", weight="bold")
         ax_top.plot(*u.shot.target, "x", ms=7, mew=2, color="#c0392b", zorder=6)
         drawn.append(ys[:, 0:3])
     h = max(u.shot.height_m for u in compiled.unique)
@@ -64,4 +70,16 @@ def plot_drill(compiled, trajectories, title: str | None = None):
     drawn.append(np.array([[d.spec.position[0], d.spec.position[1], h]]))
     frame_views(ax_side, ax_top, np.vstack(drawn), margin=1.0, pad=0.5)
     ax_side.legend(loc="upper right", fontsize=7)
+    ax_top.legend(
+        handles=[
+            Line2D([], [], ls="", marker="s", ms=7, color="#d9822b", mec="k", label="machine"),
+            Line2D([], [], ls="", marker="x", ms=7, mew=2, color="#c0392b", label="target"),
+            Line2D([], [], ls="", marker="o", ms=5, color="#dddddd", mec="k", label="landing (numbered)"),
+            Line2D([], [], ls="--", color="#2ecc71", label="zone: lands in it, clears the net"),
+            Line2D([], [], ls="--", color="#e74c3c", label="zone: missed"),
+        ],
+        loc="upper left",
+        fontsize=7,
+    )
+    fig.tight_layout()
     return fig

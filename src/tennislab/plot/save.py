@@ -47,3 +47,11 @@ def figure_png(fig, dpi: int = DPI) -> bytes:
 def figure_data_uri(fig, dpi: int = DPI) -> str:
     """The figure as a ``data:image/png;base64,...`` URI (embedded in an HTML page: no file beside it)."""
     return "data:image/png;base64," + base64.b64encode(figure_png(fig, dpi)).decode("ascii")
+
+
+def close_figure(fig) -> None:
+    """Release a figure drawn with pyplot (once it is saved: a long session or a report drawing dozens
+    keeps no memory of them)."""
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from tennislab import __version__
 from tennislab.errors import InputError
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path
-from tennislab.plot.save import figure_data_uri
+from tennislab.plot.save import close_figure, figure_data_uri
 from tennislab.report import flight_section, launcher_section, linecall_section, serve_sections
 from tennislab.report import html as H
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player
@@ -78,12 +78,10 @@ class Context:
     def save(self, fig, name: str) -> str:
         """Embed a Matplotlib figure: returns a PNG data URI for ``<img src>`` (``name`` labels it in
         the summary; no file is written) and closes the figure."""
-        import matplotlib.pyplot as plt  # not at the top: 0.5 s of every command's start-up (-X importtime)
-
         try:
             uri = figure_data_uri(fig)
         finally:
-            plt.close(fig)
+            close_figure(fig)
         self.figures.append(name)
         return uri
 

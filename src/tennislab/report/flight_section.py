@@ -6,20 +6,24 @@ and the app's Flight page), so the numbers here are the ones those give for the 
 
 from __future__ import annotations
 
+from collections import Counter
+
 from tennislab.core.aero import DEFAULT_AERO
+from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.plot.trajectory import plot_trajectories
 from tennislab.report import html as H
 from tennislab.trajectory import FlightResult, fly
 
-#: (label, position [m], launch keywords of :func:`tennislab.trajectory.fly`)
-SHOTS: list[tuple[str, tuple[float, float, float], dict]] = [
+#: (label, position [m], launch keywords of :func:`tennislab.trajectory.fly`, the court area it is meant for)
+SHOTS: list[tuple[str, tuple[float, float, float], dict, str]] = [
     (
         "topspin groundstroke 100 km/h, 2500 rpm",
         (-11.885, 0.0, 1.0),
         {"velocity": (27.0, 0.0, 7.0), "spin_rpm": 2500.0, "spin_axis": "topspin"},
+        "singles",
     ),
-    ("flat serve 180 km/h", (-11.885, 0.5, 2.8), {"velocity": (49.5, -1.5, -4.5)}),
+    ("flat serve 180 km/h (to the ad box)", (-11.885, 0.5, 2.8), {"velocity": (49.5, -1.5, -4.5)}, "ad-box"),
 ]
 #: the default model first (:data:`tennislab.core.aero.DEFAULT_AERO`), then the seeds' and the others
 MODELS = [DEFAULT_AERO] + [m for m in ("stepanek1988", "cross2014", "launcher2015", "constant") if m != DEFAULT_AERO]
@@ -27,6 +31,7 @@ MODELS = [DEFAULT_AERO] + [m for m in ("stepanek1988", "cross2014", "launcher201
 HEADER = [
     "shot",
     "aero model",
+    "lands",
     "speed [km/h]",
     "landing x [m]",
     "landing y [m]",
@@ -37,12 +42,24 @@ HEADER = [
 ]
 
 
-def _row(label: str, model: str, res: FlightResult) -> list:
+def lands(d: dict, target: str) -> str:
+    """Where a flight (``FlightResult.to_dict()``) ends against the area it is meant for: ``net``, or
+    :meth:`~tennislab.core.court.Court.judge` of its landing (in, long, wide, short), with the area."""
+    if d["net_contact"] is not None or d["net"]["result"] == "net":
+        return "net"
+    land = d["landing"]
+    if land is None:
+        return "–"
+    return ITF_COURT.judge(target, land["x"], land["y"])
+
+
+def _row(label: str, model: str, res: FlightResult, target: str) -> list:
     d = res.to_dict()
     land, net = d["landing"], d["net"]
     return [
         label,
         model,
+        lands(d, target),
         H.num(d["launch"]["speed_kmh"], 0),
         H.num(land["x"], 2),
         H.num(land["y"], 2),
@@ -60,15 +77,20 @@ def flight(ctx) -> None:
     flights: list[FlightResult] = []
     labels: list[str] = []
     notes: list[str] = []
-    for label, position, launch in SHOTS:
+    for label, position, launch, target in SHOTS:
         for m in MODELS:
             res = fly(position, **launch, params=FlightParams.from_options(aero=m))
-            rows.append(_row(label, m, res))
+            rows.append(_row(label, m, res, target))
             notes.extend(f"{label}, {m}: {c}" for c in res.caveats)
             if label.startswith("topspin"):
                 flights.append(res)
                 labels.append(m)
-    fig = plot_trajectories(flights, labels=labels, title="topspin groundstroke, 100 km/h, 2500 rpm: aero models")
+    first = SHOTS[0][0]
+    fig = plot_trajectories(flights, labels=labels, title=f"{first}: {len(flights)} aero models")
+    outcomes = "; ".join(
+        f"the {label}: " + ", ".join(f"{k} under {v}" for k, v in Counter(r[2] for r in rows if r[0] == label).items())
+        for label, *_ in SHOTS
+    )
     sec.add(
         H.para(
             "The same launch flown with each registered aerodynamic model. The default, choppin2018 (drag "
@@ -78,8 +100,13 @@ def flight(ctx) -> None:
             "Kulesza use a lower drag coefficient measured on a launcher. Where the models disagree, the landing "
             "point moves by metres: the choice of model matters more than the integrator."
         ),
-        H.figure(ctx.save(fig, "flight_models.png"), "A topspin groundstroke under four aero models"),
-        H.table(HEADER, rows, left_cols=2),
+        H.figure(ctx.save(fig, "flight_models.png"), f"The {first} under {len(flights)} aero models"),
+        H.table(HEADER, rows, left_cols=3),
+        H.para(
+            "“lands”: where the ball lands against the area the shot is meant for (lines included): the far "
+            f"singles court, the serve's ad service box. Of the {len(MODELS)} models: {outcomes}.",
+            "note",
+        ),
     )
     ctx.caveats(
         [

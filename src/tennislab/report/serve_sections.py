@@ -16,12 +16,7 @@ replace the paper's three players.
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
-import numpy as np
-from matplotlib.colors import ListedColormap
-from matplotlib.patches import Patch
-
-from tennislab.plot.court import draw_court_side
+from tennislab.plot.serve import plot_optimum_serves, plot_speed_spin, plot_window_maps
 from tennislab.report import html as H
 from tennislab.serve import monte_carlo, simulate, window
 from tennislab.serve import published as pub
@@ -37,8 +32,6 @@ TABLE1_COLS = (
     ("net_height", "Y [m]", 2),
     ("launch_angle", "γ [deg]", 1),
 )
-CODE_COLORS = ("#e6e6e6", "#1f77b4", "#2ca02c", "#ff9f1c")
-CODE_LABELS = ("fails", "flat success", "topspin success", "other success")
 
 
 def _windows(ctx) -> dict:
@@ -87,33 +80,7 @@ def windows(ctx) -> None:
     """Heat maps of the three windows and Table 1 beside the paper."""
     sec = ctx.section
     ws = _windows(ctx)
-    fig, axes = plt.subplots(1, len(ws), figsize=(13 * len(ws) / 3, 4.6), sharey=True, squeeze=False)
-    axes = axes[0]
-    for ax, (p, w) in zip(axes, ws.items()):
-        code = np.where(w.success, w.grid("category") + 1, 0)
-        a, b = w.alpha_deg, w.beta_deg
-        da, db = (a[1] - a[0]) / 2, (b[1] - b[0]) / 2
-        ax.imshow(
-            code,
-            origin="lower",
-            cmap=ListedColormap(CODE_COLORS),
-            vmin=-0.5,
-            vmax=3.5,
-            extent=(a[0] - da, a[-1] + da, b[0] - db, b[-1] + db),
-            aspect="auto",
-            interpolation="nearest",
-        )
-        ax.set_title(f"{p} ({w.player.impact_height:g} m, {w.player.racket_speed:g} m/s)")
-        ax.set_xlabel("impact angle α [deg]")
-        ax.set_ylim(b[0] - db, min(b[-1], 40) + db)
-    axes[0].set_ylabel("racket-face angle β [deg]")
-    fig.legend(
-        handles=[Patch(color=c, label=lab) for c, lab in zip(CODE_COLORS, CODE_LABELS)],
-        loc="lower center",
-        ncol=4,
-        frameon=False,
-    )
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig = plot_window_maps(ws.values())
     rows, classes = table1_rows(ws, pub)
     n_flat = sum(w.summary()["flat"]["n"] for w in ws.values())
     n_top = sum(w.summary()["topspin"]["n"] for w in ws.values())
@@ -179,19 +146,11 @@ def peak_spin(ctx) -> None:
     """Speed and spin vs alpha per player (paper Fig. 5), the peak-spin alpha, the margin of error."""
     sec = ctx.section
     ws = _windows(ctx)
-    fig, ax1 = plt.subplots(figsize=(10, 6))
-    ax2 = ax1.twinx()
-    colors = {"professional": "tab:blue", "recreational": "tab:orange", "junior": "tab:green"}
+    fig = plot_speed_spin(ws.values())
     rows = []
-    for k, (p, w) in enumerate(ws.items()):
-        c = colors.get(p, f"C{k + 3}")
-        ax1.plot(w.alpha_deg, w.speed, "x-", ms=3, lw=1, color=c, label=f"{p}: speed")
-        ax2.plot(w.alpha_deg, w.spin_rpm, "o-", ms=2.5, lw=1, color=c, alpha=0.7, label=f"{p}: spin")
-        i = int(np.argmax(w.spin_rpm))
-        ax2.plot(w.alpha_deg[i], w.spin_rpm[i], "s", ms=9, mfc="none", mec=c, mew=2)
+    for p, w in ws.items():
+        i = int(w.spin_rpm.argmax())
         paper_alpha = pub.PEAK_SPIN_ALPHA.get(p)
-        if paper_alpha is not None:
-            ax1.axvline(paper_alpha, color=c, ls=":", lw=1.2, label=f"{p}: paper's peak-spin α")
         rows.append(
             [
                 p,
@@ -202,14 +161,6 @@ def peak_spin(ctx) -> None:
                 H.num(w.speed[i], 1),
             ]
         )
-    ax1.set_xlabel("impact angle α [deg]")
-    ax1.set_ylabel("ball speed v [m/s] (crosses)")
-    ax2.set_ylabel("spin [rpm] (circles; square = peak)")
-    ax1.grid(alpha=0.3)
-    h1, l1 = ax1.get_legend_handles_labels()
-    h2, l2 = ax2.get_legend_handles_labels()
-    fig.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower center", ncol=3, frameon=False)
-    fig.tight_layout(rect=(0, 0.14, 1, 1))
     sec.add(
         H.para(
             "Ball speed and spin after impact as the impact angle α grows (the paper's Figure 5): spin "
@@ -307,11 +258,18 @@ def _mc_verdict(mc_p: dict) -> str:
     return "Which serve keeps the higher probability for the same scatter depends on the player."
 
 
+def _lands(res) -> str:
+    """A serve's outcome for the table: ``in``, or the fault's reason (``net``, ``long``, ...)."""
+    d = res.to_dict()
+    if d["success"]:
+        return "in"
+    return (d.get("verdict") or {}).get("reason") or "fault"
+
+
 def optimum(ctx) -> None:
     """Optimum flat and topspin serves of each player on the court (paper Figs 7-9)."""
     sec = ctx.section
     ws = _windows(ctx)
-    fig, axes = plt.subplots(len(ws), 1, figsize=(10, 10 * len(ws) / 3), sharex=True, squeeze=False)
     rows, classes = [], []
     keys = (
         ("beta", 0),
@@ -322,43 +280,25 @@ def optimum(ctx) -> None:
         ("net_height", 2),
         ("landing_x", 2),
     )
-    for ax, (p, w) in zip(axes[:, 0], ws.items()):
-        draw_court_side(ax, zmax=3.6)
-        drawn = []  # every flight drawn, so that the view frames them all
-        for cat, color in (("flat", "tab:blue"), ("topspin", "tab:green")):
+    serves: dict[str, dict] = {}
+    for p, w in ws.items():
+        serves[p] = {}
+        for cat in ("flat", "topspin"):
             opt = w.optimum(cat)
             if opt is None:
-                rows.append([p, cat, "tennislab"] + ["none"] * len(keys))
+                rows.append([p, cat, "tennislab", "–"] + ["none"] * len(keys))
                 classes.append("")
                 continue
-            tr = simulate(w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False).trajectory
-            assert tr is not None  # asked for with trajectory=True
-            _, ys = tr.sample(300)
-            drawn.append(ys[:, :3])
-            ax.plot(
-                ys[:, 0],
-                ys[:, 2],
-                lw=2,
-                color=color,
-                label=f"{cat}: α {opt['alpha']:g}°, β {opt['beta']:g}°, {opt['speed']:.1f} m/s, "
-                f"{opt['spin_rpm']:.0f} rpm",
-            )
-            rows.append([p, cat, "tennislab"] + [H.num(opt[k], d) for k, d in keys])
+            res = simulate(w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False)
+            assert res.trajectory is not None  # asked for with trajectory=True
+            serves[p][cat] = (opt, res.trajectory)
+            rows.append([p, cat, "tennislab", _lands(res)] + [H.num(opt[k], d) for k, d in keys])
             classes.append("")
             if p in pub.OPTIMUM:
                 pp = pub.OPTIMUM[p][cat]
-                rows.append(["", "", "paper"] + [H.num(pp[k], d) for k, d in keys])
+                rows.append(["", "", "paper", "in"] + [H.num(pp[k], d) for k, d in keys])
                 classes.append("paper")
-        pts = np.concatenate(drawn) if drawn else np.zeros((0, 3))
-        x_lo = min(-13.0, float(pts[:, 0].min()) - 0.5) if len(pts) else -13.0
-        x_hi = max(8.0, float(pts[:, 0].max()) + 0.5) if len(pts) else 8.0
-        z_hi = max(3.6, float(pts[:, 2].max()) * 1.08 + 0.2) if len(pts) else 3.6
-        ax.set_xlim(x_lo, x_hi)
-        ax.set_ylim(0.0, z_hi)
-        ax.set_title(p)
-        ax.legend(loc="upper right", fontsize=8)
-    axes[-1, 0].set_xlabel("x [m] (server at the near baseline, x = -11.885; far service line x = 6.40)")
-    fig.tight_layout()
+    fig = plot_optimum_serves(ws.values(), serves)
     sec.add(
         H.para(
             "The optimum flat serve (fast, landing as deep as possible) and the optimum topspin serve "
@@ -366,10 +306,11 @@ def optimum(ctx) -> None:
         ),
         H.figure(ctx.save(fig, "optimum_serves.png"), "Optimum flat and topspin serves (paper's Figures 7-9)"),
         H.table(
-            ["player", "serve", "source", "β [deg]", "α [deg]", "γ [deg]", "spin [rpm]", "v [m/s]", "Y [m]", "X [m]"],
+            ["player", "serve", "source", "lands", "β [deg]", "α [deg]", "γ [deg]", "spin [rpm]", "v [m/s]", "Y [m]"]
+            + ["X [m]"],
             rows,
             classes,
-            left_cols=3,
+            left_cols=4,
         ),
         _caveats(ws),
     )

@@ -52,17 +52,38 @@ def box_name(target: str) -> str:
         raise InputError(f"target: unknown {target!r}; choose from {', '.join(TARGETS)}") from None
 
 
+#: ``reason`` codes of :func:`judge`: index -> name (0 = the serve goes in; the rest as :data:`REASONS`)
+REASON_CODES = ("in", "net", "short", "long", "wide", "no-landing")
+
+
 def judge(table, criteria: SeedCriteria, target: str | None, court=None) -> dict[str, np.ndarray]:
-    """Per-row ``landing_x`` (from the impact point), ``net_height`` and ``success``."""
+    """Per-row ``landing_x`` (from the impact point), ``net_height``, ``success`` and ``reason`` (an
+    index of :data:`REASON_CODES`, the first failed test in the order of :func:`tennislab.serve.verdict.describe`:
+    no landing, short, net, long, wide)."""
     X = table["land_x"] - criteria.server_x
     Y = table["net_z"]
     landed = table.ok & (table["net_status"] > 0) & (table["land_x"] > 0)
+    reason = np.zeros(len(X), np.int8)
+    if target is None:
+        net = Y <= criteria.net_top
+        long = X > criteria.service_line
+        wide = np.zeros(len(X), bool)
+    else:
+        c = court or ITF_COURT
+        x0, x1, y0, y1 = c.area_bounds(box_name(target))
+        net = table["net_status"] == 2
+        long = table["land_x"] > x1
+        wide = (table["land_y"] < y0) | (table["land_y"] > y1)
+    # the first failed test wins: set in the reverse order
+    for name, fails in (("wide", wide), ("long", long), ("net", net), ("short", ~landed), ("no-landing", ~table.ok)):
+        reason[np.asarray(fails, bool)] = REASON_CODES.index(name)
     if target is None:
         success = landed & (Y > criteria.net_top) & (X <= criteria.service_line)
     else:
-        c = court or ITF_COURT
         success = landed & (table["net_status"] == 1) & c.contains(box_name(target), table["land_x"], table["land_y"])
-    return {"landing_x": X, "net_height": Y, "success": np.asarray(success, bool)}
+    success = np.asarray(success, bool)
+    reason[success] = 0
+    return {"landing_x": X, "net_height": Y, "success": success, "reason": reason}
 
 
 def check_serve_options(target, azimuth_deg, brush_deg, server_y) -> tuple[float, float]:

@@ -40,7 +40,7 @@ from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.core.impact import ImpactParams, impact_batch
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, jsonable
-from tennislab.serve.launch import box_name, check_serve_options, judge
+from tennislab.serve.launch import REASON_CODES, box_name, check_serve_options, judge
 from tennislab.serve.players import PlayerProfile, get_player
 from tennislab.serve.setup import (
     SeedCriteria,
@@ -152,7 +152,8 @@ def simulate_chunk(
     paper's model, where landing points are ~1e-3 mm from the reference on average and a few
     hundredths of a mm at worst, far below any scatter studied; 1e-7 for a capped lift).
     Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
-    ``net_height`` [m], ``success`` (bool), ``landed`` (bool).
+    ``net_height`` [m], ``success`` (bool), ``landed`` (bool), ``reason`` (an index of
+    :data:`tennislab.serve.launch.REASON_CODES`: in, net, short, long, wide, no-landing).
     """
     params = FlightParams.from_options(**(flight or {}))
     rtol = 5.0 * params.aero.batch_tol if rtol is None else rtol
@@ -170,6 +171,7 @@ def simulate_chunk(
         "net_height": j["net_height"],
         "success": j["success"],
         "landed": table.ok,
+        "reason": j["reason"],
     }
 
 
@@ -370,7 +372,7 @@ class MonteCarloResult(Result):
     landing_x: dict  #: mean distance from the impact point [m]
     n_landed: int
     caveats: tuple[str, ...] = ()
-    samples: dict | None = field(default=None, repr=False)  #: land_x, land_y, success, landed arrays
+    samples: dict | None = field(default=None, repr=False)  #: land_x, land_y, success, landed, reason arrays
 
     def to_dict(self) -> dict:
         return jsonable(
@@ -394,9 +396,10 @@ class MonteCarloResult(Result):
         if self.samples is None:
             raise InputError("samples: this run kept no landing samples (pass samples=True)")
         s = self.samples
+        reasons = s.get("reason", np.zeros(len(s["land_x"]), np.int8))
         return [
-            {"land_x": float(x), "land_y": float(y), "success": bool(ok), "landed": bool(ld)}
-            for x, y, ok, ld in zip(s["land_x"], s["land_y"], s["success"], s["landed"])
+            {"land_x": float(x), "land_y": float(y), "success": bool(ok), "landed": bool(ld), "reason": REASON_CODES[r]}
+            for x, y, ok, ld, r in zip(s["land_x"], s["land_y"], s["success"], s["landed"], reasons)
         ]
 
 
@@ -488,6 +491,7 @@ def monte_carlo(
             "land_y": np.asarray(r["land_y"]),
             "success": np.asarray(r["success"], bool),
             "landed": np.asarray(r["landed"], bool),
+            "reason": np.asarray(r["reason"], np.int8),
         }
     return MonteCarloResult(
         player=player,
