@@ -36,7 +36,11 @@ import tennislab.serve as _serve  # noqa: E402
 import tennislab.serve.mc as _mc  # noqa: E402
 from tennislab.serve.players import get_player  # noqa: E402
 from tennislab.serve.setup import seed_impact_params  # noqa: E402
-from tennislab.serve.window import serve_window  # noqa: E402
+
+if hasattr(_serve, "window"):
+    serve_window = _serve.window
+else:  # trees before the workflow refactoring
+    from tennislab.serve.window import serve_window
 
 
 def run_mc(player, alpha, beta, **kw) -> float:

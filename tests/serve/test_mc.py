@@ -11,20 +11,19 @@ from tennislab.core.impact import impact_batch
 from tennislab.errors import InputError
 from tennislab.serve import seed_impact_params
 from tennislab.serve.mc import (
+    TABLE_STEPS,
     Z_MAX,
-    _launch_kernel,
     block_size,
     combine_blocks,
     impact_table,
     landing_stats,
+    lookup,
     monte_carlo,
     scatter_table,
-    simulate_chunk,
 )
-from tennislab.serve.players import get_player
+from tennislab.serve.pipeline import flights, make_setup
 from tennislab.serve.setup import seed_flight_params
 from tennislab.serve.single import simulate
-from tennislab.serve.window import flight_options
 
 
 def run_mc(*args, **kw) -> dict:
@@ -81,18 +80,17 @@ def test_scatter_table_covers_every_draw_and_interpolates():
     assert Z_MAX == pytest.approx(8.652, abs=1e-3)
     z = rng.normal(1, np.arange(10**6), stream=0)
     assert np.abs(z).max() < Z_MAX
-    p = seed_impact_params()
+    setup = make_setup("pro", flight=seed_flight_params(), steps=TABLE_STEPS)
+    p = setup.impact_params
     for alpha in (4.0, 40.0):
-        t = scatter_table(get_player("pro"), alpha, 1.0, 1.0, p)
+        t = scatter_table(setup, alpha, 1.0, 1.0)
         assert t["V"][0] == pytest.approx(40 - Z_MAX) and t["A"][-1] == pytest.approx(math.radians(alpha + Z_MAX))
         g = np.random.default_rng(4)
         V, A = 40 + g.standard_normal(300), np.radians(alpha + g.standard_normal(300))
         ref = impact_batch(V, A, p, steps=200)
-        S = np.empty((300, 9))
-        _launch_kernel(A, np.zeros(300), np.zeros(300), V, np.full(300, 3.0), t["V"], t["A"], t["T"], 0.0, 0.0, S)
-        # beta = psi = 0: vx = v_n, vz = v_t, wy = omega
-        assert np.max(np.abs(S[:, 7] / ref["omega"] - 1)) < 1e-3
-        assert np.max(np.abs(S[:, 3] / ref["v_n"] - 1)) < 1e-5
+        got = lookup(t, V, A)
+        assert np.max(np.abs(got["omega"] / ref["omega"] - 1)) < 1e-3
+        assert np.max(np.abs(got["v_n"] / ref["v_n"] - 1)) < 1e-5
 
 
 def test_chunk_size_and_mapper_do_not_change_results():
@@ -184,19 +182,14 @@ def test_p_success_agrees_with_an_independent_generator():
     P(success) within 4 binomial standard errors (n = 20000 each), mean landing x within 4 se."""
     n = 20000
     r = run_mc("pro", 4, 9, n=n, seed=0)
-    pl = get_player("pro")
-    t = scatter_table(pl, 4, 1.0, 1.0, seed_impact_params(ball=seed_flight_params().ball))
+    setup = make_setup("pro", flight=seed_flight_params(), steps=TABLE_STEPS)
+    t = scatter_table(setup, 4, 1.0, 1.0)
     g = np.random.default_rng(12345)
     a = np.radians(4 + g.standard_normal(n))
     b = np.radians(9 + g.standard_normal(n))
     psi = np.radians(g.standard_normal(n))
     V = 40 + g.standard_normal(n)
-    S = np.empty((n, 9))
-    _launch_kernel(a, b, psi, V, np.full(n, 3.0), t["V"], t["A"], t["T"], -11.885, 0.0, S)
-    ref = simulate_chunk(
-        {k: S[:, i] for i, k in enumerate(("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"))},
-        flight=flight_options(seed_flight_params()),
-    )
+    ref = flights({**lookup(t, V, a), "beta": b, "azimuth": psi}, setup=setup)
     p_ref = float(ref["success"].mean())
     se = math.sqrt(2 * p_ref * (1 - p_ref) / n)
     assert 0.2 < p_ref < 0.8 and abs(r["p_success"] - p_ref) < 4 * se
@@ -205,21 +198,18 @@ def test_p_success_agrees_with_an_independent_generator():
     assert r["landing"]["cov"][0][0] == pytest.approx(lx.var(), rel=0.08)
 
 
-def test_simulate_chunk_shape():
-    inputs = {
-        "x": np.full(3, -11.885),
-        "y": np.zeros(3),
-        "z": np.full(3, 3.0),
-        "vx": np.array([50.0, 55, 30]),
-        "vy": np.zeros(3),
-        "vz": np.array([-5.0, -6, -1]),
-        "wx": np.zeros(3),
-        "wy": np.full(3, 100.0),
-        "wz": np.zeros(3),
-    }
-    out = simulate_chunk(inputs, flight={"mass": 0.059, "radius": 0.033})
-    assert set(out) >= {"land_x", "land_y", "success", "net_height", "landing_x"}
+def test_flights_take_states_or_racket_rows():
+    """Stages 2-4 of the pipeline on given states, and on racket-frame rows that launch the same states."""
+    setup = make_setup("pro", flight=seed_flight_params())
+    inputs = {"v_n": np.array([50.0, 55, 30]), "v_t": np.array([5.0, 6, 1]), "omega": np.full(3, 100.0)}
+    out = flights({**inputs, "beta": np.zeros(3)}, setup=setup)
+    states = np.zeros((3, 9))
+    states[:, 0], states[:, 2] = -11.885, 3.0
+    states[:, 3], states[:, 5], states[:, 7] = inputs["v_n"], inputs["v_t"], 100.0  # beta 0: v_n along x, v_t up
+    direct = flights({"state": states}, setup=setup)
+    assert set(out) >= {"land_x", "land_y", "success", "net_height", "landing_x", "reason", "landed"}
     assert all(len(v) == 3 for v in out.values())
+    np.testing.assert_allclose(out["land_x"], direct["land_x"], rtol=1e-12)
 
 
 def test_landing_stats_ellipse():

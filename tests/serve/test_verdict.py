@@ -13,7 +13,7 @@ from tennislab.serve import (
     register_player,
     simulate,
 )
-from tennislab.serve.launch import REASONS
+from tennislab.serve.pipeline import REASONS
 from tennislab.serve.verdict import pick, runs
 
 

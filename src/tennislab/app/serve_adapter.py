@@ -37,7 +37,7 @@ def player_of(v: dict) -> PlayerProfile:
 def opening_serve(player: str = "professional") -> dict:
     """The serve the explorer opens with for ``player``: :func:`tennislab.serve.default_serve` (it goes in,
     with the most room for error); ``impact_angle``, ``face_angle`` [deg] and its margin."""
-    return default_serve(player)
+    return default_serve(player).to_dict()
 
 
 def serve(v: dict) -> dict:

@@ -20,7 +20,7 @@ PLAYER_COLORS = {"professional": "tab:blue", "recreational": "tab:orange", "juni
 WINDOW_COLORS = ("#e6e6e6", "#1f77b4", "#2ca02c", "#ff9f1c")
 #: degrees shown around the successes of a window in its heat map
 WINDOW_PAD_DEG = 4.0
-#: Monte Carlo landing points by reason (:data:`tennislab.serve.launch.REASON_CODES`): colour, label
+#: Monte Carlo landing points by reason (:data:`tennislab.serve.REASON_CODES`): colour, label
 MC_STYLE = {
     "in": ("#ffe600", "in"),
     "net": ("#1565c0", "net (drawn where it would land)"),
@@ -289,7 +289,7 @@ def plot_mc(res, max_points: int = 20000):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Ellipse
 
-    from tennislab.serve.launch import REASON_CODES
+    from tennislab.serve import REASON_CODES
 
     fig, ax = _plt().subplots(figsize=(10, 6))
     draw_court_top(ax)

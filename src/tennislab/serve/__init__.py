@@ -9,10 +9,15 @@ the command's ``--json``):
 * :func:`window` / :func:`windows` -> :class:`ServeWindow` / :class:`ServeWindows` (``serve-window``)
 * :func:`monte_carlo` -> :class:`MonteCarloResult` (``serve-mc``)
 * :func:`impact` -> :class:`ImpactSummary` (``tennislab impact``)
-* :func:`default_serve` -> a serve that goes in for a player, with the most room for error
+* :func:`default_serve` -> :class:`DefaultServe`, a serve that goes in for a player with the most room
+  for error
+
+All of them run the one serve pipeline (impact -> launch -> flight -> judgement) of
+:mod:`tennislab.serve.pipeline`.
 """
 
 from tennislab.serve.mc import MonteCarloResult, monte_carlo
+from tennislab.serve.pipeline import REASON_CODES
 from tennislab.serve.players import (
     SEED_PLAYERS,
     PlayerProfile,
@@ -29,11 +34,13 @@ from tennislab.serve.setup import (
     seed_impact_params,
 )
 from tennislab.serve.single import REASONS, ServeResult, Verdict, simulate
-from tennislab.serve.window import ServeWindow, ServeWindows, default_serve, window, windows
+from tennislab.serve.window import DefaultServe, ServeWindow, ServeWindows, default_serve, window, windows
 
 __all__ = [
+    "DefaultServe",
     "IMPACT_SCHEMES",
     "REASONS",
+    "REASON_CODES",
     "SEED_PLAYERS",
     "ImpactSummary",
     "MonteCarloResult",

@@ -26,6 +26,7 @@ level, for ``tennislab.batch.map_chunks`` over a ``RowRange`` of blocks).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
@@ -36,24 +37,18 @@ import numpy as np
 
 from tennislab.batch import rng
 from tennislab.batch.sources import RowRange, default_chunk_size
-from tennislab.core.flight import FlightParams, fly_batch
+from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams, impact_batch
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, jsonable
-from tennislab.serve.launch import REASON_CODES, box_name, check_serve_options, judge
-from tennislab.serve.players import PlayerProfile, get_player
-from tennislab.serve.setup import (
-    SeedCriteria,
-    criteria_caveats,
-    integration_caveats,
-    seed_flight_params,
-    seed_impact_params,
-)
-from tennislab.serve.window import flight_options
+from tennislab.serve.pipeline import REASON_CODES, Setup, flights, make_setup
+from tennislab.serve.players import PlayerProfile
+from tennislab.serve.setup import SeedCriteria
 
 __all__ = ["MonteCarloResult", "monte_carlo", "mc_blocks", "combine_blocks", "block_size", "landing_stats"]
 
 CHI2_95_2DOF = 5.991464547107979  #: chi-square 95 % quantile, 2 degrees of freedom
+TABLE_STEPS = 200  #: impact steps per half period of the tabulated impacts (interpolation error: tests)
 
 
 class _Table:
@@ -98,8 +93,8 @@ def _loc(grid, x):
 
 
 @nb.njit(cache=True, parallel=True)
-def _launch_kernel(a, b, psi, V, h, Vg, Ag, T, server_x, server_y, out):
-    """Bilinear impact lookup + launch (same algebra as :func:`launch_3d`, brush 0), row by row."""
+def _lookup_kernel(a, V, Vg, Ag, T, out):
+    """Stage 1 by table: bilinear (V, alpha) interpolation of the impact results (v_n, v_t, omega), row by row."""
     nV, nA = Vg.shape[0], Ag.shape[0]
     for k in nb.prange(a.shape[0]):
         iv, fv = _loc(Vg, V[k])
@@ -107,20 +102,17 @@ def _launch_kernel(a, b, psi, V, h, Vg, Ag, T, server_x, server_y, out):
         iv1 = min(iv + 1, nV - 1)
         ia1 = min(ia + 1, nA - 1)
         w00, w01, w10, w11 = (1 - fv) * (1 - fa), (1 - fv) * fa, fv * (1 - fa), fv * fa
-        r0 = w00 * T[0, iv, ia] + w01 * T[0, iv, ia1] + w10 * T[0, iv1, ia] + w11 * T[0, iv1, ia1]
-        r1 = w00 * T[1, iv, ia] + w01 * T[1, iv, ia1] + w10 * T[1, iv1, ia] + w11 * T[1, iv1, ia1]
-        r2 = w00 * T[2, iv, ia] + w01 * T[2, iv, ia1] + w10 * T[2, iv1, ia] + w11 * T[2, iv1, ia1]
-        cb, sb, cp, sp = math.cos(b[k]), math.sin(b[k]), math.cos(psi[k]), math.sin(psi[k])
-        # n = (cb cp, cb sp, -sb), t = t_up = (sb cp, sb sp, cb), t x n = (-sp, cp, 0)
-        out[k, 0] = server_x
-        out[k, 1] = server_y
-        out[k, 2] = h[k]
-        out[k, 3] = r0 * cb * cp + r1 * sb * cp
-        out[k, 4] = r0 * cb * sp + r1 * sb * sp
-        out[k, 5] = -r0 * sb + r1 * cb
-        out[k, 6] = -r2 * sp
-        out[k, 7] = r2 * cp
-        out[k, 8] = 0.0
+        for c in range(3):
+            out[k, c] = w00 * T[c, iv, ia] + w01 * T[c, iv, ia1] + w10 * T[c, iv1, ia] + w11 * T[c, iv1, ia1]
+
+
+def lookup(table: dict, speed, alpha) -> dict[str, np.ndarray]:
+    """Impact results ``v_n``, ``v_t`` [m/s], ``omega`` [rad/s] interpolated from a :func:`scatter_table`
+    at racket speeds [m/s] and impact angles [rad] (equal-length arrays)."""
+    a = np.ascontiguousarray(alpha, np.float64)
+    out = np.empty((a.size, 3))
+    _lookup_kernel(a, np.ascontiguousarray(speed, np.float64), table["V"], table["A"], table["T"], out)
+    return {"v_n": out[:, 0], "v_t": out[:, 1], "omega": out[:, 2]}
 
 
 def impact_table(v_range, a_range, params: ImpactParams, nv: int = 41, na: int = 81, **impact_kw) -> _Table:
@@ -129,50 +121,10 @@ def impact_table(v_range, a_range, params: ImpactParams, nv: int = 41, na: int =
     a0, a1 = float(a_range[0]), float(a_range[1])
     V = np.linspace(v0, v1, nv) if v1 > v0 else np.array([v0])
     A = np.linspace(a0, a1, na) if a1 > a0 else np.array([a0])
-    impact_kw = {"steps": 200, **impact_kw}
+    impact_kw = {"steps": TABLE_STEPS, **impact_kw}
     VV, AA = np.meshgrid(V, A, indexing="ij")
     r = impact_batch(VV, AA, params, **impact_kw)
     return _Table(V, A, {k: r[k] for k in ("v_n", "v_t", "omega")})
-
-
-def simulate_chunk(
-    inputs: dict,
-    *,
-    flight: dict | None = None,
-    target: str | None = None,
-    net_top: float = 0.943,
-    service_line: float = 18.318,
-    server_x: float = -11.885,
-    rtol: float | None = None,
-) -> dict:
-    """Per-chunk worker: fly launched serves and judge them.
-
-    inputs: ``x, y, z`` [m], ``vx, vy, vz`` [m/s], ``wx, wy, wz`` [rad/s] (equal-length arrays).
-    ``rtol``: flight tolerance (rtol = atol; default 5 x the aero model's ``batch_tol``: 1e-6 for the
-    paper's model, where landing points are ~1e-3 mm from the reference on average and a few
-    hundredths of a mm at worst, far below any scatter studied; 1e-7 for a capped lift).
-    Returns ``land_x``, ``land_y`` (court frame [m]), ``landing_x`` (from the impact point),
-    ``net_height`` [m], ``success`` (bool), ``landed`` (bool), ``reason`` (an index of
-    :data:`tennislab.serve.launch.REASON_CODES`: in, net, short, long, wide, no-landing).
-    """
-    params = FlightParams.from_options(**(flight or {}))
-    rtol = 5.0 * params.aero.batch_tol if rtol is None else rtol
-    keys = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
-    states = np.empty((len(inputs["x"]), 9))
-    for i, k in enumerate(keys):
-        states[:, i] = inputs[k]
-    table = fly_batch(states, params, rtol=rtol, atol=rtol)
-    crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
-    j = judge(table, crit, target)
-    return {
-        "land_x": table["land_x"],
-        "land_y": table["land_y"],
-        "landing_x": j["landing_x"],
-        "net_height": j["net_height"],
-        "success": j["success"],
-        "landed": table.ok,
-        "reason": j["reason"],
-    }
 
 
 #: Largest |z| a normal of :mod:`tennislab.batch.rng` can take: Box-Muller with u1 >= 2^-54
@@ -181,7 +133,6 @@ def simulate_chunk(
 Z_MAX = math.sqrt(-2.0 * math.log(2.0**-54))
 #: rng streams of the five scattered quantities (tennislab.batch.rng, keyed by (seed, stream, row))
 STREAMS = {"alpha": 0, "beta": 1, "psi": 2, "speed": 3, "height": 4}
-_STATE_KEYS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
 _A_LIM = math.radians(89.0)
 
 
@@ -194,19 +145,23 @@ def block_size(n: int) -> int:
     return default_chunk_size(n)
 
 
-def scatter_table(player, alpha_deg, sd_angle, sd_speed, impact_params, impact_kw=None, nv=81, na=161) -> dict:
-    """Impact table over every (V, alpha) the draws can take (nominal +- Z_MAX sd, clipped as the draws)."""
-    V0, a0 = player.racket_speed, math.radians(alpha_deg)
+def scatter_table(setup: Setup, alpha_deg, sd_angle, sd_speed, nv=81, na=161) -> dict:
+    """Impact table over every (V, alpha) the draws can take (nominal +- Z_MAX sd, clipped as the draws),
+    with the setup's impact parameters and integration."""
+    V0, a0 = setup.player.racket_speed, math.radians(alpha_deg)
     v_lo, v_hi = max(1.0, V0 - Z_MAX * sd_speed), max(1.0, V0 + Z_MAX * sd_speed)
     da = math.radians(Z_MAX * sd_angle)
     a_lo, a_hi = (min(max(a0 - da, -_A_LIM), _A_LIM), min(max(a0 + da, -_A_LIM), _A_LIM))
-    tab = impact_table((v_lo, v_hi), (a_lo, a_hi), impact_params, nv=nv, na=na, **(impact_kw or {}))
+    kw = {"steps": setup.steps, "dt": setup.dt, "method": setup.method}
+    tab = impact_table((v_lo, v_hi), (a_lo, a_hi), setup.impact_params, nv=nv, na=na, **kw)
     T = np.ascontiguousarray(np.stack([tab.vals[k] for k in ("v_n", "v_t", "omega")]))
     return {"V": tab.V, "A": tab.A, "T": T}
 
 
-def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, server_y: float) -> dict:
-    """Launched states of the serves at global row indices ``rows`` (inputs of :func:`simulate_chunk`).
+def draw_rows(rows, *, seed: int, nominal: dict, table: dict) -> dict:
+    """The serves at global row indices ``rows``: their impacts (stage 1, from ``table``) and faces,
+    the inputs of :func:`tennislab.serve.pipeline.flights` (``v_n``, ``v_t``, ``omega``, ``beta``,
+    ``azimuth``, ``height``).
 
     Each draw is a pure function of (seed, stream, row) (:mod:`tennislab.batch.rng`), so a serve is
     the same whichever block, chunk or worker computes it.  ``nominal``: alpha, beta, azimuth [deg],
@@ -220,26 +175,10 @@ def draw_rows(rows, *, seed: int, nominal: dict, table: dict, server_x: float, s
     V = np.clip(nm["speed"] + nm["sd_speed"] * rng.normal(seed, rows, STREAMS["speed"]), 1.0, None)
     h = nm["height"] + nm["sd_height"] * rng.normal(seed, rows, STREAMS["height"])
     a = np.clip(a, -_A_LIM, _A_LIM)
-    S = np.empty((rows.size, 9))
-    _launch_kernel(a, b, psi, V, h, table["V"], table["A"], table["T"], float(server_x), float(server_y), S)
-    return {k: S[:, i] for i, k in enumerate(_STATE_KEYS)}
+    return {**lookup(table, V, a), "beta": b, "azimuth": psi, "height": h}
 
 
-def mc_blocks(
-    chunk: dict,
-    *,
-    n: int,
-    block: int,
-    seed: int,
-    nominal: dict,
-    table: dict,
-    server_y: float,
-    flight: dict | None,
-    target: str | None,
-    net_top: float,
-    service_line: float,
-    server_x: float,
-) -> dict:
+def mc_blocks(chunk: dict, *, n: int, block: int, seed: int, nominal: dict, table: dict, setup: Setup) -> dict:
     """Batch worker: sufficient statistics of whole blocks of serves (one output row per block).
 
     ``chunk["block"]``: block indices; block b = serves [b*block, min(n, (b+1)*block)).  Only one
@@ -253,18 +192,7 @@ def mc_blocks(
     out = {k: np.zeros(blocks.size, np.int64 if k.startswith("n") else np.float64) for k in cols}
     for j, b in enumerate(blocks):
         rows = np.arange(int(b) * block, min(n, (int(b) + 1) * block), dtype=np.int64)
-        r = _simulate_rows(
-            rows,
-            seed=seed,
-            nominal=nominal,
-            table=table,
-            server_y=server_y,
-            flight=flight,
-            target=target,
-            net_top=net_top,
-            service_line=service_line,
-            server_x=server_x,
-        )
+        r = flights(draw_rows(rows, seed=seed, nominal=nominal, table=table), setup=setup)
         landed = np.asarray(r["landed"], bool)
         x, y, lx = r["land_x"][landed], r["land_y"][landed], r["landing_x"][landed]
         out["n"][j], out["n_success"][j], out["n_landed"][j] = rows.size, int(r["success"].sum()), x.size
@@ -278,13 +206,6 @@ def mc_blocks(
             for k in cols[3:]:
                 out[k][j] = np.nan
     return out
-
-
-def _simulate_rows(rows, *, seed, nominal, table, server_y, flight, target, net_top, service_line, server_x):
-    inputs = draw_rows(rows, seed=seed, nominal=nominal, table=table, server_x=server_x, server_y=server_y)
-    return simulate_chunk(
-        inputs, flight=flight, target=target, net_top=net_top, service_line=service_line, server_x=server_x
-    )
 
 
 def combine_blocks(stats: dict) -> dict:
@@ -416,6 +337,7 @@ def monte_carlo(
     sd_azimuth: float | None = None,
     target: str | None = None,
     azimuth_deg: float = 0.0,
+    brush_deg: float = 0.0,
     server_y: float = 0.0,
     flight: FlightParams | None = None,
     impact_params: ImpactParams | None = None,
@@ -439,7 +361,6 @@ def monte_carlo(
     ``samples``: True (20000) or a count m: also keep the landing points of the first
     min(n, m) serves (the same serves as in the statistics) in ``samples``.
     """
-    player = get_player(player)
     n = int(check_range("n", n, 1, 1e8))
     for nm, v in (("sd_angle", sd_angle), ("sd_speed", sd_speed), ("sd_height", sd_height)):
         check_range(nm, v, 0.0, 45.0)
@@ -447,11 +368,24 @@ def monte_carlo(
         check_range("sd_azimuth", sd_azimuth, 0.0, 45.0)
     check_range("impact_angle", impact_angle, -89.0, 89.0, "deg")
     check_range("face_angle", face_angle, -90.0, 90.0, "deg")
-    check_serve_options(target, azimuth_deg, 0.0, server_y)
-    check_range("dt", dt, 0.0, 1e-3, "s")
-    flight = flight or seed_flight_params()
-    impact_params = impact_params or seed_impact_params(ball=flight.ball)
-    crit = criteria or SeedCriteria()
+    setup = make_setup(
+        player,
+        flight=flight,
+        impact_params=impact_params,
+        criteria=criteria,
+        target=target,
+        azimuth_deg=azimuth_deg,
+        brush_deg=brush_deg,
+        server_y=server_y,
+        dt=dt,
+        method=method,
+        steps=TABLE_STEPS,
+    )
+    # flights at 5 x the aero model's batch tolerance (1e-6 for the paper's model, 1e-7 for a capped
+    # lift): landing points ~1e-3 mm from the reference on average, a few hundredths of a mm at worst,
+    # far below any scatter studied
+    setup = dataclasses.replace(setup, rtol=5.0 * setup.flight.aero.batch_tol)
+    player = setup.player
     sd_az = sd_angle if sd_azimuth is None else sd_azimuth
     nominal = {
         "alpha": float(impact_angle),
@@ -464,20 +398,10 @@ def monte_carlo(
         "sd_speed": float(sd_speed),
         "sd_height": float(sd_height),
     }
-    table = scatter_table(player, impact_angle, sd_angle, sd_speed, impact_params, {"dt": dt, "method": method})
-    common: dict[str, Any] = dict(
-        seed=int(seed),
-        nominal=nominal,
-        table=table,
-        server_y=float(server_y),
-        flight=flight_options(flight),
-        target=target,
-        net_top=crit.net_top,
-        service_line=crit.service_line,
-        server_x=crit.server_x,
-    )
+    table = scatter_table(setup, impact_angle, sd_angle, sd_speed)
+    common: dict[str, Any] = dict(seed=int(seed), nominal=nominal, table=table)
     block = block_size(n)
-    fn = functools.partial(mc_blocks, n=n, block=block, **common)
+    fn = functools.partial(mc_blocks, n=n, block=block, setup=setup, **common)
     source = RowRange(-(-n // block), key="block")
     stats = (mapper or _in_process)(fn, source)
     tot = combine_blocks(stats)
@@ -485,7 +409,7 @@ def monte_carlo(
     kept = None
     if samples:
         m = min(n, 20000 if samples is True else int(samples))
-        r = _simulate_rows(np.arange(m, dtype=np.int64), **common)
+        r = flights(draw_rows(np.arange(m, dtype=np.int64), **common), setup=setup)
         kept = {
             "land_x": np.asarray(r["land_x"]),
             "land_y": np.asarray(r["land_y"]),
@@ -499,12 +423,12 @@ def monte_carlo(
         scatter={"sd_angle": sd_angle, "sd_speed": sd_speed, "sd_height": sd_height, "sd_azimuth": sd_az},
         n=n,
         seed=int(seed),
-        criteria="seed-2d" if target is None else box_name(target),
+        criteria=setup.mode,
         p_success=p,
         p_success_se=math.sqrt(max(p * (1 - p), 0.0) / n),
         landing=landing_stats_from_moments(tot["n_landed"], tot["mean"], tot["m2"]),
         landing_x={"mean": tot["mean_landing_x"]},
         n_landed=tot["n_landed"],
-        caveats=(*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target)),
+        caveats=setup.caveats(),
         samples=kept,
     )

@@ -1,4 +1,4 @@
-"""The paper's constants, its 2-D success criteria, the impact schemes, and the launch of a serve.
+"""The paper's constants, its 2-D success criteria and the impact schemes.
 
 The paper: Grosen, Kousted & Treichel 2021, "2-dimensional tennis serves ..." (the project's
 seed 000).  Constants (its sec. 2.3): air density 1.22 kg/m^3, g = 9.82 m/s^2, ball
@@ -34,7 +34,7 @@ import numpy as np
 
 from tennislab.core.ball import Ball
 from tennislab.core.flight import FlightParams
-from tennislab.core.impact import ImpactParams, to_court
+from tennislab.core.impact import ImpactParams
 from tennislab.errors import InputError, check_range
 
 SEED_MASS = 0.059  #: ball mass [kg] (seed sec. 2.3)
@@ -166,31 +166,6 @@ class SeedCriteria:
 CATEGORIES = ("flat", "topspin", "other")
 
 
-def launch_states_2d(height, v_n, v_t, omega, beta, server_x: float = BASELINE_X) -> np.ndarray:
-    """Flight initial states (N, 9) of 2-D serves: ball centre at (server_x, 0, height), velocity
-    from the racket-frame (v_n, v_t) rotated by the face angle beta [rad] (seed eq 21), spin
-    omega [rad/s] about +y (topspin)."""
-    h, vn, vt, w, b = np.broadcast_arrays(*(np.asarray(a, float) for a in (height, v_n, v_t, omega, beta)))
-    vx, vz = to_court(vn, vt, b)
-    s = np.zeros(h.shape + (9,))
-    s[..., 0] = server_x
-    s[..., 2] = h
-    s[..., 3] = vx
-    s[..., 5] = vz
-    s[..., 7] = w
-    return s.reshape(-1, 9)
-
-
-def evaluate_2d(table, criteria: SeedCriteria) -> dict[str, np.ndarray]:
-    """Seed quantities from a :class:`FlightTable` of 2-D serves: ``landing_x`` (X, from the impact
-    point [m]), ``net_height`` (Y, ball centre at the net [m]) and ``success``."""
-    X = table["land_x"] - criteria.server_x
-    Y = table["net_z"]
-    ok = table.ok & (table["net_status"] > 0) & (table["land_x"] > 0)
-    success = ok & (Y > criteria.net_top) & (X <= criteria.service_line)
-    return {"landing_x": X, "net_height": Y, "success": success}
-
-
 __all__ = [
     "SeedCriteria",
     "IMPACT_SCHEMES",
@@ -199,8 +174,6 @@ __all__ = [
     "scheme_integration",
     "integration_caveats",
     "criteria_caveats",
-    "launch_states_2d",
-    "evaluate_2d",
     "CATEGORIES",
     "BASELINE_X",
 ]

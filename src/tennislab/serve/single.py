@@ -22,20 +22,13 @@ from tennislab.core.flight import FlightParams, Trajectory, fly
 from tennislab.core.impact import REGIMES, ImpactParams
 from tennislab.errors import check_range
 from tennislab.results import Result, jsonable
-from tennislab.serve.launch import REASONS, Setup, box_name, check_serve_options, judge, launch_3d, outcomes
-from tennislab.serve.players import PlayerProfile, get_player
-from tennislab.serve.setup import (
-    CATEGORIES,
-    SeedCriteria,
-    criteria_caveats,
-    integration_caveats,
-    seed_flight_params,
-    seed_impact_params,
-)
+from tennislab.serve.pipeline import REASONS, Setup, make_setup, serves
+from tennislab.serve.players import PlayerProfile
+from tennislab.serve.setup import CATEGORIES, SeedCriteria
 from tennislab.serve.verdict import advise, describe
 from tennislab.units import KMH, RPM
 
-__all__ = ["ServeResult", "Verdict", "simulate", "judge", "launch_3d", "REASONS"]
+__all__ = ["ServeResult", "Verdict", "simulate", "REASONS"]
 
 
 @dataclass(frozen=True)
@@ -148,33 +141,38 @@ def simulate(
     """Simulate one serve of ``player`` (a registered name or :class:`PlayerProfile`) hit at impact
     angle alpha = ``impact_angle`` and face angle beta = ``face_angle`` [deg].
 
-    ``flight``/``impact_params`` default to the paper's constants (:func:`seed_flight_params`,
-    :func:`seed_impact_params`); ``dt``/``method`` set the impact integration.  ``target``
-    ``deuce``/``ad``: 3-D, with ``azimuth_deg``, ``brush_deg`` [deg] and ``server_y`` [m].
+    ``flight``/``impact_params`` default to the serve workflows' physics
+    (:func:`tennislab.serve.pipeline.make_setup`); ``dt``/``method`` set the impact integration.
+    ``target`` ``deuce``/``ad``: 3-D, with ``azimuth_deg``, ``brush_deg`` [deg] and ``server_y`` [m].
     ``toss_vz``: vertical ball velocity at impact [m/s] (negative: falling), a Galilean shift of the
     impact.  ``trajectory=True`` keeps the SciPy :class:`Trajectory` (for plots).  ``advice=False``
     skips the scans behind ``verdict.advice``.
     """
-    player = get_player(player)
-    flight = flight or seed_flight_params()
-    impact_params = impact_params or seed_impact_params(ball=flight.ball)
-    crit = criteria or SeedCriteria()
     check_range("impact_angle", impact_angle, -89.999, 89.999, "deg")
     check_range("face_angle", face_angle, -90.0, 90.0, "deg")
-    check_range("toss_vz", toss_vz, -30.0, 30.0, "m/s")
-    check_range("dt", dt, 0.0, 1e-3, "s")
-    _, ph = check_serve_options(target, azimuth_deg, brush_deg, server_y)
-    setup = Setup(player, flight, impact_params, crit, target, ph, float(server_y), float(toss_vz), float(dt), method)
-    o = outcomes(setup, impact_angle, face_angle, azimuth_deg)
+    setup = make_setup(
+        player,
+        flight=flight,
+        impact_params=impact_params,
+        criteria=criteria,
+        target=target,
+        azimuth_deg=azimuth_deg,
+        brush_deg=brush_deg,
+        server_y=server_y,
+        toss_vz=toss_vz,
+        dt=dt,
+        method=method,
+    )
+    o = serves(setup, impact_angle, face_angle, azimuth_deg)
     table, imp = o["table"], o["impact"]
-    vel, spin = o["velocity"][0], o["spin"][0]
+    state = o["states"][0]
+    vel, spin = state[3:6], state[6:9]
     spin_rpm = float(imp["omega"][0]) / RPM
-    success = bool(o["success"][0])
-    clearance = _clearance(table, crit, target)
+    clearance = _clearance(setup, table)
     verdict = _verdict(setup, table, o, clearance, float(impact_angle), float(face_angle), float(azimuth_deg), advice)
-    caveats = (*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target))
+    crit, flight, impact_params = setup.criteria, setup.flight, setup.impact_params
     return ServeResult(
-        player=player,
+        player=setup.player,
         impact_angle=float(impact_angle),
         face_angle=float(face_angle),
         speed=float(np.linalg.norm(vel)),
@@ -184,7 +182,7 @@ def simulate(
         net_clearance=clearance,
         landing_x=float(o["landing_x"][0]),
         landing={"x": float(table["land_x"][0]), "y": float(table["land_y"][0]), "t": float(table["land_t"][0])},
-        success=success,
+        success=bool(o["success"][0]),
         category=CATEGORIES[int(crit.category(spin_rpm))],
         impact={
             "contact_time": float(imp["contact_time"][0]),
@@ -195,9 +193,9 @@ def simulate(
         },
         velocity=tuple(float(v) for v in vel),
         spin=tuple(float(w) for w in spin),
-        criteria="seed-2d" if target is None else box_name(target),
+        criteria=setup.mode,
         verdict=verdict,
-        caveats=caveats,
+        caveats=setup.caveats(),
         inputs={
             "target": target,
             "azimuth_deg": float(azimuth_deg),
@@ -212,21 +210,19 @@ def simulate(
             "integrator": method,
             "dt_s": float(dt),
         },
-        trajectory=fly(np.array([crit.server_x, server_y, player.impact_height]), vel, spin, flight)
-        if trajectory
-        else None,
+        trajectory=fly(state[0:3], vel, spin, flight) if trajectory else None,
     )
 
 
 # ---------------------------------------------------------------------------------------- verdict
 
 
-def _clearance(table, crit: SeedCriteria, target: str | None) -> float:
+def _clearance(setup: Setup, table) -> float:
     """Margin [m] of the ball centre over what the test needs at the net (NaN if it never gets there)."""
     if table["net_status"][0] == 0:
         return math.nan
-    if target is None:
-        return float(table["net_z"][0] - crit.net_top)
+    if setup.target is None:
+        return float(table["net_z"][0] - setup.criteria.net_top)
     return float(table.clearance[0])
 
 

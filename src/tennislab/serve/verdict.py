@@ -1,6 +1,6 @@
 """Why a serve failed and what would fix it (the ``verdict`` of :class:`tennislab.serve.ServeResult`).
 
-:func:`describe` names the reason (:data:`tennislab.serve.launch.REASONS`: ``net``, ``short``,
+:func:`describe` names the reason (:data:`tennislab.serve.pipeline.REASONS`: ``net``, ``short``,
 ``long``, ``wide``, ``no-landing``) with one sentence of numbers.  :func:`advise` computes the fix
 with the same physics: it simulates the serve again with the face angle beta changed by up to
 +-30 deg (0.5 deg steps), with the impact angle alpha over 0-89.5 deg at the same beta, and in 3-D
@@ -13,33 +13,40 @@ from __future__ import annotations
 
 import numpy as np
 
-from tennislab.core.court import ITF_COURT
-from tennislab.serve.launch import Setup, box_name, outcomes
+from tennislab.core.events import STATUS_NET
+from tennislab.serve.pipeline import REASON_CODES, Setup, box_name, serves
 
 STEP = 0.5  #: scan step [deg]
 SPAN = 30.0  #: scan half-width of beta and azimuth [deg]
 ALPHA_MAX = 89.5  #: largest impact angle scanned [deg]
+SCANNED = ("alpha", "beta", "azimuth")
 
 
 def describe(setup: Setup, table, o: dict, clearance: float) -> tuple[str | None, str]:
-    """(reason, one sentence with the numbers) for the first serve of an :func:`outcomes` result."""
+    """(reason, one sentence with the numbers) for the first serve of a :func:`serves` result; the
+    reason is the pipeline's judgement (:func:`tennislab.serve.pipeline.judge`)."""
     crit = setup.criteria
-    if not bool(table.ok[0]):
-        return "no-landing", f"the ball does not land within {setup.flight.t_max:g} s of flight"
+    reason: str | None = REASON_CODES[int(o["reason"][0])]
     X = float(o["landing_x"][0])
     Y = float(o["net_height"][0])
     land_x, land_y = float(table["land_x"][0]), float(table["land_y"][0])
-    net_x = -crit.server_x
-    if table["net_status"][0] == 0 or land_x <= 0:
-        return "short", f"the ball lands {X:.2f} m from the impact point, {net_x - X:.2f} m before the net"
+    if reason == "in":
+        reason = None
+    if reason == "no-landing":
+        return reason, f"the ball does not land within {setup.flight.t_max:g} s of flight"
+    if reason == "short":
+        return reason, f"the ball lands {X:.2f} m from the impact point, {-crit.server_x - X:.2f} m before the net"
+    if reason == "net" and table["status"][0] == STATUS_NET:
+        x, z = float(table["net_hit_x"][0]), float(table["net_hit_z"][0])
+        return reason, f"the ball hits the net and stops there (ball centre at x = {x:.3f} m, {z:.3f} m high)"
     if setup.target is None:
-        if Y <= crit.net_top:
-            return "net", (
+        if reason == "net":
+            return reason, (
                 f"the ball centre crosses the net at {Y:.3f} m, {crit.net_top - Y:.3f} m below the "
                 f"{crit.net_top:.3f} m the paper's test needs (net clearance {clearance:+.3f} m)"
             )
-        if X > crit.service_line:
-            return "long", (
+        if reason == "long":
+            return reason, (
                 f"the ball lands {X:.2f} m from the impact point, {X - crit.service_line:.2f} m beyond the service "
                 f"line of the paper's test ({crit.service_line:.3f} m)"
             )
@@ -48,17 +55,17 @@ def describe(setup: Setup, table, o: dict, clearance: float) -> tuple[str | None
             f"impact point, {crit.service_line - X:.2f} m inside the service line"
         )
     box = box_name(setup.target)
-    x0, x1, y0, y1 = ITF_COURT.area_bounds(box)
-    if table["net_status"][0] == 2:
-        return "net", (
+    x0, x1, y0, y1 = setup.flight.court.area_bounds(box)
+    if reason == "net":
+        return reason, (
             f"the ball hits the net: its centre passes the net at {Y:.3f} m, {-clearance:.3f} m too low "
             f"(net clearance {clearance:+.3f} m)"
         )
-    if land_x > x1:
-        return "long", f"the ball lands at x = {land_x:.2f} m, {land_x - x1:.2f} m beyond the service line ({x1:.2f} m)"
-    if land_y < y0 or land_y > y1:
+    if reason == "long":
+        return reason, f"the ball lands at x = {land_x:.2f} m, {land_x - x1:.2f} m beyond the service line ({x1:.2f} m)"
+    if reason == "wide":
         out = max(y0 - land_y, land_y - y1)
-        return "wide", f"the ball lands at y = {land_y:.2f} m, {out:.2f} m outside the {box}"
+        return reason, f"the ball lands at y = {land_y:.2f} m, {out:.2f} m outside the {box}"
     return None, (
         f"the ball clears the net by {clearance:.3f} m and lands at x = {land_x:.2f} m, y = {land_y:.2f} m: "
         f"{x1 - land_x:.2f} m inside the service line, {min(land_y - y0, y1 - land_y):.2f} m inside the side lines"
@@ -97,12 +104,15 @@ def pick(current: float, intervals: list[tuple[float, float]]) -> tuple[float, f
 def _scan(setup: Setup, name: str, current: float, alpha: float, beta: float, azimuth: float):
     if name == "alpha":
         vals = np.arange(0.0, ALPHA_MAX + 1e-9, STEP)
-        o = outcomes(setup, vals, beta, azimuth)
     else:
-        vals = np.clip(current + np.arange(-SPAN, SPAN + 1e-9, STEP), -89.0, 89.0)
-        vals = np.unique(vals)
-        o = outcomes(setup, alpha, vals, azimuth) if name == "beta" else outcomes(setup, alpha, beta, vals)
-    return vals, runs(vals, np.asarray(o["success"], bool))
+        vals = np.unique(np.clip(current + np.arange(-SPAN, SPAN + 1e-9, STEP), -89.0, 89.0))
+    a, b, z = (vals if name == key else np.full(vals.size, x) for key, x in zip(SCANNED, (alpha, beta, azimuth)))
+    # with a falling toss the racket must still approach the ball (V cos(alpha) above the toss's normal part)
+    approach = setup.player.racket_speed * np.cos(np.radians(a)) > -np.sin(np.radians(b)) * setup.toss_vz + 1e-9
+    ok = np.zeros(vals.size, bool)
+    if approach.any():
+        ok[approach] = serves(setup, a[approach], b[approach], z[approach])["success"]
+    return vals, runs(vals, ok)
 
 
 def _deg(x: float) -> str:

@@ -28,85 +28,26 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.ndimage import distance_transform_cdt
 
-from tennislab.core.flight import FlightParams, fly_batch
-from tennislab.core.impact import ImpactParams, impact_batch, launch_angle
+from tennislab.core.flight import FlightParams
+from tennislab.core.impact import ImpactParams
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, jsonable
-from tennislab.serve.launch import box_name, check_serve_options, judge, launch_3d
-from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player
+from tennislab.serve.pipeline import Setup, flights, impacts, launch_3d, make_setup
+from tennislab.serve.players import SEED_PLAYERS, PlayerProfile
 from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
-from tennislab.serve.setup import (
-    CATEGORIES,
-    SeedCriteria,
-    criteria_caveats,
-    evaluate_2d,
-    integration_caveats,
-    launch_states_2d,
-    seed_flight_params,
-    seed_impact_params,
-)
+from tennislab.serve.setup import CATEGORIES, SeedCriteria
 from tennislab.units import RPM
 
-__all__ = ["ServeWindow", "ServeWindows", "window", "windows", "default_serve", "window_chunk"]
+__all__ = ["DefaultServe", "ServeWindow", "ServeWindows", "default_serve", "window", "window_chunk", "windows"]
 
 SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
 
 
-def flight_options(params: FlightParams) -> dict:
-    """Plain (picklable) options that rebuild ``params`` with :meth:`FlightParams.from_options`."""
-    return {
-        "aero": params.aero,
-        "mass": params.ball.mass,
-        "radius": params.ball.radius,
-        "air_density": params.atmosphere.density,
-        "gravity": params.atmosphere.gravity,
-        "wind": tuple(params.atmosphere.wind),
-        "spin_decay": params.spin_decay,
-    }
-
-
-def window_chunk(
-    inputs: dict,
-    *,
-    flight: dict | None = None,
-    net_top: float = 0.943,
-    service_line: float = 18.318,
-    server_x: float = -11.885,
-    target: str | None = None,
-    server_y: float = 0.0,
-    azimuth: float = 0.0,
-    brush: float = 0.0,
-) -> dict:
-    """Per-chunk worker: serves from racket-frame impact results to their outcome.
-
-    inputs: equal-length arrays ``height`` [m], ``v_n``, ``v_t`` [m/s], ``omega`` [rad/s],
-    ``beta`` [rad].  2-D (``target`` None): the seed's criteria.  3-D (``target`` ``deuce``
-    or ``ad``): served from (server_x, server_y) with the face turned by ``azimuth`` and
-    brushed along ``brush`` [rad], judged by the real net and box.  Returns per-row
-    ``landing_x`` (from the impact point) [m], ``landing_y`` (court) [m], ``net_height`` [m],
-    ``success`` (bool), ``status``.
-    """
-    params = FlightParams.from_options(**(flight or {})) if not isinstance(flight, FlightParams) else flight
-    crit = SeedCriteria(net_top=net_top, service_line=service_line, server_x=server_x)
-    if target is None:
-        states = launch_states_2d(
-            inputs["height"], inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], server_x
-        )
-        table = fly_batch(states, params)
-        ev = evaluate_2d(table, crit)
-    else:
-        vel, spin = launch_3d(inputs["v_n"], inputs["v_t"], inputs["omega"], inputs["beta"], azimuth, brush)
-        n = vel.shape[0]
-        states = np.column_stack([np.full(n, server_x), np.full(n, server_y), inputs["height"], vel, spin])
-        table = fly_batch(states, params)
-        ev = judge(table, crit, target)
-    return {
-        "landing_x": ev["landing_x"],
-        "landing_y": table["land_y"],
-        "net_height": ev["net_height"],
-        "success": ev["success"],
-        "status": table["status"],
-    }
+def window_chunk(inputs: dict, *, setup: Setup) -> dict:
+    """Per-chunk worker (``tennislab.batch.map_chunks``): serves of the window from their racket-frame
+    impact results (``v_n``, ``v_t`` [m/s], ``omega`` [rad/s], ``beta`` [rad]) to their outcome --
+    stages 2-4 of the serve pipeline (:func:`tennislab.serve.pipeline.flights`)."""
+    return flights(inputs, setup=setup)
 
 
 @dataclass(frozen=True)
@@ -298,12 +239,19 @@ def window(
     ``mapper(fn, inputs) -> outputs`` runs :func:`window_chunk` (default: in process);
     pass e.g. ``functools.partial(tennislab.batch.map_chunks, scheduler="processes")``.
     """
-    player = get_player(player)
-    flight = flight or seed_flight_params()
-    impact_params = impact_params or seed_impact_params(ball=flight.ball)
-    crit = criteria or SeedCriteria()
-    check_serve_options(target, azimuth_deg, brush_deg, server_y)
-    check_range("dt", dt, 0.0, 1e-3, "s")
+    setup = make_setup(
+        player,
+        flight=flight,
+        impact_params=impact_params,
+        criteria=criteria,
+        target=target,
+        azimuth_deg=azimuth_deg,
+        brush_deg=brush_deg,
+        server_y=server_y,
+        dt=dt,
+        method=method,
+        steps=steps,
+    )
     a = np.asarray(angle_grid(step) if alpha_deg is None else alpha_deg, float)
     b = np.asarray(angle_grid(step) if beta_deg is None else beta_deg, float)
     if a.size == 0 or b.size == 0:
@@ -311,44 +259,25 @@ def window(
     if np.any(np.abs(a) > 90):
         raise InputError("alpha: outside the allowed range [-90, 90] deg")
     A = np.radians(np.clip(a, -89.999, 89.999))  # alpha = 90 deg: no normal approach; use 89.999
-    imp = impact_batch(player.racket_speed, A, impact_params, steps=steps, dt=dt, method=method)
+    imp = impacts(setup, A)  # stage 1 once per alpha: without a toss the impact does not depend on beta
     B = np.radians(b)
     BB, _ = np.meshgrid(B, A, indexing="ij")
+    psi = float(np.radians(azimuth_deg))
     inputs = {
-        "height": np.full(BB.size, player.impact_height),
         "v_n": np.broadcast_to(imp["v_n"][None, :], BB.shape).ravel().copy(),
         "v_t": np.broadcast_to(imp["v_t"][None, :], BB.shape).ravel().copy(),
         "omega": np.broadcast_to(imp["omega"][None, :], BB.shape).ravel().copy(),
         "beta": BB.ravel().copy(),
+        "azimuth": np.full(BB.size, psi),
     }
-    fn = functools.partial(
-        window_chunk,
-        flight=flight_options(flight),
-        net_top=crit.net_top,
-        service_line=crit.service_line,
-        server_x=crit.server_x,
-        target=target,
-        server_y=float(server_y),
-        azimuth=float(np.radians(azimuth_deg)),
-        brush=float(np.radians(brush_deg)),
-    )
+    fn = functools.partial(window_chunk, setup=setup)
     out = fn(inputs) if mapper is None else mapper(fn, inputs)
     shape = BB.shape
     spin = imp["omega"] / RPM
-    if target is None:
-        gamma = np.degrees(launch_angle(imp["v_n"][None, :], imp["v_t"][None, :], B[:, None]))
-    else:
-        vel, _ = launch_3d(
-            imp["v_n"][None, :],
-            imp["v_t"][None, :],
-            imp["omega"][None, :],
-            B[:, None],
-            np.radians(azimuth_deg),
-            np.radians(brush_deg),
-        )
-        gamma = np.degrees(np.arctan2(vel[..., 2], np.hypot(vel[..., 0], vel[..., 1])))
+    vel, _ = launch_3d(imp["v_n"][None, :], imp["v_t"][None, :], imp["omega"][None, :], B[:, None], psi, setup.brush)
+    gamma = np.degrees(np.arctan2(vel[..., 2], np.hypot(vel[..., 0], vel[..., 1])))
     return ServeWindow(
-        player,
+        setup.player,
         a,
         b,
         imp["speed"],
@@ -359,10 +288,10 @@ def window(
         np.asarray(out["landing_x"]).reshape(shape),
         np.asarray(out["net_height"]).reshape(shape),
         np.asarray(out["success"]).astype(bool).reshape(shape),
-        np.broadcast_to(crit.category(spin)[None, :], shape).copy(),
-        crit,
-        "seed-2d" if target is None else box_name(target),
-        (*impact_params.caveats(), *integration_caveats(method, dt), *criteria_caveats(target)),
+        np.broadcast_to(setup.criteria.category(spin)[None, :], shape).copy(),
+        setup.criteria,
+        setup.mode,
+        setup.caveats(),
     )
 
 
@@ -391,25 +320,57 @@ def deepest_serve(win: ServeWindow, category: str = "topspin") -> dict | None:
     return d
 
 
+@dataclass(frozen=True)
+class DefaultServe(Result):
+    """A serve that goes in for a player with the most room for error (:func:`default_serve`).
+
+    Angles [deg], SI otherwise.  Read as attributes or, as before, by key (``d["impact_angle"]``);
+    ``to_dict()`` is the dict :func:`default_serve` used to return.
+    """
+
+    player: PlayerProfile
+    impact_angle: float  #: alpha [deg]
+    face_angle: float  #: beta [deg]
+    category: str  #: flat, topspin or other
+    margin_deg: float  #: every serve within this many degrees of alpha and beta also goes in [deg]
+    speed: float  #: ball speed after impact [m/s]
+    spin_rpm: float  #: [rpm]
+
+    _KEYS = ("impact_angle", "face_angle", "category", "margin_deg", "speed", "spin_rpm")
+
+    def to_dict(self) -> dict:
+        return jsonable({k: getattr(self, k) for k in self._KEYS})
+
+    def __getitem__(self, key: str):
+        if key not in self._KEYS:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def keys(self):
+        return self._KEYS
+
+
 @functools.lru_cache(maxsize=32)
-def _default_serve(player: PlayerProfile) -> dict:
+def _default_serve(player: PlayerProfile) -> DefaultServe:
     w = window(player, step=1.0)
     best = deepest_serve(w, "topspin") or deepest_serve(w, "flat") or deepest_serve(w, "other")
     if best is None:
         raise InputError(f"player: no serve of {player.name} goes in (impact height or racket speed too small)")
-    return {
-        "impact_angle": best["alpha"],
-        "face_angle": best["beta"],
-        "category": best["category"],
-        "margin_deg": best["margin_deg"],
-        "speed": best["speed"],
-        "spin_rpm": best["spin_rpm"],
-    }
+    return DefaultServe(
+        player=w.player,
+        impact_angle=best["alpha"],
+        face_angle=best["beta"],
+        category=best["category"],
+        margin_deg=best["margin_deg"],
+        speed=best["speed"],
+        spin_rpm=best["spin_rpm"],
+    )
 
 
-def default_serve(player) -> dict:
+def default_serve(player) -> DefaultServe:
     """A serve that goes in for ``player`` with the most room for error: the topspin serve deepest
-    inside the player's window (paper's constants and criteria, 1 deg grid; :func:`deepest_serve`).
-    Returns ``impact_angle``, ``face_angle`` [deg], ``category``, ``margin_deg`` (every serve within
-    that many degrees of alpha and beta also goes in), ``speed`` [m/s], ``spin_rpm``."""
-    return dict(_default_serve(get_player(player)))
+    inside the player's window (the serve workflows' default physics and the paper's criteria, 1 deg
+    grid; :func:`deepest_serve`).  A :class:`DefaultServe`: ``impact_angle``, ``face_angle`` [deg],
+    ``category``, ``margin_deg`` (every serve within that many degrees of alpha and beta also goes in),
+    ``speed`` [m/s], ``spin_rpm``."""
+    return _default_serve(make_setup(player).player)
