@@ -210,12 +210,12 @@ def impacts(setup: Setup, alpha, beta=0.0, azimuth=0.0, speed=None) -> dict[str,
 
 
 # ------------------------------------------------------------------ stage 2: launch
-@nb.njit(cache=True, parallel=True)
+@nb.njit(cache=True)
 def _launch_kernel(v_n, v_t, omega, beta, psi, height, brush, toss_vz, server_x, server_y, out):
     """Court-frame states (N, 9) of balls leaving faces (beta, psi [rad]) with racket-frame (v_n, v_t,
     omega) in the plane of the brush direction; the toss's part outside that plane is added back."""
     cph, sph = math.cos(brush), math.sin(brush)
-    for k in nb.prange(v_n.shape[0]):
+    for k in range(v_n.shape[0]):  # serial: ~10 ns a row, no threads to wake for it
         cb, sb, cp, sp = math.cos(beta[k]), math.sin(beta[k]), math.cos(psi[k]), math.sin(psi[k])
         # face basis (core.impact_3d.face_basis): n, t_up, t_left; brush direction t = cos ph t_up + sin ph t_left
         n0, n1, n2 = cb * cp, cb * sp, -sb
