@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tennislab.batch.progress import ProgressBar, progress_enabled
+from tennislab.batch.progress import ProgressBar, progress_mode
 from tennislab.batch.schedulers import check_scheduler, get_runner
 from tennislab.batch.sources import as_source, default_chunk_size, hash_arrays, is_indexable
 from tennislab.batch.store import MANIFEST, ChunkStore, load_manifest
@@ -139,7 +139,7 @@ def run_batch(
     scheduler="local",
     chunk_size: int | None = None,
     out: str | None = None,
-    progress=True,
+    progress="auto",
     desc: str = "",
     n_workers: int | None = None,
     collect: bool = True,
@@ -150,6 +150,9 @@ def run_batch(
     on_chunk=None,
     skip=None,
     max_chunks: int | None = None,
+    unit: str = "rows",
+    count=None,
+    total_units: int | None = None,
 ) -> BatchResult:
     """Like :func:`map_chunks` but always returns a :class:`BatchResult` (counts, timing, data)."""
     t0 = time.perf_counter()
@@ -203,8 +206,7 @@ def run_batch(
             store,
             indexable,
             chunk_size,
-            progress,
-            desc,
+            {"progress": progress, "desc": desc, "unit": unit, "count": count, "total_units": total_units},
             collect,
             row_key,
             include_inputs,
@@ -231,8 +233,7 @@ def _run(
     store,
     indexable,
     chunk_size,
-    progress,
-    desc,
+    show,
     collect,
     row_key,
     include_inputs,
@@ -255,7 +256,20 @@ def _run(
     def restore(i: int) -> bool:  # (for i in have) a part on disk the caller lacks: read back for on_chunk
         return on_chunk is not None and store is not None and i not in skip
 
-    bar = ProgressBar(n_total, desc=desc, enabled=progress_enabled(progress))
+    count = show["count"]
+    total_units = show["total_units"]
+    if total_units is None and count is None and indexable:
+        total_units = source.n_rows  # the rows are the units
+    per_row = (total_units / source.n_rows) if (total_units and indexable and source.n_rows) else 1.0
+    mode = progress_mode(show["progress"])
+    bar = ProgressBar(
+        n_total, desc=show["desc"], enabled=mode is not None, mode=mode, unit=show["unit"], total_units=total_units
+    )
+
+    def skipped(i: int) -> None:  # a chunk not computed here: its units count toward completion
+        lo, hi, _ = row_range(i)
+        bar.skip(n_units=round((hi - lo) * per_row))
+
     results: dict[int, dict] = {}
     schema: dict = {}
     counts = {"computed": 0, "skipped": 0, "seen": 0, "restored": 0, "taken": 0, "cut": False}
@@ -282,14 +296,14 @@ def _run(
                 lo = i * chunk_size
                 counts["seen"] = i + 1
                 if i in have and not restore(i):
-                    bar.skip()
+                    skipped(i)
                     continue
                 if max_chunks is not None and counts["taken"] >= max_chunks:
                     counts["cut"] = True  # work left for a rerun
                     return
                 counts["taken"] += 1
                 if i in have:
-                    bar.skip()
+                    skipped(i)
                     deliver_restored(i, lo)
                     continue
                 payload = (shared_src, i, chunk_size) if source.remote else source.chunk(i, chunk_size)
@@ -310,7 +324,7 @@ def _run(
                             "use a new --out-dir or delete the old one"
                         )
                 counts["skipped"] += 1
-                bar.skip()
+                skipped(i)
                 if store is not None and restore(i):
                     deliver_restored(i, lo)
             else:
@@ -334,7 +348,7 @@ def _run(
                 if collect:
                     results[i] = res
                 counts["computed"] += 1
-                bar.update(hi - lo)
+                bar.update(hi - lo if count is None else int(count(res)))
                 if on_chunk is not None:
                     on_chunk(i, lo, res)
         finally:
@@ -374,7 +388,7 @@ def map_chunks(
     scheduler="local",
     chunk_size: int | None = None,
     out: str | None = None,
-    progress=True,
+    progress="auto",
     desc: str = "",
     n_workers: int | None = None,
     collect: bool = True,
@@ -384,6 +398,9 @@ def map_chunks(
     on_chunk=None,
     skip=None,
     max_chunks: int | None = None,
+    unit: str = "rows",
+    count=None,
+    total_units: int | None = None,
 ):
     """Apply ``fn`` to ``inputs`` chunk by chunk on a scheduler; return the concatenated outputs.
 
@@ -400,7 +417,13 @@ def map_chunks(
         resume, the chunk size of the existing output).
     out : directory for ``part-NNNNN.parquet`` + ``manifest.json``; a rerun skips
         finished chunks, another job in the same directory is an ``InputError``.
-    progress : True (stderr bar when a TTY), False, or ``"always"``.
+    progress : ``"auto"`` (default: a bar on stderr when it is a terminal and the work takes over
+        ~5 s), True (on a terminal, from the start), ``"always"`` (on any stream: a bar on a terminal,
+        a line every few seconds in a log), or False (:mod:`tennislab.batch.progress`).
+    desc : text shown after the progress.
+    unit, count, total_units : what progress counts, in the user's units: ``unit`` names them
+        ("serves"), ``count(outputs) -> int`` the units a chunk's outputs stand for (default: its
+        rows) and ``total_units`` the job's (default: its rows, when known).
     n_workers : worker processes for ``"processes"`` (default: number of cores).
     collect : False returns a :class:`BatchResult` without data (needs ``out``
         or ``on_chunk``): memory stays bounded by a few chunks however large the job.
@@ -444,6 +467,9 @@ def map_chunks(
         on_chunk=on_chunk,
         skip=skip,
         max_chunks=max_chunks,
+        unit=unit,
+        count=count,
+        total_units=total_units,
     )
     return res.data if collect else res
 

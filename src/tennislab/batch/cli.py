@@ -78,12 +78,26 @@ def add_scheduler_flag(parser) -> None:
             help="rows per chunk (default ~N/64 in [1024, 65536]; kept when resuming)",
         )
     if "--progress" not in existing and "--no-progress" not in existing:
-        g.add_argument(
-            "--progress",
-            action=argparse.BooleanOptionalAction,
-            default=True,
-            help="progress bar on stderr when it is a terminal (default on)",
-        )
+        add_progress_flag(g)
+
+
+#: help of ``--progress/--no-progress`` (every command that shows progress)
+PROGRESS_HELP = (
+    "progress on stderr in the command's units (serves/s, flights/s, calls/s): --progress on any stream "
+    "(a log gets a line every few seconds), --no-progress never; default: on a terminal for work over ~5 s"
+)
+
+
+def add_progress_flag(group) -> None:
+    """``--progress/--no-progress`` (:func:`progress_from_args` reads it back)."""
+    group.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=PROGRESS_HELP)
+
+
+def progress_from_args(args):
+    """The ``progress`` of :mod:`tennislab.batch.progress` from ``--progress/--no-progress``: ``"always"``,
+    False, or ``"auto"`` when neither was given."""
+    p = getattr(args, "progress", None)
+    return "auto" if p is None else ("always" if p else False)
 
 
 def batch_options_from_args(args) -> dict:
@@ -93,5 +107,5 @@ def batch_options_from_args(args) -> dict:
         "out": getattr(args, "out_dir", None),
         "n_workers": getattr(args, "workers", None),
         "chunk_size": getattr(args, "chunk_size", None),
-        "progress": getattr(args, "progress", True),
+        "progress": progress_from_args(args),
     }

@@ -19,7 +19,7 @@ import json
 import os
 import sys
 
-from tennislab.batch.cli import add_scheduler_flag
+from tennislab.batch.cli import add_scheduler_flag, progress_from_args
 from tennislab.batch.store import MANIFEST, load_manifest
 from tennislab.cli._launcher_args import (
     add_preference_flags,
@@ -283,7 +283,7 @@ def run_table(args) -> int:
                 chunk_size=chunk,
                 scheduler=getattr(args, "scheduler", "local"),
                 n_workers=getattr(args, "workers", None),
-                progress=getattr(args, "progress", True),
+                progress=progress_from_args(args),
                 out_dir=getattr(args, "out_dir", None),
                 max_chunks=args.max_chunks,
             )

@@ -228,7 +228,7 @@ def run_surface(args) -> int:
         return 0
     d = res.to_dict()
     vals = ", ".join(
-        f"{k} = {d['surface'][k]:.3f}" + (f" +- {d['sd'][k]:.3f}" if k in d["sd"] else " (kept)")
+        f"{k} = {d['surface'][k]:.3f}" + (f" ± {d['sd'][k]:.3f}" if k in d["sd"] else " (kept)")
         for k in ("e", "mu", "e_x")
     )
     print(f"surface fitted to {res.n_bounces} bounces: {vals}")
@@ -359,7 +359,7 @@ def run_serves(args) -> int:
         emit_json(res)
         return 0
     vals = ", ".join(
-        f"{k} = {res.values[k]:.4f}" + (f" +- {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
+        f"{k} = {res.values[k]:.4f}" + (f" ± {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
         for k in ("cd", "cl", "cd_s", "speed_scale")
     )
     print(f"calibrated: {vals}")
@@ -420,7 +420,7 @@ def run_tracks(args) -> int:
         emit_json(res)
         return 0
     vals = ", ".join(
-        f"{k} = {res.values[k]:.4f}" + (f" +- {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
+        f"{k} = {res.values[k]:.4f}" + (f" ± {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
         for k in ("cd", "cl", "cd_s")
     )
     print(f"calibrated on {res.n_tracks} tracks ({res.n_points} points): {vals}")

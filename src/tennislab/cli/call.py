@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import os
 
+from tennislab.batch.cli import add_progress_flag, progress_from_args
 from tennislab.cli.common import (
     add_physics_flags,
     atomic_write,
@@ -116,6 +117,7 @@ def register(sub) -> None:
         help="fit only points this long before/after the bounce [s] (default 0.6 0.3)",
     )
     p.add_argument("--workers", type=int, default=1, help="--rally: processes calling points in parallel (default 1)")
+    add_progress_flag(p)
     add_physics_flags(p)
     p.add_argument("--csv", metavar="OUT.csv", help="--rally: write one row per shot")
     p.add_argument("--plot", metavar="FILE.png", help="draw the mark on the lines and the fit (--rally: the bounces)")
@@ -272,6 +274,7 @@ def run(args) -> int:
             surface=args.surface,
             doubles=args.doubles,
             workers=args.workers,
+            progress=progress_from_args(args),
             **_fit_options(args),
         )
         if args.csv:

@@ -24,6 +24,7 @@ from tennislab.cli.common import (
 )
 from tennislab.cli.impact import PAPER, add_impact_flags, impact_from_args
 from tennislab.errors import InputError
+from tennislab.plot.text import num
 from tennislab.serve import (
     ServeWindow,
     ServeWindows,
@@ -266,8 +267,7 @@ def _mapper(args):
     opts = batch_options_from_args(args)
     if opts["scheduler"] == "local" and not opts["out"]:
         return None  # in process, no chunking overhead
-    opts["progress"] = opts.get("progress", True)
-    return functools.partial(map_chunks, **opts)
+    return functools.partial(map_chunks, unit="serves", **opts)
 
 
 def run_window(args) -> int:
@@ -354,8 +354,13 @@ def _mc_mapper(args):
     opts = batch_options_from_args(args)
     block = block_size(max(1, args.n))
     opts["chunk_size"] = max(1, round(opts["chunk_size"] / block)) if opts.get("chunk_size") else 1
-    opts["desc"] = f"serve-mc (chunks of {opts['chunk_size'] * block} serves; rows/s = blocks/s)"
-    return functools.partial(map_chunks, **opts)
+    opts["desc"] = f"serve-mc (chunks of {opts['chunk_size'] * block} serves)"
+    return functools.partial(map_chunks, unit="serves", count=_serves, total_units=max(1, args.n), **opts)
+
+
+def _serves(outputs: dict) -> int:
+    """Serves a chunk of Monte Carlo blocks stands for (its blocks' ``n``)."""
+    return int(sum(outputs["n"]))
 
 
 def run_mc(args) -> int:
@@ -386,18 +391,18 @@ def run_mc(args) -> int:
         return 0
     m = res.landing["mean"]
     print(
-        f"{res.player.name}: P(success) = {res.p_success:.4f} +- {res.p_success_se:.4f} "
+        f"{res.player.name}: P(success) = {res.p_success:.4f} ± {res.p_success_se:.4f} "
         f"over {res.n} serves (judged by {_criteria(res.criteria)})"
     )
     if m[0] is not None:
         e = res.landing["ellipse_95"]
         print(
-            f"landing mean x = {m[0]:.3f} m, y = {m[1]:.3f} m"
+            f"landing mean x = {num(m[0], 3)} m, y = {num(m[1], 3)} m"
             + (
                 ""
                 if e is None
                 else f"; 95 % ellipse semi-axes {e['semi_axes'][0]:.2f} x {e['semi_axes'][1]:.2f} m at "
-                f"{e['angle_deg']:.1f} deg"
+                f"{num(e['angle_deg'], 1)} deg"
             )
         )
     _print_caveats(res.caveats)

@@ -318,9 +318,12 @@ def call_rally(
     contact_sigma: float = 0.0,
     window=(0.6, 0.3),
     workers: int = 1,
+    progress="auto",
 ) -> RallyCall:
     """Call every shot of the points (see the module docstring); ``workers`` > 1 calls points in
-    that many processes (the shots' order and numbers do not change)."""
+    that many processes (the shots' order and numbers do not change).  ``progress``: points done and
+    calls per second on stderr (:mod:`tennislab.batch.progress`: ``"auto"`` on a terminal for work
+    over ~5 s, ``"always"``, True or False)."""
     params = params or FlightParams()
     pts = [points] if isinstance(points, Point) else list(points)
     if not pts:
@@ -328,17 +331,23 @@ def call_rally(
     workers = int(check_range("workers", workers, 1, 64))
     kwargs = dict(surface=surface, drag=drag, lift=lift, fit_drag=fit_drag, contact_sigma=contact_sigma, window=window)
     t0 = time.perf_counter()
-    per_point: list[list[dict]]
-    if workers == 1 or len(pts) == 1:
-        per_point = [call_point(p, params=params, doubles=doubles, **kwargs) for p in pts]
-    else:
-        chunks = [pts[i::workers] for i in range(workers)]
-        with ProcessPoolExecutor(max_workers=workers) as ex:
-            parts = list(ex.map(_call_points, [(c, params, doubles, kwargs) for c in chunks]))
-        per_point = [[] for _ in pts]
-        for w, part in enumerate(parts):
-            for j, called in enumerate(part):
-                per_point[w + j * workers] = called
+    from tennislab.batch.progress import ProgressBar, progress_mode  # the batch package only when calling
+
+    per_point: list[list[dict]] = []
+    mode = progress_mode(progress)
+    bar = ProgressBar(len(pts), enabled=mode is not None, mode=mode, unit="calls", chunk_unit="points")
+    try:
+        if workers == 1 or len(pts) == 1:
+            for p in pts:
+                per_point.append(call_point(p, params=params, doubles=doubles, **kwargs))
+                bar.update(len(per_point[-1]))
+        else:
+            with ProcessPoolExecutor(max_workers=workers) as ex:  # one point a task, answered in order
+                for part in ex.map(_call_points, [([p], params, doubles, kwargs) for p in pts]):
+                    per_point.append(part[0])
+                    bar.update(len(part[0]))
+    finally:
+        bar.close()
     seconds = time.perf_counter() - t0
     shots = tuple(s for lst in per_point for s in lst)
     info = tuple(
