@@ -345,10 +345,12 @@ def test_scheduler_flags():
         "out": None,
         "n_workers": None,
         "chunk_size": None,
-        "progress": True,
+        "progress": "auto",
     }
     a = p.parse_args(["--scheduler", "tcp://10.0.0.5:8786", "--out-dir", "o", "--workers", "3", "--no-progress"])
     assert (a.scheduler, a.out_dir, a.workers, a.progress) == ("tcp://10.0.0.5:8786", "o", 3, False)
+    assert batch_options_from_args(a)["progress"] is False
+    assert batch_options_from_args(p.parse_args(["--progress"]))["progress"] == "always"
     assert p.parse_args(["--scheduler", "processes"]).scheduler == "processes"
     for bad in (["--scheduler", "threads"], ["--scheduler", "tcp://host"], ["--chunk-size", "0"]):
         with pytest.raises(SystemExit) as exc:
@@ -366,7 +368,7 @@ def test_progress_bar_draws_only_when_enabled():
     bar.skip()
     bar.update(1000)
     bar.close()
-    assert "2/4 chunks" in s.getvalue() and "(1 resumed)" in s.getvalue() and "serves" in s.getvalue()
+    assert "2/4 chunks" in s.getvalue() and "(1 chunks resumed)" in s.getvalue() and "serves" in s.getvalue()
     assert not progress_enabled(True, io.StringIO()) and progress_enabled("always", io.StringIO())
     assert not progress_enabled(False, io.StringIO())
 
@@ -393,7 +395,7 @@ def test_grid_rows_are_meshgrid_in_c_order(shape, cs):
 def test_progress_forced_on_a_pipe(capsys, data):
     map_chunks(affine, data, chunk_size=1000, progress="always", desc="forced")
     err = capsys.readouterr().err
-    assert "5/5 chunks 100%" in err and "forced" in err and err.endswith("\n")
+    assert "5,000/5,000 rows 100%" in err and "forced" in err and err.endswith("\n") and "\r" not in err
     map_chunks(affine, data, chunk_size=1000, progress=True)  # stderr is not a TTY here: silent
     assert capsys.readouterr().err == ""
 
