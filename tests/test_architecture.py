@@ -30,6 +30,7 @@ FLOORS = {
     "demo": 6,
     "__main__": 6,
     "__init__": 0,
+    "_lazy": 0,
 }
 FRONT_ENDS = {"cli", "app", "report"}
 #: the only front-end -> front-end arrows: the commands that start the app and build the report
@@ -47,8 +48,18 @@ def _modules() -> dict[str, Path]:
     return out
 
 
-def _imports(mod: str, path: Path) -> list[tuple[str, int, bool]]:
-    """(imported tennislab module, line, inside try/except ImportError) for each import."""
+def _typing_only_lines(tree: ast.AST) -> set[int]:
+    """Lines inside ``if TYPE_CHECKING:`` blocks (a package stub's declarations: no import at run time)."""
+    out: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            for sub in node.body:
+                out.update(n.lineno for n in ast.walk(sub) if hasattr(n, "lineno"))
+    return out
+
+
+def _imports(mod: str, path: Path) -> list[tuple[str, int, bool, bool]]:
+    """(imported tennislab module, line, inside try/except ImportError, inside ``if TYPE_CHECKING:``) per import."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     guarded: set[int] = set()
     for node in ast.walk(tree):
@@ -60,6 +71,7 @@ def _imports(mod: str, path: Path) -> list[tuple[str, int, bool]]:
             if {"ImportError", "ModuleNotFoundError"} & set(names):
                 for sub in node.body:
                     guarded.update(n.lineno for n in ast.walk(sub) if hasattr(n, "lineno"))
+    typing_only = _typing_only_lines(tree)
     is_pkg = path.name == "__init__.py"
     out = []
     for node in ast.walk(tree):
@@ -77,12 +89,30 @@ def _imports(mod: str, path: Path) -> list[tuple[str, int, bool]]:
             continue
         for c in cands:
             if c == "tennislab" or c.startswith("tennislab."):
-                out.append((c.removeprefix("tennislab").lstrip("."), node.lineno, node.lineno in guarded))
+                ln = node.lineno
+                out.append((c.removeprefix("tennislab").lstrip("."), ln, ln in guarded, ln in typing_only))
     return out
 
 
 MODS = _modules()
-EDGES = {m: {(t, ln, g) for t, ln, g in _imports(m, p) if t in MODS and t != m} for m, p in MODS.items()}
+
+
+def _is_package(mod: str) -> bool:
+    return MODS[mod].name == "__init__.py"
+
+
+#: every import (run time and a stub's declarations): the layers hold for both
+EDGES = {m: {(t, ln, g) for t, ln, g, _ in _imports(m, p) if t in MODS and t != m} for m, p in MODS.items()}
+#: the imports that run: a package stub's declarations import nothing (tennislab._lazy), and ``from
+#: tennislab.pkg import sub`` from inside ``pkg`` runs only the lazy stub of ``pkg``
+RUN_EDGES = {
+    m: {
+        t
+        for t, _, _, typing_only in _imports(m, p)
+        if t in MODS and t != m and not typing_only and not (_is_package(t) and m.startswith(t + "."))
+    }
+    for m, p in MODS.items()
+}
 
 
 def _part(mod: str) -> str:
@@ -100,7 +130,7 @@ def test_no_import_circles():
         index[v] = low[v] = len(index)
         stack.append(v)
         on.add(v)
-        for w, _, _ in EDGES.get(v, ()):
+        for w in RUN_EDGES.get(v, ()):
             if w not in index:
                 visit(w)
                 low[v] = min(low[v], low[w])
@@ -146,7 +176,7 @@ def test_io_is_a_leaf_and_core_reads_no_file():
         for m, ts in EDGES.items()
         if _part(m) == "io"
         for t, _, _ in ts
-        if _part(t) not in {"io", "errors", "units", "results"}
+        if _part(t) not in {"io", "errors", "units", "results", "_lazy"}
     ]
     assert not bad, bad
     for m, p in MODS.items():
@@ -176,3 +206,30 @@ def test_domain_packages_are_independent():
         if _part(t) in domains and _part(t) != _part(m)
     ]
     assert not bad, bad
+
+
+#: the packages below tennislab (the top level only imports its errors and says its version)
+PACKAGES = sorted(m for m in MODS if m != "__init__" and "." not in m and _is_package(m))
+
+
+@pytest.mark.parametrize("pkg", PACKAGES)
+def test_every_package_init_is_a_lazy_public_stub(pkg):
+    """One style (tennislab._lazy): a docstring, the public names imported under ``if TYPE_CHECKING:``,
+    ``__all__`` naming exactly them, the lazy ``attach_stub``; no code, no import that runs."""
+    import importlib
+
+    from tennislab._lazy import stub_names
+
+    path = MODS[pkg]
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    assert ast.get_docstring(tree), f"{pkg}/__init__.py: no docstring"
+    runtime = [t for t, _, _, typing_only in _imports(pkg, path) if not typing_only and _part(t) != "_lazy"]
+    assert not runtime, f"{pkg}/__init__.py imports {runtime} when imported (declare them under TYPE_CHECKING)"
+    defs = [n.name for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef) and n.name != "__getattr__"]
+    assert not defs, f"{pkg}/__init__.py defines {defs}: code lives in the package's modules"
+    names = stub_names(f"tennislab.{pkg}", path.read_text(encoding="utf-8"))
+    module = importlib.import_module(f"tennislab.{pkg}")
+    assert sorted(module.__all__) == sorted(names), f"{pkg}: __all__ and the stub's imports differ"
+    assert len(set(module.__all__)) == len(module.__all__), f"{pkg}: a name twice in __all__"
+    for name in module.__all__:
+        assert getattr(module, name) is getattr(importlib.import_module(names[name]), name)

@@ -17,8 +17,6 @@ from tennislab.batch import (
     GridSpec,
     RowRange,
     StreamSource,
-    add_scheduler_flag,
-    batch_options_from_args,
     default_chunk_size,
     map_chunks,
     read_manifest,
@@ -28,6 +26,7 @@ from tennislab.batch import (
 )
 from tennislab.batch.progress import ProgressBar, progress_enabled
 from tennislab.batch.tasks import STATE_KEYS, fly_chunk
+from tennislab.cli import add_scheduler_flag, batch_options_from_args
 from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.errors import InputError
 
@@ -360,6 +359,17 @@ def test_scheduler_flags():
     q.add_argument("--workers", type=int)  # a command's own flag wins, no clash
     add_scheduler_flag(q)
     assert q.parse_args(["--workers", "5"]).workers == 5
+
+
+def test_the_flags_old_home_still_works():
+    """The helpers moved to the CLI layer (argparse only under cli/); the old names still work, with a warning."""
+    import tennislab.batch
+
+    with pytest.warns(DeprecationWarning, match="moved to tennislab.cli.add_scheduler_flag"):
+        assert tennislab.batch.add_scheduler_flag is add_scheduler_flag
+    with pytest.warns(DeprecationWarning):
+        from tennislab.batch import batch_options_from_args as old
+    assert old is batch_options_from_args
 
 
 def test_progress_bar_draws_only_when_enabled():

@@ -8,3 +8,15 @@ names the jobs each page runs, and :mod:`tennislab.app.pool` runs them in worker
 processes with deadlines and cancellation.  See ``docs/app.md`` and
 ``docs/security.md``.
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tennislab._lazy import attach_stub
+
+if TYPE_CHECKING:
+    from tennislab.app.server import create_app
+
+__all__ = ["create_app"]
+__getattr__, __dir__ = attach_stub(__name__, __file__)

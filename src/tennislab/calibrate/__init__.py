@@ -20,27 +20,34 @@ Workflows (plain parameters in, a frozen :class:`~tennislab.results.Result` out)
 The study and its numbers: docs/validation.md.
 """
 
-from tennislab.calibrate.calibration import (
-    CalibrationResult,
-    SensitivityResult,
-    calibrate_serves,
-    sensitivity_serves,
-)
-from tennislab.calibrate.family import aero_table_csv, family_coefficients, family_model, family_table
-from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
-from tennislab.calibrate.serves import (
-    FAMILIES,
-    REASONS,
-    Serves,
-    check_serves,
-    load_serves,
-    serves_from_columns,
-    split_serves,
-)
-from tennislab.calibrate.surface import SurfaceCalibrationResult, calibrate_surface, measured_bounces
-from tennislab.calibrate.synth import serves_csv, synthetic_serves
-from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
-from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tennislab._lazy import attach_stub
+
+if TYPE_CHECKING:
+    from tennislab.calibrate.calibration import (
+        CalibrationResult,
+        SensitivityResult,
+        calibrate_serves,
+        sensitivity_serves,
+    )
+    from tennislab.calibrate.family import aero_table_csv, family_coefficients, family_model, family_table
+    from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
+    from tennislab.calibrate.serves import (
+        FAMILIES,
+        REASONS,
+        Serves,
+        check_serves,
+        load_serves,
+        serves_from_columns,
+        split_serves,
+    )
+    from tennislab.calibrate.surface import SurfaceCalibrationResult, calibrate_surface, measured_bounces
+    from tennislab.calibrate.synth import serves_csv, synthetic_serves
+    from tennislab.calibrate.tracks import TrackCalibrationResult, calibrate_tracks
+    from tennislab.calibrate.validate import ModelValidation, ValidationResult, registered_models, validate_serves
 
 __all__ = [
     "FAMILIES",
@@ -73,3 +80,4 @@ __all__ = [
     "synthetic_serves",
     "validate_serves",
 ]
+__getattr__, __dir__ = attach_stub(__name__, __file__)

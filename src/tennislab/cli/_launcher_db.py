@@ -19,7 +19,6 @@ import json
 import os
 import sys
 
-from tennislab.batch.cli import add_scheduler_flag, progress_from_args
 from tennislab.batch.store import MANIFEST, load_manifest
 from tennislab.cli._launcher_args import (
     add_preference_flags,
@@ -32,6 +31,7 @@ from tennislab.cli._launcher_args import (
     spin_axis_deg,
     tolerance_kwargs,
 )
+from tennislab.cli.batch_flags import add_scheduler_flag, progress_from_args
 from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError
 from tennislab.io.files import check_output_dir, check_output_path

@@ -17,7 +17,7 @@ from __future__ import annotations
 import csv
 import os
 
-from tennislab.batch.cli import add_progress_flag, progress_from_args
+from tennislab.cli.batch_flags import add_progress_flag, progress_from_args
 from tennislab.cli.common import (
     add_physics_flags,
     atomic_write,

@@ -13,7 +13,8 @@ from __future__ import annotations
 import csv
 import functools
 
-from tennislab.batch import add_scheduler_flag, batch_options_from_args, map_chunks
+from tennislab.batch import map_chunks
+from tennislab.cli.batch_flags import add_scheduler_flag, batch_options_from_args
 from tennislab.cli.common import (
     add_output_flags,
     add_physics_flags,

@@ -16,26 +16,33 @@ Modules: :mod:`.machine` (spec, settings, launch states), :mod:`.aim`, :mod:`.pr
 :mod:`.materials`.
 """
 
-from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
-from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
-from tennislab.launcher.drills import CompiledDrill, Drill, compile_drill, drill_key, expand_program
-from tennislab.launcher.hitsdb import HitsDB
-from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
-from tennislab.launcher.machine import (
-    DEFAULT_POSITION,
-    DEFAULT_SPEC,
-    PAPER,
-    MachineSpec,
-    Range,
-    Settings,
-    launch_states,
-    settings_states,
-    spin_vector,
-)
-from tennislab.launcher.power import power_report
-from tennislab.launcher.preferences import Preferences, Tolerances
-from tennislab.launcher.rollers import roller_report
-from tennislab.launcher.table import FillPlan, FillReport, TableGrid, make_grid
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tennislab._lazy import attach_stub
+
+if TYPE_CHECKING:
+    from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
+    from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
+    from tennislab.launcher.drills import CompiledDrill, Drill, compile_drill, drill_key, expand_program
+    from tennislab.launcher.hitsdb import HitsDB
+    from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
+    from tennislab.launcher.machine import (
+        DEFAULT_POSITION,
+        DEFAULT_SPEC,
+        PAPER,
+        MachineSpec,
+        Range,
+        Settings,
+        launch_states,
+        settings_states,
+        spin_vector,
+    )
+    from tennislab.launcher.power import power_report
+    from tennislab.launcher.preferences import Preferences, Tolerances
+    from tennislab.launcher.rollers import roller_report
+    from tennislab.launcher.table import FillPlan, FillReport, TableGrid, make_grid
 
 __all__ = [
     "AimResult",
@@ -77,3 +84,4 @@ __all__ = [
     "shipped_drills",
     "spin_vector",
 ]
+__getattr__, __dir__ = attach_stub(__name__, __file__)

@@ -16,8 +16,15 @@ Pieces: :mod:`.model` (compiled track models), :mod:`.fit` (robust fits), :mod:`
 :mod:`.cameras`, :mod:`.closed_form` (seed 001), :mod:`.synth` (synthetic tracks and points).
 """
 
-from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
-from tennislab.linecall.rally import RallyCall, call_rally, split_point
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tennislab._lazy import attach_stub
+
+if TYPE_CHECKING:
+    from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
+    from tennislab.linecall.rally import RallyCall, call_rally, split_point
 
 __all__ = [
     "CALLS",
@@ -29,3 +36,4 @@ __all__ = [
     "call_track",
     "split_point",
 ]
+__getattr__, __dir__ = attach_stub(__name__, __file__)

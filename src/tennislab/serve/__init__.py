@@ -16,25 +16,32 @@ All of them run the one serve pipeline (impact -> launch -> flight -> judgement)
 :mod:`tennislab.serve.pipeline`.
 """
 
-from tennislab.serve.mc import MonteCarloResult, monte_carlo
-from tennislab.serve.pipeline import REASON_CODES
-from tennislab.serve.players import (
-    SEED_PLAYERS,
-    PlayerProfile,
-    get_player,
-    player_names,
-    register_player,
-)
-from tennislab.serve.racket_impact import ImpactSummary, impact
-from tennislab.serve.setup import (
-    IMPACT_SCHEMES,
-    SeedCriteria,
-    scheme_integration,
-    seed_flight_params,
-    seed_impact_params,
-)
-from tennislab.serve.single import REASONS, ServeResult, Verdict, simulate
-from tennislab.serve.window import DefaultServe, ServeWindow, ServeWindows, default_serve, window, windows
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tennislab._lazy import attach_stub
+
+if TYPE_CHECKING:
+    from tennislab.serve.mc import MonteCarloResult, monte_carlo
+    from tennislab.serve.pipeline import REASON_CODES
+    from tennislab.serve.players import (
+        SEED_PLAYERS,
+        PlayerProfile,
+        get_player,
+        player_names,
+        register_player,
+    )
+    from tennislab.serve.racket_impact import ImpactSummary, impact
+    from tennislab.serve.setup import (
+        IMPACT_SCHEMES,
+        SeedCriteria,
+        scheme_integration,
+        seed_flight_params,
+        seed_impact_params,
+    )
+    from tennislab.serve.single import REASONS, ServeResult, Verdict, simulate
+    from tennislab.serve.window import DefaultServe, ServeWindow, ServeWindows, default_serve, window, windows
 
 __all__ = [
     "DefaultServe",
@@ -63,3 +70,4 @@ __all__ = [
     "window",
     "windows",
 ]
+__getattr__, __dir__ = attach_stub(__name__, __file__)

@@ -1,7 +1,10 @@
 """CLI flags for batch work: ``--scheduler``, ``--out-dir`` (+ ``--workers``, ``--chunk-size``, ``--progress``).
 
 Commands add them with :func:`add_scheduler_flag` and pass
-``**batch_options_from_args(args)`` to :func:`tennislab.batch.map_chunks`.
+``**batch_options_from_args(args)`` to :func:`tennislab.batch.map_chunks`.  Both are public
+helpers for users' own scripts too (``from tennislab.cli import add_scheduler_flag``); they lived in
+``tennislab.batch`` before flags moved to the CLI layer, and ``tennislab.batch.add_scheduler_flag``
+still works (with a :class:`DeprecationWarning`).
 """
 
 from __future__ import annotations

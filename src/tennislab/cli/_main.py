@@ -1,0 +1,210 @@
+"""The ``tennislab`` command line (:func:`main`): thin (parse, call, print).
+
+Each module of this package with a ``register(subparsers)`` function adds its command group; they
+are discovered automatically so that command groups stay independent.
+
+Before a command runs, the configuration (``--config FILE``, a global flag accepted anywhere on the
+line, else ``./tennislab.toml``; ``--no-config`` ignores it) gives its defaults and profiles
+(:mod:`tennislab.cli.config`): a flag on the command line beats the configuration, which beats the
+built-in default.
+
+User errors (:class:`tennislab.errors.InputError`, a file that cannot be read or written) print one
+line on stderr and exit with code 2, never a traceback; a library error that starts with a
+parameter's name is shown with the command's flag (:func:`flag_message`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import pkgutil
+import re
+import sys
+
+from tennislab import __version__
+from tennislab.cli import config as cfgmod
+from tennislab.errors import InputError
+
+#: modules of this package that are not command groups
+_NOT_COMMANDS = {"batch_flags", "common", "config"}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2 (argparse's own convention)
+        # "argument --plot: ..." -> "--plot: ...": the same form as the errors the commands raise
+        text = _ARGUMENT.sub(r"\1: ", " ".join(str(message).split()))
+        self.exit(2, f"{self.prog}: error: {text}\n")
+
+
+_ARGUMENT = re.compile(r"^argument (--[\w-]+)(?:/-\w)?: ")
+
+
+def _subparsers(parser: argparse.ArgumentParser) -> dict:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
+def _config_flags(p: argparse.ArgumentParser, top: bool) -> None:
+    default = None if top else argparse.SUPPRESS  # sub-commands must not overwrite the top-level value
+    g = p.add_argument_group("configuration") if not top else p
+    g.add_argument(
+        "--config",
+        metavar="FILE",
+        default=default,
+        help="configuration file (default ./tennislab.toml if present; docs/config.md)",
+    )
+    g.add_argument(
+        "--no-config",
+        action="store_true",
+        default=False if top else argparse.SUPPRESS,
+        help="ignore ./tennislab.toml",
+    )
+
+
+def build_parser(config: cfgmod.Config | None = None) -> argparse.ArgumentParser:
+    """The full parser; with ``config``, its values are the defaults of the matching flags."""
+    parser = _Parser(prog="tennislab", description="Physics of a tennis ball.")
+    parser.add_argument("--version", action="version", version=f"tennislab {__version__}")
+    _config_flags(parser, top=True)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for mod in sorted(pkgutil.iter_modules([os.path.dirname(__file__)]), key=lambda m: m.name):
+        if mod.name.startswith("_") or mod.name in _NOT_COMMANDS:
+            continue
+        module = importlib.import_module(f"tennislab.cli.{mod.name}")
+        if hasattr(module, "register"):
+            module.register(sub)
+    for p in list(cfgmod._walk(parser))[1:]:
+        if not _subparsers(p):  # leaf commands accept --config too
+            _config_flags(p, top=False)
+    if config is not None:
+        cfgmod.apply_defaults(parser, config)
+    return parser
+
+
+def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
+    """Every option string of ``parser`` and of its sub-commands."""
+    out: set[str] = set()
+    for action in parser._actions:
+        out.update(action.option_strings)
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                out |= _option_strings(sub)
+    return out
+
+
+_PARAM = re.compile(r"^([a-z][a-z0-9_]*)(\[\d+\])?(?=[: ])")
+_INNER = re.compile(r"(?<![\w.\-/])([a-z][a-z0-9]*(?:_[a-z0-9]+)+)(?![\w\-/])")
+
+
+#: library parameters whose flag is not their name (``--out-dir`` writes the batch store ``out``)
+_ALIASES = {"out": "out_dir"}
+
+
+def flag_message(message: str, options: set[str]) -> str:
+    """A library error names its parameter (``speed_kmh: ...``); the CLI says its flag (``--speed-kmh: ...``).
+
+    The leading name is rewritten when the command has that flag; so are other parameter names with
+    an underscore in the text (``give spin_rpm and spin_axis together`` -> ``--spin-rpm``, ``--spin-axis``),
+    but not in a text that names a file's columns or keys (``missing column(s) spin_rpm``): those are
+    the file's words, not the command's.
+    """
+    first = message.partition(": ")[0]
+    if "." in first or "/" in first:  # about a file's content (``d.yaml: shots.a.spin_axis: ...``): its words
+        return message
+    m = _PARAM.match(message)
+    if m:
+        flag = "--" + _ALIASES.get(m.group(1), m.group(1)).replace("_", "-")
+        if flag in options:
+            message = flag + message[len(m.group(1)) :]
+
+    def inner(mm: re.Match) -> str:
+        flag = "--" + mm.group(1).replace("_", "-")
+        return flag if flag in options else mm.group(1)
+
+    head, sep, rest = message.partition(": ")
+    if not sep or re.search(r"\b(column|columns|column\(s\)|header|key|keys|field|fields)\b", rest):
+        return message
+    return head + sep + _INNER.sub(inner, rest)
+
+
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
+
+
+class _PreParser(argparse.ArgumentParser):
+    def error(self, message):
+        raise InputError(f"config: {message}")
+
+
+def _pre_config(argv: list[str]) -> tuple[str | None, bool]:
+    """``--config FILE`` / ``--no-config`` wherever they are on the line (read before the full parse,
+    whose defaults depend on the file)."""
+    pre = _PreParser(add_help=False)
+    pre.add_argument("--config")
+    pre.add_argument("--no-config", action="store_true")
+    known, _ = pre.parse_known_args([a for a in argv if a != "--"])
+    return known.config, known.no_config
+
+
+def _command_name(args: argparse.Namespace) -> str:
+    return getattr(args, "command", None) or "tennislab"
+
+
+def _file_backend() -> None:
+    """The command line writes figures to files only: Matplotlib's Agg backend, chosen here (the entry
+    point) and never by the library, and only when nothing has imported Matplotlib yet (a notebook
+    calling :func:`main` keeps its own backend).  An environment variable, so that no Matplotlib is
+    loaded at start-up."""
+    if "matplotlib" not in sys.modules:
+        os.environ["MPLBACKEND"] = "Agg"
+
+
+def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    _file_backend()
+    wants_help = any(a in ("-h", "--help", "--version") for a in argv)
+    try:
+        path, no_config = _pre_config(argv)
+        cfg = cfgmod.load_config(None if no_config else cfgmod.find_config(path))
+        cfgmod.register_profiles(cfg)
+    except (InputError, OSError) as exc:
+        if not wants_help:
+            msg = f"{exc.filename}: {exc.strerror}" if isinstance(exc, OSError) and exc.filename else exc
+            print(f"tennislab: error: {_one_line(msg).replace('config: ', '--config: ', 1)}", file=sys.stderr)
+            return 2
+        cfg = cfgmod.Config()
+    parser = build_parser(cfg)
+    args = parser.parse_args(argv)
+    args.config_defaults = cfg.flag_defaults()
+    command = _command_name(args)
+    try:
+        cfgmod.resolve_profiles(args, cfg)
+        rc = args.func(args)
+    except InputError as exc:
+        sub = _subparsers(parser).get(args.command)
+        msg = flag_message(_one_line(exc), _option_strings(sub) if sub else set())
+        print(f"tennislab {command}: error: {msg}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # output piped into `head` etc.
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
+    except OSError as exc:  # a file that cannot be read or written: missing, a directory, no space, ...
+        where = exc.filename if exc.filename is not None else ""
+        reason = exc.strerror or type(exc).__name__
+        print(f"tennislab {command}: error: {where}{': ' if where else ''}{reason}", file=sys.stderr)
+        return 2
+    return int(rc or 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
