@@ -8,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 TSTAMP := $(VENV)/.installed-test
 
-.PHONY: demo test check lint bench clean
+.PHONY: demo test check lint docs bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -37,6 +37,11 @@ test: $(TSTAMP) lint
 # browser end-to-end tests (`e2e`); `make test` runs them all.
 check: $(TSTAMP) lint
 	$(PY) -m pytest -m "not slow and not e2e"
+
+# Regenerate the outputs the docs show after `$ tennislab ...` (and list quoted numbers gone stale):
+# run it after changing what a command prints; CONTRIBUTING.md says how docs quote outputs.
+docs: $(TSTAMP)
+	$(PY) tests/test_docs.py --update
 
 bench: $(TSTAMP)
 	$(PY) benchmarks/run_all.py
