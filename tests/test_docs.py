@@ -740,7 +740,8 @@ def _run_page(path: Path) -> dict[tuple[int, int], tuple[int, str, str]]:
         page = Page(make_folder(Path(d)))
         for b in (b for b in RUNNABLE if b.path == path and not b.skipped):
             try:
-                ran = run_block(b, page)
+                with contextlib.redirect_stdout(io.StringIO()):  # what the page's Python prints
+                    ran = run_block(b, page)
             except Exception as exc:  # report and go on: the page is regenerated as far as it runs
                 print(f"{b.id}: {type(exc).__name__}: {exc}", file=sys.stderr)
                 continue
