@@ -3,11 +3,21 @@
 Every error a user can cause by bad input (a NaN, an out-of-range value, an
 unknown model name, a malformed file) is an :class:`InputError`.  The CLI turns
 it into a one-line message on stderr and exit code 2, with no traceback.
+
+Numbers given by a user are checked here (:func:`check_finite`, :func:`check_range`,
+:func:`check_vector`): finite and *normal* (a subnormal number such as ``1e-320`` is below
+:data:`TINY` and never a physical value; dividing by it gives ``inf``), and within their range.
+Answers are checked finite before they are shown (:func:`check_answer`).  Text that came from a
+file or a file name is shown through one escaper (:func:`escape_text`).
 """
 
 from __future__ import annotations
 
 import math
+import sys
+
+#: smallest positive normal float (2.2e-308); a nonzero number of smaller magnitude is subnormal
+TINY = sys.float_info.min
 
 
 class TennisLabError(Exception):
@@ -26,6 +36,21 @@ def check_finite(name: str, value: float) -> float:
         raise InputError(f"{name}: expected a number, got {value!r}") from None
     if not math.isfinite(v):
         raise InputError(f"{name}: must be a finite number, got {value!r}")
+    if v != 0.0 and abs(v) < TINY:
+        raise InputError(f"{name}: {v!r} is a subnormal number (magnitude below {TINY:.3g}); give 0 or a normal number")
+    return v
+
+
+def check_answer(name: str, value: float, unit: str = "") -> float:
+    """Return ``float(value)`` if it is finite, else raise :class:`InputError`: an answer that is not a
+    number (``inf``, ``nan``) is never shown as a result; the inputs are outside what the model answers."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: the computed value {value!r} is not a number") from None
+    if not math.isfinite(v):
+        u = f" {unit}" if unit else ""
+        raise InputError(f"{name}: the computed value is {v}{u}; the inputs are outside the range this model answers")
     return v
 
 
@@ -56,6 +81,34 @@ def check_vector(name: str, value, n: int = 3):
     if len(vals) != n:
         raise InputError(f"{name}: expected {n} numbers, got {len(vals)}")
     for i, x in enumerate(vals):
-        if not math.isfinite(x):
-            raise InputError(f"{name}[{i}]: must be a finite number, got {x!r}")
+        check_finite(f"{name}[{i}]", x)
     return vals
+
+
+def _escape_char(ch: str) -> str:
+    o = ord(ch)
+    if 0xDC80 <= o <= 0xDCFF:  # a byte of a file name that is not UTF-8 (os.fsdecode's surrogateescape)
+        return f"\\x{o - 0xDC00:02x}"
+    if ch in "\t\n\r":
+        return {"\t": "\\t", "\n": "\\n", "\r": "\\r"}[ch]
+    if o < 0x100:
+        return f"\\x{o:02x}"
+    return f"\\u{o:04x}" if o < 0x10000 else f"\\U{o:08x}"
+
+
+def escape_text(text: object, limit: int | None = None) -> str:
+    """``text`` (from a file, a database or a file name) safe to print on one line of a terminal.
+
+    Printable characters are kept; control characters (newlines, terminal escape codes such as
+    ``ESC [``), format characters (bidirectional overrides), unassigned code points and the
+    undecodable bytes of a non-UTF-8 file name are written as escapes (``\\x1b``, ``\\n``,
+    ``\\u202e``, ``\\xff``), so the result always encodes as UTF-8 and cannot move the cursor, clear
+    the screen or break a line.  With ``limit``, longer text is cut to ``limit`` characters and ends in
+    ``...``.
+    """
+    s = str(text)
+    if not s.isprintable():
+        s = "".join(ch if ch.isprintable() else _escape_char(ch) for ch in s)
+    if limit is not None and len(s) > limit:
+        s = s[: max(0, limit - 3)] + "..."
+    return s

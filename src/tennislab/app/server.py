@@ -55,6 +55,7 @@ from tennislab.app import fields as F
 from tennislab.app import services as S
 from tennislab.app.pool import ClientGone, Pool, PoolError
 from tennislab.errors import InputError
+from tennislab.io.formats import unique_pairs
 
 STATIC = Path(__file__).parent / "static"
 #: Host names accepted when bound to loopback (any loopback IP literal is accepted too)
@@ -124,19 +125,26 @@ class Guard:
         return name is not None and (self.any_host or name in self.names or is_loopback_literal(name))
 
     def check(self, method: str, path: str, headers: Headers) -> tuple[int, str] | None:
-        host = headers.get("host", "")
+        hosts = headers.getlist("host")
+        if len(hosts) > 1:
+            return 400, "host: the request has more than one Host header"
+        host = hosts[0] if hosts else ""
         if not self.host_ok(host_name(host)):
             return 400, f"host: {F.short(host)} is not a name of this server (start it with --allow-host NAME)"
         if method not in ALLOWED_METHODS:
             return 405, f"method: {method} is not allowed"
+        origins = headers.getlist("origin")
+        if len(origins) > 1:  # which one a browser or a proxy meant is a guess: refused
+            return 403, "origin: the request has more than one Origin header"
         if method in SAFE_METHODS and not path.startswith("/api/"):
             return None  # the page and its files may be opened from anywhere (they cannot be framed)
-        origin = headers.get("origin")
-        site = headers.get("sec-fetch-site")
+        origin = origins[0] if origins else None
+        sites = {v.strip().lower() for v in headers.getlist("sec-fetch-site")}
         if origin is not None:
-            if origin.lower() != f"http://{host.lower()}":
+            if origin.strip().lower() != f"http://{host.strip().lower()}":
                 return 403, f"origin: requests from {F.short(origin)} are refused (the app answers only its own page)"
-        elif site in ("cross-site", "same-site"):
+        elif sites & {"cross-site", "same-site"}:
+            site = sorted(sites & {"cross-site", "same-site"})[0]
             return 403, f"origin: {site} requests are refused (the app answers only its own page)"
         return None
 
@@ -210,8 +218,14 @@ async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
     if depth > F.MAX_JSON_DEPTH:
         raise InputError(f"request: JSON nested {depth} levels deep; at most {F.MAX_JSON_DEPTH} are accepted")
     try:
-        return json.loads(raw)
-    except (ValueError, UnicodeDecodeError, RecursionError):
+        text = raw.decode("utf-8")  # json.loads(bytes) would also take UTF-16 and UTF-32: refused here
+    except UnicodeDecodeError:
+        raise InputError("request: the body is not UTF-8 text (JSON bodies are UTF-8)") from None
+    try:
+        return json.loads(text, object_pairs_hook=unique_pairs("request"))
+    except InputError:
+        raise
+    except (ValueError, RecursionError):
         raise InputError("request: not valid JSON (UTF-8)") from None
 
 

@@ -40,6 +40,8 @@ from typing import IO
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_input
+from tennislab.io.formats import load_json_document, unique_pairs
 
 MANIFEST = "manifest.json"
 LEDGER = ".ledger.jsonl"
@@ -66,6 +68,8 @@ _STATE_KEYS = ("complete", "n_chunks", "total_rows", "parts")
 _META_KEY = b"tennislab.batch"
 #: largest manifest read [bytes]
 _MAX_MANIFEST = 64 * 1024 * 1024
+#: deepest JSON nesting of a manifest (it needs 3)
+_MAX_DEPTH = 16
 
 
 def _pa():
@@ -152,15 +156,14 @@ def write_durable(path: str, data: bytes) -> None:
 
 def _load_json(path: str, what: str):
     try:
-        with open(path, "rb") as fh:
-            raw = fh.read(_MAX_MANIFEST + 1)
-    except OSError as exc:
-        raise InputError(f"out: {path}: {exc.strerror or exc}") from None
-    if len(raw) > _MAX_MANIFEST:
-        raise InputError(f"out: {path} is too large to be a tennislab {what}")
+        raw = read_input(path, _MAX_MANIFEST)
+    except InputError as exc:
+        if "larger than" in str(exc):
+            raise InputError(f"out: {path} is too large to be a tennislab {what}") from None
+        raise InputError(f"out: {exc}") from None
     try:
-        return json.loads(raw.decode("utf-8"))
-    except (UnicodeDecodeError, ValueError, RecursionError):
+        return load_json_document(raw.decode("utf-8"), path, max_depth=_MAX_DEPTH)
+    except (UnicodeDecodeError, InputError):
         raise InputError(f"out: {path} is not a tennislab {what} (not JSON)") from None
 
 
@@ -173,17 +176,25 @@ def load_manifest(path: str) -> dict:
     if man["format"] != FORMAT:
         raise InputError(f"out: {path} was written by another version of tennislab ({man['format']}, now {FORMAT})")
     parts = man.get("parts", {})
-    if not isinstance(parts, dict) or not all(_valid_record(r) for r in parts.values()):
+    if not isinstance(parts, dict) or not all(_part_key(k) is not None and _valid_record(r) for k, r in parts.items()):
         raise InputError(f"out: {mpath} is damaged (malformed part records)")
+    n = man.get("n_chunks")
+    if n is not None and (not isinstance(n, int) or isinstance(n, bool) or n < 0):
+        raise InputError(f"out: {mpath} is damaged (n_chunks is not a count)")
     return man
+
+
+def _part_key(k) -> int | None:
+    """The part index a manifest key names (``"0"``, ``"12"``: decimal digits), else None."""
+    return int(k) if isinstance(k, str) and k.isascii() and k.isdigit() and len(k) <= 12 else None
 
 
 def _valid_record(r) -> bool:
     return (
         isinstance(r, dict)
-        and isinstance(r.get("rows"), int)
-        and isinstance(r.get("bytes"), int)
+        and all(isinstance(r.get(k), int) and not isinstance(r.get(k), bool) and r[k] >= 0 for k in ("rows", "bytes"))
         and isinstance(r.get("blake2b"), str)
+        and len(r["blake2b"]) == 32
     )
 
 
@@ -239,11 +250,11 @@ class ChunkStore:
             return
         old = load_manifest(self.path)
         self._check_same_job(old)
-        for name in os.listdir(self.path):  # leftovers of a killed run of this job
-            if _TMP_RE.match(name):
-                os.unlink(os.path.join(self.path, name))
         self._records = {int(k): v for k, v in old.get("parts", {}).items()}
         self._records.update(self._read_ledger())
+        for name in os.listdir(self.path):  # leftovers of a killed run of this job (only names it writes)
+            if self._own_temporary(name, old):
+                os.unlink(os.path.join(self.path, name))
         self._verified = {i for i in self._records if self._verify(i)}
         n = old.get("n_chunks")
         complete = bool(old.get("complete")) and isinstance(n, int) and self._verified.issuperset(range(n))
@@ -252,19 +263,46 @@ class ChunkStore:
         if old.get("complete") and not complete:  # a damaged part: no longer complete until recomputed
             self._write_manifest()
 
+    def _n_parts(self, old: dict) -> int | None:
+        """How many parts this job has (from the manifest: its chunk count, or rows / chunk size)."""
+        n = old.get("n_chunks")
+        if isinstance(n, int):
+            return n
+        c, rows = self.manifest.get("chunk_size"), self.manifest.get("n_rows")
+        if isinstance(c, int) and isinstance(rows, int) and c > 0:
+            return -(-rows // c)
+        return None
+
+    def _own_temporary(self, name: str, old: dict) -> bool:
+        """Whether ``name`` is a temporary file this job writes: ``.manifest.json.tmp-<16 hex>`` or
+        ``.part-NNNNN.parquet.tmp-<16 hex>`` of one of its parts (a stream's: at most one past the last
+        recorded); a file that only looks like one (another part number or spelling) is the user's."""
+        m = _TMP_RE.match(name)
+        if m is None:
+            return False
+        if m.group(1) == MANIFEST:
+            return True
+        i = int(m.group(1)[len("part-") : -len(".parquet")])
+        if m.group(1) != os.path.basename(self.part_path(i)):
+            return False
+        n = self._n_parts(old)
+        if n is None:
+            n = max(self._records, default=-1) + 2
+        return i < n
+
     def _read_ledger(self) -> dict[int, dict]:
         path = os.path.join(self.path, LEDGER)
         out: dict[int, dict] = {}
-        if not os.path.exists(path):
+        if not os.path.lexists(path):
             return out
-        with open(path, "rb") as fh:
-            for line in fh:
-                try:
-                    rec = json.loads(line.decode("utf-8"))
-                except (UnicodeDecodeError, ValueError):
-                    continue  # a line torn by a crash: its part is simply not trusted
-                if isinstance(rec, dict) and isinstance(rec.get("part"), int) and _valid_record(rec):
-                    out[rec["part"]] = {k: rec[k] for k in ("rows", "bytes", "blake2b")}
+        for line in read_input(path, _MAX_MANIFEST).splitlines():
+            try:
+                rec = json.loads(line.decode("utf-8"), object_pairs_hook=unique_pairs(path))
+            except (UnicodeDecodeError, ValueError, RecursionError):
+                continue  # a line torn by a crash (or a key given twice): its part is simply not trusted
+            part = rec.get("part") if isinstance(rec, dict) else None
+            if isinstance(part, int) and not isinstance(part, bool) and part >= 0 and _valid_record(rec):
+                out[part] = {k: rec[k] for k in ("rows", "bytes", "blake2b")}
         return out
 
     def _expected_rows(self, i: int) -> int | None:
@@ -282,8 +320,10 @@ class ChunkStore:
         want = self._expected_rows(i)
         if want is not None and rec["rows"] != want:
             return False
-        with open(path, "rb") as fh:
-            return _checksum(fh.read()) == rec["blake2b"]
+        try:
+            return _checksum(read_input(path, rec["bytes"])) == rec["blake2b"]
+        except InputError:  # replaced meanwhile (a FIFO, a larger file): not this part
+            return False
 
     def _lock(self) -> None:
         """Hold an exclusive lock on DIR/.lock until :meth:`close`: two runs never share a directory."""
@@ -394,13 +434,17 @@ class ChunkStore:
 def _read_part(path: str, i: int, rec: dict | None) -> bytes:
     """The bytes of part ``i`` of output ``path``, checked against its record ``rec``."""
     name = os.path.join(path, f"part-{i:05d}.parquet")
+    bad = InputError(f"out: {name} is damaged or not this job's (checksum differs); rerun the job to recompute it")
+    if rec is None:
+        raise bad
     try:
-        with open(name, "rb") as fh:
-            data = fh.read()
-    except OSError as exc:
-        raise InputError(f"out: {name}: {exc.strerror or exc}; rerun the job to recompute it") from None
-    if rec is None or len(data) != rec["bytes"] or _checksum(data) != rec["blake2b"]:
-        raise InputError(f"out: {name} is damaged or not this job's (checksum differs); rerun the job to recompute it")
+        data = read_input(name, rec["bytes"])
+    except InputError as exc:
+        if "larger than" in str(exc):
+            raise bad from None
+        raise InputError(f"out: {exc}; rerun the job to recompute it") from None
+    if len(data) != rec["bytes"] or _checksum(data) != rec["blake2b"]:
+        raise bad
     return data
 
 

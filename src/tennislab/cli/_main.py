@@ -8,9 +8,15 @@ line, else ``./tennislab.toml``; ``--no-config`` ignores it) gives its defaults 
 (:mod:`tennislab.cli.config`): a flag on the command line beats the configuration, which beats the
 built-in default.
 
-User errors (:class:`tennislab.errors.InputError`, a file that cannot be read or written) print one
-line on stderr and exit with code 2, never a traceback; a library error that starts with a
-parameter's name is shown with the command's flag (:func:`flag_message`).
+User errors (:class:`tennislab.errors.InputError`, a file that cannot be read or written, a number
+no model answers) print one line on stderr and exit with code 2, never a traceback; a library error
+that starts with a parameter's name is shown with the command's flag (:func:`flag_message`).  Every
+message goes through :func:`tennislab.errors.escape_text` (a file name in any encoding, text from a
+file with terminal escape codes), and stdout and stderr never fail on a character they cannot encode.
+
+Each command runs inside :func:`tennislab.io.files.command_files`: an output that is one of the
+command's inputs is refused, on the command line before any work (:func:`tennislab.cli.common.check_io`)
+and again when it would be written.  Every ``float`` flag must be a finite, normal number.
 """
 
 from __future__ import annotations
@@ -24,7 +30,9 @@ import sys
 
 from tennislab import __version__
 from tennislab.cli import config as cfgmod
-from tennislab.errors import InputError
+from tennislab.cli.common import check_io, checked_floats
+from tennislab.errors import InputError, escape_text
+from tennislab.io.files import command_files
 
 #: modules of this package that are not command groups
 _NOT_COMMANDS = {"batch_flags", "common", "config"}
@@ -80,6 +88,7 @@ def build_parser(config: cfgmod.Config | None = None) -> argparse.ArgumentParser
     for p in list(cfgmod._walk(parser))[1:]:
         if not _subparsers(p):  # leaf commands accept --config too
             _config_flags(p, top=False)
+    checked_floats(parser)
     if config is not None:
         cfgmod.apply_defaults(parser, config)
     return parser
@@ -132,7 +141,7 @@ def flag_message(message: str, options: set[str]) -> str:
 
 
 def _one_line(text: object) -> str:
-    return " ".join(str(text).split())
+    return escape_text(" ".join(str(text).split()))
 
 
 class _PreParser(argparse.ArgumentParser):
@@ -163,7 +172,49 @@ def _file_backend() -> None:
         os.environ["MPLBACKEND"] = "Agg"
 
 
+def _tolerant_streams() -> None:
+    """stdout/stderr write what they cannot encode as escapes instead of failing (a strict ASCII or
+    UTF-8 terminal and a file name that is not UTF-8)."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None and getattr(stream, "errors", "strict") == "strict":
+            try:
+                reconfigure(errors="backslashreplace")
+            except (ValueError, OSError, TypeError):  # pragma: no cover - a stream that cannot be changed
+                pass
+
+
+class _EscapingStdout:
+    """``sys.stdout`` while a command runs: what it prints passes through the one escaper
+    (:func:`tennislab.errors.escape_text`; lines and tabs kept), so a shot name, a point name or a
+    file name from a file can neither drive the terminal (escape codes) nor break a line, and prints
+    whatever its encoding."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        if not text.isprintable():
+            text = "\n".join("\t".join(escape_text(p) for p in line.split("\t")) for line in text.split("\n"))
+        return self._stream.write(text)
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
 def main(argv=None) -> int:
+    _tolerant_streams()
+    out = sys.stdout
+    sys.stdout = _EscapingStdout(out)
+    try:
+        with command_files():
+            return _main(argv)
+    finally:
+        if isinstance(sys.stdout, _EscapingStdout):
+            sys.stdout = out
+
+
+def _main(argv) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     _file_backend()
     wants_help = any(a in ("-h", "--help", "--version") for a in argv)
@@ -182,6 +233,7 @@ def main(argv=None) -> int:
     args.config_defaults = cfg.flag_defaults()
     command = _command_name(args)
     try:
+        check_io(parser, args)
         cfgmod.resolve_profiles(args, cfg)
         rc = args.func(args)
     except InputError as exc:
@@ -199,9 +251,16 @@ def main(argv=None) -> int:
             pass
         return 0
     except OSError as exc:  # a file that cannot be read or written: missing, a directory, no space, ...
-        where = exc.filename if exc.filename is not None else ""
+        where = _one_line(exc.filename) if exc.filename is not None else ""
         reason = exc.strerror or type(exc).__name__
         print(f"tennislab {command}: error: {where}{': ' if where else ''}{reason}", file=sys.stderr)
+        return 2
+    except ArithmeticError as exc:  # a division by zero or an overflow the input checks did not foresee
+        print(
+            f"tennislab {command}: error: the computation failed ({_one_line(exc) or type(exc).__name__}): "
+            "an input is outside the range the model answers",
+            file=sys.stderr,
+        )
         return 2
     return int(rc or 0)
 

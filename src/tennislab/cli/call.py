@@ -22,6 +22,8 @@ from tennislab.cli.common import (
     add_physics_flags,
     atomic_write,
     emit_json,
+    figure_file,
+    output_file,
     physics_from_args,
     save_figure,
     surface_from_arg,
@@ -119,25 +121,15 @@ def register(sub) -> None:
     p.add_argument("--workers", type=int, default=1, help="--rally: processes calling points in parallel (default 1)")
     add_progress_flag(p)
     add_physics_flags(p)
-    p.add_argument("--csv", metavar="OUT.csv", help="--rally: write one row per shot")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the mark on the lines and the fit (--rally: the bounces)")
+    p.add_argument("--csv", metavar="OUT.csv", type=output_file((".csv",)), help="--rally: write one row per shot")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        type=figure_file(),
+        help="draw the mark on the lines and the fit (--rally: the bounces)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
-
-
-def _check_out(flag: str, path: str | None, exts: tuple[str, ...]) -> None:
-    """Refuse an output path before any work: a missing folder, a folder, a wrong extension."""
-    if path is None:
-        return
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(f"{flag}: folder {folder!r} does not exist")
-    if os.path.isdir(path):
-        raise InputError(f"{flag}: {path!r} is a folder")
-    if len(os.path.basename(path).encode()) > 200:
-        raise InputError(f"{flag}: the file name is longer than 200 bytes")
-    if not path.lower().endswith(exts):
-        raise InputError(f"{flag}: {path!r} must end in {' or '.join(exts)}")
 
 
 def _fit_options(args) -> dict:
@@ -256,8 +248,6 @@ def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None
 
 
 def run(args) -> int:
-    _check_out("--csv", args.csv, (".csv",))
-    _check_out("--plot", args.plot, (".png", ".svg", ".pdf"))
     if args.csv and args.rally is None:
         raise InputError("--csv: only with --rally (one row per shot)")
     args.surface = surface_from_arg(args.surface)

@@ -15,14 +15,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 
 from tennislab.core.aero import DEFAULT_AERO, aero_model_names
 from tennislab.core.flight import PRESETS, FlightParams
 from tennislab.core.launch import SPIN_AXES_DEG, spin_axis_angle
 from tennislab.core.surfaces import Surface, get_surface, register_surface
-from tennislab.errors import InputError
+from tennislab.errors import InputError, check_finite
 from tennislab.io.aero_table import read_aero_table
-from tennislab.io.files import atomic_write, check_output_dir, check_output_path
+from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
 from tennislab.io.surface_file import is_surface_file, read_surface
 from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
 from tennislab.results import jsonable
@@ -36,8 +37,11 @@ __all__ = [
     "add_physics_flags",
     "add_speed_flags",
     "atomic_write",
+    "check_io",
+    "checked_floats",
     "emit_json",
     "figure_file",
+    "finite_float",
     "launch_from_args",
     "output_dir",
     "output_file",
@@ -55,7 +59,8 @@ PHYSICS_DESTS = ("aero", "cd", "cl", "aero_table", "mass", "radius", "air_densit
 # ------------------------------------------------------------------ output paths, checked at parse time
 def _argparse_type(check, name: str):
     """An argparse ``type`` that runs ``check(param, value)`` when the command line is parsed, so a
-    bad output path is refused (one line, exit 2) before any work."""
+    bad output path is refused (one line, exit 2) before any work.  It is marked as an output
+    (:func:`check_io` compares outputs with the command's inputs)."""
 
     def convert(value: str) -> str:
         try:
@@ -65,7 +70,84 @@ def _argparse_type(check, name: str):
             raise argparse.ArgumentTypeError(msg.split(": ", 1)[1] if msg.startswith("output: ") else msg) from None
 
     convert.__name__ = name
+    convert.is_output = True  # type: ignore[attr-defined]
     return convert
+
+
+def finite_float(text: str) -> float:
+    """argparse ``type`` of every ``float`` flag: a finite, normal number (not NaN, not inf, not a
+    subnormal such as 1e-320, which no physical quantity is and dividing by which gives inf)."""
+    v = float(text)  # ValueError: argparse says "invalid float value"
+    try:
+        return check_finite("value", v)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).split(": ", 1)[1]) from None
+
+
+finite_float.__name__ = "float"
+
+
+def checked_floats(parser: argparse.ArgumentParser) -> None:
+    """Give every ``type=float`` flag of ``parser`` and its sub-commands :func:`finite_float`."""
+    stack = [parser]
+    seen: set[int] = set()
+    while stack:
+        p = stack.pop()
+        if id(p) in seen:
+            continue
+        seen.add(id(p))
+        for action in p._actions:
+            if action.type is float:
+                action.type = finite_float
+            if isinstance(action, argparse._SubParsersAction):
+                stack.extend(action.choices.values())
+
+
+def _command_actions(parser: argparse.ArgumentParser, args) -> list:
+    """The actions of the command ``args`` were parsed for: the top level's and each sub-command's."""
+    out, p = [], parser
+    while p is not None:
+        out += p._actions
+        nxt = None
+        for action in p._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                chosen = getattr(args, action.dest, None) if action.dest != argparse.SUPPRESS else None
+                nxt = action.choices.get(chosen) if isinstance(chosen, str) else None
+        p = nxt
+    return out
+
+
+def check_io(parser: argparse.ArgumentParser, args) -> None:
+    """Refuse, before any work, an output flag that names one of the command's inputs.
+
+    Outputs are the flags whose type is an output checker (:func:`output_file`, :func:`figure_file`,
+    :func:`output_dir`); any other value of the command line that names an existing file is an input.
+    Two names of one file (a link, ``./x``) are the same file.  (Outputs named at run time are checked
+    when written: :func:`tennislab.io.files.command_files`.)
+    """
+    outs, ins = [], []
+    for action in _command_actions(parser, args):
+        if not action.option_strings and not action.dest or action.dest in ("help", argparse.SUPPRESS):
+            continue
+        value = getattr(args, action.dest, None)
+        seq = value if isinstance(value, list | tuple) else [value]
+        values = [v for v in seq if isinstance(v, str)]
+        flag = action.option_strings[-1] if action.option_strings else None
+        flag = flag or (action.metavar if isinstance(action.metavar, str) else action.dest.upper())
+        if getattr(action.type, "is_output", False):
+            outs += [(flag, v) for v in values]
+        else:
+            ins += [(flag, v) for v in values if v and os.path.isfile(v)]
+    for flag, out in outs:
+        if not os.path.isfile(out):
+            continue
+        for in_flag, path in ins:
+            if same_file(out, path):
+                also = "" if in_flag == flag else f" ({in_flag} {shown(path)})"
+                raise InputError(
+                    f"{flag}: {shown(out)} is also an input of this command{also}; refusing to overwrite it - "
+                    "write the output to another file"
+                )
 
 
 def output_file(suffixes=None):

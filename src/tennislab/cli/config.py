@@ -24,6 +24,7 @@ from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
 from tennislab.io.config import read_config, read_player_file
+from tennislab.io.files import check_input_file
 from tennislab.io.surface_file import is_surface_file
 from tennislab.serve.players import PlayerProfile, get_player, register_player
 
@@ -70,12 +71,13 @@ class Config:
 def find_config(explicit: str | None, cwd: str | None = None) -> str | None:
     """The configuration file to use: ``explicit`` (must exist), else ``CONFIG_NAME`` in ``cwd``."""
     if explicit is not None:
-        if not os.path.isfile(explicit):
-            what = "is a directory" if os.path.isdir(explicit) else "no such file"
-            raise InputError(f"config: {explicit}: {what}")
+        try:
+            check_input_file(explicit)
+        except InputError as exc:
+            raise InputError(f"config: {exc}") from None
         return explicit
     local = CONFIG_NAME if cwd is None else os.path.join(cwd, CONFIG_NAME)
-    return local if os.path.isfile(local) else None
+    return local if os.path.lexists(local) else None  # a FIFO or a directory of that name: refused when read
 
 
 def player_from_dict(name: str, fields: dict, where: str) -> PlayerProfile:
@@ -215,8 +217,10 @@ def resolve_profiles(args: argparse.Namespace, cfg: Config) -> None:
 
 def load_player_file(path: str) -> PlayerProfile:
     """Read a one-player TOML file (:func:`tennislab.io.config.read_player_file`) and register it."""
-    if not os.path.isfile(path):
-        raise InputError(f"player: {path}: no such file")
+    try:
+        check_input_file(path)
+    except InputError as exc:
+        raise InputError(f"player: {exc}") from None
     fields = read_player_file(path)
     name = str(fields.get("name") or os.path.splitext(os.path.basename(path))[0])
     player = player_from_dict(name, {**fields, "name": name}, f"{path}: ")

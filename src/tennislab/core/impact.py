@@ -87,7 +87,7 @@ from scipy.integrate import solve_ivp
 
 from tennislab.core.ball import Ball
 from tennislab.core.haake2003 import BallImpactModel, get_ball_model
-from tennislab.errors import InputError, check_range
+from tennislab.errors import TINY, InputError, check_answer, check_range
 
 # parameter vector layout of the compiled kernel
 P_MK, P_MB, P_I, P_R, P_KK, P_KB, P_CB, P_KT, P_CT, P_MU, P_FM, P_GAP = range(12)
@@ -98,6 +98,31 @@ METHODS = {"rk4": 0, "euler": 1}
 #: friction models: 0 = elasto-plastic (default), 1 = the seed's clamp (stretch not reset)
 FRICTION_MODELS = {"elastoplastic": 0, "seed-clamp": 1}
 REGIMES = ("slide", "roll")
+#: Shortest fixed impact step accepted [s]: a 5 ms contact in at most 5e4 steps (the converged RK4's
+#: automatic step is ~1e-5 s); smaller steps only make the work unbounded (each impact stops after
+#: ``200 steps + 10^6`` steps, unfinished).
+DT_MIN = 1e-7
+#: Longest fixed impact step accepted [s] (the seed's explicit Euler uses 1e-4 s).
+DT_MAX = 1e-3
+
+
+def check_dt(dt: float) -> float:
+    """A fixed impact step [s]: 0 (automatic: ``steps`` per contact half period) or within
+    [:data:`DT_MIN`, :data:`DT_MAX`], so that every impact's work is bounded; else InputError."""
+    v = check_range("dt", dt, 0.0, DT_MAX, "s")
+    if 0.0 < v < DT_MIN:
+        raise InputError(
+            f"dt: {v:g} s is outside the allowed range: 0 (automatic) or [{DT_MIN:g}, {DT_MAX:g}] s "
+            f"(a smaller step would take more than {0.005 / DT_MIN:.0e} steps per contact)"
+        )
+    return v
+
+
+def check_contact_ended(status) -> None:
+    """Every impact's contact must have ended (``status`` 0, :data:`OUT_COLUMNS`); an impact that ran out
+    of steps has no answer (the ball would leave with the speed it had then)."""
+    if np.any(np.asarray(status) != 0):
+        raise InputError("impact: contact did not end (check the stiffness and masses, and the time step dt)")
 
 
 def _damping_oscillator(kt, tc, e_t, mass, inertia, radius):
@@ -509,9 +534,12 @@ def impact_batch(
         raise InputError("speed: speed and alpha must be finite")
     if np.any(V < 0) or np.any(V > 150):
         raise InputError("speed: outside the allowed range [0, 150] m/s")
+    if np.any((V != 0) & (V < TINY)) or np.any((A != 0) & (np.abs(A) < TINY)):
+        raise InputError("speed: a subnormal number (below 2.2e-308) is no speed or angle; give 0 or a normal number")
     if np.any(np.abs(A) > math.pi / 2):
         raise InputError("alpha: outside the allowed range [-pi/2, pi/2] rad")
     steps = int(check_range("steps", steps, 4, 1e6))
+    dt = check_dt(dt)
     m = _check_method(method)
     vn = V * np.cos(A) - un
     vt = V * np.sin(A) - ut
@@ -520,6 +548,7 @@ def impact_batch(
     P = params.vectors(vn)
     out = np.empty((vn.size, NOUT))
     (_impact_batch_kernel if parallel and vn.size > 1 else _impact_serial_kernel)(vn, vt, P, steps, float(dt), m, out)
+    check_contact_ended(out[:, _O["status"]])
     res = {c: out[:, i].reshape(shape) for i, c in enumerate(OUT_COLUMNS)}
     # back to the ground frame (add the toss)
     res["v_n"] = res["v_n"] + un.reshape(shape)
@@ -582,6 +611,7 @@ def impact(
     V = check_range("speed", speed, 0.0, 150.0, "m/s", lo_open=True)
     A = check_range("alpha", alpha, -math.pi / 2, math.pi / 2, "rad")
     steps = int(check_range("steps", steps, 4, 1e6))
+    dt = check_dt(dt)
     vn, vt = V * math.cos(A) - toss_n, V * math.sin(A) - toss_t
     if vn <= 0:
         raise InputError("impact: the racket must approach the ball (V cos(alpha) > toss normal speed)")
@@ -600,8 +630,9 @@ def impact(
         # back to the ground frame
         for c, u in (("v1", toss_n), ("v2", toss_n), ("w1", toss_t), ("w2", toss_t)):
             H[c] = H[c] + u
-    if out[_O["status"]] != 0:
-        raise InputError("impact: contact did not end (check the stiffness and masses)")
+    check_contact_ended(out[_O["status"]])
+    for i, name in enumerate(OUT_COLUMNS[:9]):
+        check_answer(f"impact {name}", out[i])
     return ImpactResult(
         out[0] + toss_n,
         out[1] + toss_t,

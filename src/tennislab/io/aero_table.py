@@ -15,12 +15,12 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
 
 import numpy as np
 
 from tennislab.errors import InputError
 from tennislab.io.files import read_text
+from tennislab.io.formats import check_header
 from tennislab.units import RPM
 
 REQUIRED = ("speed_ms", "spin_rpm", "cd", "cl")
@@ -34,20 +34,9 @@ def read_aero_table(path: str):
     """(speed [m/s], spin [rad/s], cd (n x m), cl (n x m)) from a CSV file."""
     name = f"aero_table: {path}"
     try:
-        size = os.stat(path).st_size
-        if size > MAX_BYTES:
-            raise InputError(f"{name}: {size:,} bytes is larger than the {MAX_BYTES:,}-byte limit of an aero table")
-        text = read_text(path, MAX_BYTES)
-    except OSError as exc:
-        raise InputError(f"{name}: {exc.strerror or exc}") from None
+        text = read_text(path, MAX_BYTES, what="aero table", nul=False)
     except InputError as exc:
-        if str(exc).startswith(name):
-            raise
-        if "larger than" in str(exc):  # a device or a file that grew: more bytes than its size said
-            raise InputError(f"{name}: larger than the {MAX_BYTES:,}-byte limit of an aero table") from None
-        raise InputError(f"{name}: not UTF-8 text (a CSV file is expected)") from None
-    if "\x00" in text:
-        raise InputError(f"{name}: binary data, not a CSV text file")
+        raise InputError(f"aero_table: {exc}") from None
     try:
         rows = _rows(name, text)
     except csv.Error as exc:
@@ -73,6 +62,7 @@ def read_aero_table(path: str):
 def _rows(name: str, text: str) -> list[tuple[float, ...]]:
     reader = csv.DictReader(io.StringIO(text, newline=""))
     cols = [c.strip() for c in (reader.fieldnames or [])]
+    check_header(name, cols)
     missing = [c for c in REQUIRED if c not in cols]
     if missing:
         raise InputError(f"{name}: missing column(s) {', '.join(missing)}; required: {', '.join(REQUIRED)}")

@@ -32,7 +32,7 @@ import numpy as np
 
 from tennislab.errors import InputError
 from tennislab.io.files import read_text
-from tennislab.io.hawkeye import MAX_DEPTH, json_depth
+from tennislab.io.formats import MAX_DEPTH, check_header, load_json_document
 
 DEFAULT_SIGMA_PX = 0.5
 MAX_CAMERAS = 1000  #: most cameras in a calibration
@@ -59,12 +59,7 @@ def _vec3(name: str, v) -> np.ndarray:
 
 def parse_cameras(text: str, name: str = "cameras") -> list[dict]:
     """Parse a calibration JSON (see the module docstring) into camera records."""
-    if json_depth(text) > MAX_DEPTH:
-        raise InputError(f"{name}: JSON nested deeper than {MAX_DEPTH} levels")
-    try:
-        doc = json.loads(text)
-    except ValueError as exc:  # JSONDecodeError, or an integer of more than 4300 digits
-        raise InputError(f"{name}: not valid JSON ({str(exc).splitlines()[0][:100]})") from None
+    doc = load_json_document(text, name, max_depth=MAX_DEPTH)
     lst = doc.get("cameras") if isinstance(doc, dict) else None
     if not isinstance(lst, list) or len(lst) < 2:
         raise InputError(f"{name}: need a list 'cameras' with at least 2 cameras")
@@ -148,6 +143,7 @@ def parse_detections(text: str, cams: list, name: str = "detections") -> dict:
     except csv.Error as exc:
         raise InputError(f"{name}: malformed CSV ({exc})") from None
     header = [h.strip().lower() for h in rows[0]]
+    check_header(name, header)
     for c in ("t", "camera", "u", "v"):
         if c not in header:
             raise InputError(f"{name}: missing column {c!r} (need t,camera,u,v[,sigma_px])")

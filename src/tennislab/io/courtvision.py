@@ -30,6 +30,8 @@ import re
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_input
+from tennislab.io.formats import check_header
 
 MAX_BYTES = 64_000_000  #: largest file read [bytes] (the real serves file is 1.7 MB)
 MAX_ROWS = 500_000  #: most data rows per file
@@ -108,11 +110,7 @@ def _decode(data: bytes | str, name: str) -> str:
 
 
 def _read(path) -> bytes:
-    with open(path, "rb") as fh:
-        data = fh.read(MAX_BYTES + 1)
-    if len(data) > MAX_BYTES:
-        raise InputError(f"{path}: larger than the {MAX_BYTES // 1_000_000} MB allowed")
-    return data
+    return read_input(path, MAX_BYTES)
 
 
 def _table(text: str, name: str, required: tuple[str, ...]) -> tuple[list[str], list[tuple[int, list[str]]]]:
@@ -132,9 +130,7 @@ def _table(text: str, name: str, required: tuple[str, ...]) -> tuple[list[str], 
     if missing:
         got = ",".join(header)[:80]
         raise InputError(f"{name}: missing column(s) {', '.join(missing)} in the header (got {got!r})")
-    dup = sorted({c for c in header if c and header.count(c) > 1})
-    if dup:
-        raise InputError(f"{name}: duplicate column {dup[0]!r} in the header")
+    check_header(name, header)
     data = [(numbered[i][0], r) for i, r in enumerate(rows) if i > 0]
     if not data:
         raise InputError(f"{name}: no data rows")

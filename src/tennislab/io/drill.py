@@ -17,12 +17,12 @@ Every error is one line naming the file (:class:`~tennislab.errors.InputError`).
 from __future__ import annotations
 
 import csv
-import json
-import os
 
 import yaml
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_input
+from tennislab.io.formats import load_json_document
 
 #: Largest drill file read [bytes] (the shipped drills are ~1-2 kB).
 MAX_BYTES = 256 * 1024
@@ -40,23 +40,8 @@ def drill_format(path: str) -> str:
 
 
 def read_drill_bytes(path: str) -> bytes:
-    """The bytes of a drill file; InputError if missing, not a file, or larger than :data:`MAX_BYTES`."""
-    try:
-        size = os.path.getsize(path)
-    except OSError:
-        raise InputError(f"{path}: no such drill file") from None
-    if not os.path.isfile(path):
-        raise InputError(f"{path}: not a file")
-    if size > MAX_BYTES:
-        raise InputError(f"{path}: {size} bytes is larger than a drill file may be ({MAX_BYTES} bytes)")
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
-    if len(data) > MAX_BYTES:
-        raise InputError(f"{path}: larger than a drill file may be ({MAX_BYTES} bytes)")
-    return data
+    """The bytes of a drill file; InputError if missing, not a regular file, or larger than :data:`MAX_BYTES`."""
+    return read_input(path, MAX_BYTES, what="drill file")
 
 
 def parse_drill_bytes(data: bytes, source: str = "<drill>", fmt: str = "yaml"):
@@ -68,12 +53,7 @@ def parse_drill_bytes(data: bytes, source: str = "<drill>", fmt: str = "yaml"):
     except UnicodeDecodeError as exc:
         raise InputError(f"{source}: not UTF-8 text (byte {exc.start})") from None
     if fmt == "json":
-        try:
-            obj = json.loads(text)
-        except RecursionError:
-            raise InputError(f"{source}: nested deeper than {MAX_DEPTH} levels") from None
-        except ValueError as exc:
-            raise InputError(f"{source}: not valid JSON: {str(exc).splitlines()[0]}") from None
+        obj = load_json_document(text, source, max_depth=MAX_DEPTH)
         _check_tree(obj, source)
         return obj
     _check_yaml_events(text, source)
@@ -85,18 +65,23 @@ def parse_drill_bytes(data: bytes, source: str = "<drill>", fmt: str = "yaml"):
 
 def _check_yaml_events(text: str, source: str) -> None:
     """Depth and expanded size of a YAML document from the parser's events (nothing is built)."""
-    frames: list[list] = []  # [expanded size so far, anchor] per open collection
+    frames: list[list] = []  # [expanded size so far, anchor, keys seen (a mapping) or None, next is a key]
     anchors: dict[str, int] = {}
     total = 0
     try:
         for ev in yaml.parse(text, Loader=_Loader):
+            if frames and isinstance(ev, _NODE_EVENTS) and frames[-1][2] is not None:
+                top = frames[-1]
+                if top[3]:
+                    _check_key(top[2], ev, source)
+                top[3] = not top[3]
             if isinstance(ev, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
                 if len(frames) >= MAX_DEPTH:
                     raise InputError(f"{source}: nested deeper than {MAX_DEPTH} levels")
-                frames.append([1, ev.anchor])
+                frames.append([1, ev.anchor, set() if isinstance(ev, yaml.MappingStartEvent) else None, True])
                 continue
             if isinstance(ev, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
-                size, anchor = frames.pop()
+                size, anchor = frames.pop()[:2]
             elif isinstance(ev, yaml.ScalarEvent):
                 size, anchor = 1, ev.anchor
             elif isinstance(ev, yaml.AliasEvent):
@@ -119,6 +104,24 @@ def _check_yaml_events(text: str, source: str) -> None:
                 )
     except yaml.YAMLError as exc:
         raise InputError(f"{source}: not valid YAML: {' '.join(str(exc).split())}") from None
+
+
+_NODE_EVENTS = (yaml.ScalarEvent, yaml.AliasEvent, yaml.MappingStartEvent, yaml.SequenceStartEvent)
+
+
+def _check_key(keys: set, ev, source: str) -> None:
+    """A mapping's key must not repeat (YAML's rule; PyYAML would silently keep the last value)."""
+    if isinstance(ev, yaml.ScalarEvent):
+        key: object = ("scalar", ev.value)
+    elif isinstance(ev, yaml.AliasEvent):
+        key = ("alias", ev.anchor)
+    else:
+        return  # a collection as a key: never equal to another one here
+    if key in keys and key != ("scalar", "<<"):
+        shown = ev.value if isinstance(ev, yaml.ScalarEvent) else f"*{ev.anchor}"
+        line = ev.start_mark.line + 1 if ev.start_mark is not None else "?"
+        raise InputError(f"{source}: duplicate key {shown[:40]!r} (line {line}); each key once")
+    keys.add(key)
 
 
 def _check_tree(obj, source: str) -> None:

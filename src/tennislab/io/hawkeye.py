@@ -38,13 +38,14 @@ from __future__ import annotations
 import json
 import math
 import os
-import re
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_input
+from tennislab.io.formats import load_json, load_json_lines
 
 MAX_BYTES = 50_000_000  #: largest point file read [bytes]
 MAX_DEPTH = 32  #: deepest JSON nesting accepted (a point needs 6)
@@ -96,49 +97,11 @@ class Point:
 
 
 # ---------------------------------------------------------------- checks
-_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.S)
-
-
-def json_depth(text: str) -> int:
-    """Deepest nesting of ``[``/``{`` outside strings."""
-    bare = _STRING.sub('""', text)
-    arr = np.frombuffer(bare.encode("utf-8", "replace"), dtype=np.uint8)
-    step = np.zeros(arr.size, dtype=np.int32)
-    step[(arr == ord("[")) | (arr == ord("{"))] = 1
-    step[(arr == ord("]")) | (arr == ord("}"))] = -1
-    return int(np.cumsum(step).max()) if step.size else 0
-
-
-def _constant(name: str) -> float:
-    return float("nan")  # NaN / Infinity literals: read as missing values
-
-
 def _loads(text: str, name: str) -> Any:
-    if json_depth(text) > MAX_DEPTH:
-        raise InputError(f"{name}: JSON nested deeper than {MAX_DEPTH} levels")
     try:
-        return json.loads(text, parse_constant=_constant)
-    except RecursionError:  # pragma: no cover - guarded by the depth check
-        raise InputError(f"{name}: JSON nested too deeply") from None
-    except json.JSONDecodeError as exc:
-        if exc.msg == "Extra data":  # JSON Lines: one document per line
-            return _loads_lines(text, name)
-        raise InputError(f"{name}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
-    except ValueError as exc:  # e.g. an integer of more than 4300 digits
-        raise InputError(f"{name}: not valid JSON ({str(exc).splitlines()[0][:80]})") from None
-
-
-def _loads_lines(text: str, name: str) -> list:
-    out = []
-    for i, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
-            continue
-        try:
-            out.append(json.loads(line, parse_constant=_constant))
-        except ValueError as exc:
-            msg = exc.msg if isinstance(exc, json.JSONDecodeError) else str(exc).splitlines()[0][:80]
-            raise InputError(f"{name}: line {i}: not valid JSON ({msg})") from None
-    return out
+        return load_json(text, name, max_depth=MAX_DEPTH, constants="nan")  # NaN literals: missing values
+    except json.JSONDecodeError:  # "Extra data": JSON Lines, one document per line
+        return load_json_lines(text, name, max_depth=MAX_DEPTH, constants="nan")
 
 
 def _where(path: str, key: str | int) -> str:
@@ -353,13 +316,13 @@ def parse_points(text: str | bytes, name: str = "points") -> list[Point]:
     """Parse the text of a point file (one point, a list, ``{"points": [...]}`` or JSON Lines)."""
     if isinstance(text, (bytes, bytearray)):
         if len(text) > MAX_BYTES:
-            raise InputError(f"{name}: larger than {MAX_BYTES // 1_000_000} MB")
+            raise InputError(f"{name}: larger than {MAX_BYTES:,} bytes")
         try:
             text = bytes(text).decode("utf-8-sig")
         except UnicodeDecodeError as exc:
             raise InputError(f"{name}: not UTF-8 text (byte {exc.start})") from None
     if len(text) > MAX_BYTES:
-        raise InputError(f"{name}: larger than {MAX_BYTES // 1_000_000} MB")
+        raise InputError(f"{name}: larger than {MAX_BYTES:,} bytes")
     if not text.strip():
         raise InputError(f"{name}: empty (expected a point JSON object)")
     doc = _loads(text, name)
@@ -383,11 +346,7 @@ def parse_points(text: str | bytes, name: str = "points") -> list[Point]:
 
 
 def _read_file(path: str) -> bytes:
-    with open(path, "rb") as fh:
-        data = fh.read(MAX_BYTES + 1)
-    if len(data) > MAX_BYTES:
-        raise InputError(f"{path}: larger than {MAX_BYTES // 1_000_000} MB")
-    return data
+    return read_input(path, MAX_BYTES)
 
 
 def read_points(path: str) -> list[Point]:
@@ -402,7 +361,7 @@ def read_points(path: str) -> list[Point]:
         out: list[Point] = []
         for f in names:
             full = os.path.join(path, f)
-            if not os.path.isfile(full):
+            if os.path.isdir(full):
                 continue
             out.extend(parse_points(_read_file(full), full))
             if len(out) > MAX_POINTS:

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_text
+from tennislab.io.formats import check_header
 
 G0 = 9.80665  #: standard gravity [m/s^2]
 #: Largest table read [bytes] (a test table has tens of rows).
@@ -22,20 +23,7 @@ MAX_BYTES = 1024 * 1024
 
 def _text(path: str) -> str:
     """The file's text: at most :data:`MAX_BYTES`, UTF-8 (one-line InputError otherwise)."""
-    try:
-        size = os.path.getsize(path)
-        if not os.path.isfile(path):
-            raise InputError(f"{path}: not a file")
-        if size > MAX_BYTES:
-            raise InputError(f"{path}: {size} bytes is larger than a material table may be ({MAX_BYTES} bytes)")
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise InputError(f"{path}: {exc.strerror or 'cannot be read'}") from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    return read_text(path, MAX_BYTES, what="material table")
 
 
 def _read(path: str, required_any: list[tuple[str, ...]], optional: tuple[str, ...] = ()) -> dict[str, list[float]]:
@@ -47,6 +35,7 @@ def _read(path: str, required_any: list[tuple[str, ...]], optional: tuple[str, .
         header = [h.strip() for h in next(reader)]
     except csv.Error as exc:
         raise InputError(f"{path}: not a CSV table ({exc})") from None
+    check_header(str(path), header)
     cols = {}
     for alternatives in required_any:
         found = [a for a in alternatives if a in header]

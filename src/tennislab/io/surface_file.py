@@ -15,13 +15,13 @@ Every malformed file is a one-line :class:`~tennislab.errors.InputError` naming 
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import tomllib
 
 from tennislab.errors import InputError
 from tennislab.io.files import read_text
+from tennislab.io.formats import MAX_DEPTH, load_json_document
 
 #: largest surface file read [bytes]
 MAX_BYTES = 64_000
@@ -38,11 +38,18 @@ def read_surface(path: str) -> dict:
     """The surface parameters of a ``.toml`` or ``.json`` file as a dict (module docstring)."""
     text = read_text(path, MAX_BYTES)
     where = f"surface file {path}"
+    if path.lower().endswith(".json"):
+        return _values(path, where, load_json_document(text, where, max_depth=MAX_DEPTH))
     try:
-        data = json.loads(text) if path.lower().endswith(".json") else tomllib.loads(text)
+        data = tomllib.loads(text)
     except (ValueError, RecursionError) as exc:
         msg = " ".join(str(exc).split())[:160]
-        raise InputError(f"{where}: not valid {'JSON' if path.lower().endswith('.json') else 'TOML'} ({msg})") from None
+        raise InputError(f"{where}: not valid TOML ({msg})") from None
+    return _values(path, where, data)
+
+
+def _values(path: str, where: str, data) -> dict:
+    """The checked values of a surface file's table."""
     if not isinstance(data, dict):
         raise InputError(f"{where}: expected a table of e, mu (and e_x, name, source)")
     unknown = sorted(set(data) - set(NUMBERS) - set(TEXTS))

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from tennislab.errors import InputError
+from tennislab.io.files import read_input
+from tennislab.io.formats import check_header
 
 MIN_POINTS = 1  #: fewest rows of a track (a short one is the caller's to judge: linecall answers review)
 MAX_ROWS = 2_000_000  #: largest track read [rows]
@@ -68,9 +70,7 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
             f"{name}: missing column(s) {', '.join(missing)} in the header "
             f"(need t,x,y,z and optionally sigma; got {','.join(header)[:80]!r})"
         )
-    dup = [c for c in set(header) if header.count(c) > 1 and c in REQUIRED + ("sigma",)]
-    if dup:
-        raise InputError(f"{name}: duplicate column {dup[0]!r} in the header")
+    check_header(name, header)
     cols = [header.index(c) for c in REQUIRED]
     has_sigma = "sigma" in header
     if has_sigma:
@@ -120,10 +120,7 @@ def parse_track(text: str | bytes, name: str = "track") -> Track:
 
 def read_track(path: str) -> Track:
     """Read a track CSV file (see the module docstring)."""
-    with open(path, "rb") as fh:
-        data = fh.read(MAX_BYTES + 1)
-    if len(data) > MAX_BYTES:
-        raise InputError(f"{path}: larger than {MAX_BYTES // 1_000_000} MB")
+    data = read_input(path, MAX_BYTES)
     return parse_track(data, name=str(path))
 
 

@@ -53,8 +53,10 @@ from urllib.parse import quote
 
 import numpy as np
 
+import tennislab.launcher._dbguard as _guard
 from tennislab import __version__
-from tennislab.errors import InputError
+from tennislab.errors import InputError, escape_text
+from tennislab.io.files import check_input_file, note_input, shown
 from tennislab.launcher._schema import MIGRATIONS
 
 #: Schema version of the file (``PRAGMA user_version``); see :data:`MIGRATIONS`.
@@ -126,13 +128,30 @@ def guard(conn: sqlite3.Connection | None = None):
         yield
     except InputError:
         raise
-    except (sqlite3.DatabaseError, TypeError, ValueError, KeyError, IndexError, OverflowError) as exc:
+    except (sqlite3.DatabaseError, TypeError, ValueError, KeyError, IndexError, OverflowError, AttributeError) as exc:
+        if _guard.is_interrupted(exc):
+            raise DatabaseFileError(
+                f"a read ran past its budget of {_guard.READ_STEP_BUDGET:,} SQLite steps and was stopped; "
+                "the file is not a table tennislab wrote"
+            ) from None
         raise damaged(conn, exc) from None
 
 
 def _wal_pending(path: str) -> bool:
     wal = path + "-wal"
-    return os.path.exists(wal) and os.path.getsize(wal) > 0
+    if not os.path.lexists(wal):
+        return False
+    try:
+        check_input_file(wal)
+    except InputError as exc:  # a FIFO, a device or a directory beside the file: never handed to SQLite
+        raise DatabaseFileError(f"its write-ahead log {exc}") from None
+    return os.path.getsize(wal) > 0
+
+
+def _uri(path: str, pending: bool | None = None) -> str:
+    """The read-only URI of ``path`` (any encoding: its bytes are percent-encoded)."""
+    pending = _wal_pending(path) if pending is None else pending
+    return "file:" + quote(os.fsencode(os.path.abspath(path))) + ("?mode=ro" if pending else "?mode=ro&immutable=1")
 
 
 def check_not_truncated(path: str) -> None:
@@ -282,7 +301,7 @@ def _branch_from_neighbours(conn: sqlite3.Connection) -> None:
     row = conn.execute("SELECT spec_json, position_x, position_y FROM machine WHERE id = 1").fetchone()
     if row is None or conn.execute("SELECT 1 FROM hits LIMIT 1").fetchone() is None:
         return
-    spec = json.loads(row[0])
+    spec = stored_json(row[0], "machine.spec_json")
 
     def size(name):
         r = spec[name]
@@ -332,6 +351,12 @@ def _check_path(path: str, must_exist: bool) -> None:
         raise DatabaseFileError("is a directory")
     if must_exist and not os.path.exists(path):
         raise DatabaseFileError("no such file")
+    if os.path.lexists(path):
+        try:
+            st = check_input_file(path)  # a FIFO or a device is never handed to SQLite (it would block)
+        except InputError as exc:
+            raise DatabaseFileError(str(exc)[len(shown(path)) + 2 :]) from None
+        note_input(path, st)
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
         raise DatabaseFileError(f"directory {d} does not exist")
@@ -354,10 +379,9 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
             raise err
         if ident[0] == 0:
             raise DatabaseFileError("not a tennislab launcher database (no schema version)")
-    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
     conn = None
     try:
-        conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
+        conn = _guard.connect(_uri(path), uri=True)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         app = conn.execute("PRAGMA application_id").fetchone()[0]
         if app != APPLICATION_ID or version == 0:
@@ -372,6 +396,7 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
                 f"schema version {version} is older than {min_version}; rerun `launcher table` on it to migrate it "
                 "(finished chunks are skipped)"
             )
+        _guard.check_schema(conn, version, DatabaseFileError)
         if check if check is not None else os.path.getsize(path) <= QUICK_CHECK_MAX_BYTES:
             quick_check(conn)
         conn.execute("SELECT count(*) FROM machine").fetchone()
@@ -392,11 +417,12 @@ def _identify(path: str) -> int:
         err = _identity_error(*ident)
         if err is not None:
             raise err
-    uri = "file:" + quote(os.path.abspath(path)) + ("?mode=ro" if _wal_pending(path) else "?mode=ro&immutable=1")
     conn = None
     try:
-        conn = sqlite3.connect(uri, uri=True, timeout=30.0, isolation_level=None)
-        return _check_identity(conn)
+        conn = _guard.connect(_uri(path), uri=True)
+        version = _check_identity(conn)
+        _guard.check_schema(conn, version, DatabaseFileError)
+        return version
     except sqlite3.DatabaseError as exc:
         raise DatabaseFileError(f"not a usable tennislab launcher database ({_first_line(exc)})") from None
     finally:
@@ -416,8 +442,8 @@ def open_db(path: str, *, create: bool = True, target_version: int = SCHEMA_VERS
         _identify(path)
     conn = None
     try:
-        conn = sqlite3.connect(path, timeout=30.0, isolation_level=None)
-        _check_identity(conn)
+        conn = _guard.connect(path, readonly=False)
+        _guard.check_schema(conn, _check_identity(conn), DatabaseFileError)
         mode = conn.execute("PRAGMA journal_mode=WAL").fetchone()[0]
         if mode.lower() != "wal":
             raise sqlite3.DatabaseError(f"cannot switch to WAL mode (got {mode})")
@@ -530,7 +556,12 @@ def _diff(a, b, prefix="") -> list[str]:
 def stored_config(conn: sqlite3.Connection) -> tuple[str, dict] | None:
     """(hash, config) of the file's machine row, or None for an empty file."""
     row = conn.execute("SELECT hash, config_json FROM machine WHERE id = 1").fetchone()
-    return None if row is None else (row[0], json.loads(row[1]))
+    if row is None:
+        return None
+    cfg = stored_json(row[1], "machine.config_json")
+    if not isinstance(row[0], str) or not isinstance(cfg, dict):
+        raise DatabaseFileError("damaged file: the machine row is malformed")
+    return row[0], cfg
 
 
 def config_diff(stored: dict, cfg: dict, fields: tuple[str, ...] | None = None) -> list[str]:
@@ -702,9 +733,18 @@ _INFO_SQL = (
 def _info_row(row) -> dict:
     keys = ("name", "filename", "format_version", "revision", "sha256", "imported_utc", "n_distinct")
     out = dict(zip(keys, row[:7]))
-    seq = json.loads(row[7]) if row[7] else []
-    out["n_shots"] = len(seq) if isinstance(seq, list) else 0
-    return out
+    seq = _guard.check_sequence(stored_json(row[7], "drills.sequence_json") if row[7] else [], str(row[0]), _damaged)
+    out["n_shots"] = len(seq)
+    return _guard.check_drill_row(out, _damaged)
+
+
+def _damaged(msg: str) -> DatabaseFileError:
+    return DatabaseFileError(msg)
+
+
+def stored_json(text, what: str):
+    """JSON stored in a column (``table.column``), parsed with the file readers' limits; damaged otherwise."""
+    return _guard.stored_json(text, what, DatabaseFileError)
 
 
 def stored_drill_name(conn: sqlite3.Connection, name: str, key_of) -> str | None:
@@ -732,22 +772,28 @@ def list_drills(conn: sqlite3.Connection) -> list[dict]:
 
 def drill_source(conn: sqlite3.Connection, name: str) -> bytes:
     """The drill file exactly as imported."""
-    drill_info(conn, name)
-    return bytes(conn.execute("SELECT source FROM drills WHERE name = ?", (name,)).fetchone()[0])
+    info = drill_info(conn, name)
+    data = conn.execute("SELECT source FROM drills WHERE name = ?", (name,)).fetchone()[0]
+    data = data.encode("utf-8", "surrogatepass") if isinstance(data, str) else data
+    if not isinstance(data, bytes) or hashlib.sha256(data).hexdigest() != info["sha256"]:
+        raise DatabaseFileError(f"damaged file: stored drill {escape_text(name, 60)!r} differs from its sha256")
+    return data
 
 
 def drill_sequence(conn: sqlite3.Connection, name: str) -> list | None:
     """Shot names in firing order (the drill's expanded program), as stored at import."""
     drill_info(conn, name)
     row = conn.execute("SELECT sequence_json FROM drills WHERE name = ?", (name,)).fetchone()
-    return None if row[0] is None else json.loads(row[0])
+    if row[0] is None:
+        return None
+    return _guard.check_sequence(stored_json(row[0], "drills.sequence_json"), name, _damaged)
 
 
 def drill_shots(conn: sqlite3.Connection, name: str) -> list[dict]:
     """The drill's distinct shots (resolved fields), in file order."""
     drill_info(conn, name)
     return [
-        json.loads(r[0])
+        stored_json(r[0], "drill_shots.shot_json")
         for r in conn.execute(
             "SELECT s.shot_json FROM drill_shots s JOIN drills d ON d.id = s.drill_id WHERE d.name = ? ORDER BY s.idx",
             (name,),

@@ -17,14 +17,13 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import json
-import math
 import os
 import re
 import sqlite3
 import time
 from dataclasses import replace
 
+import tennislab.launcher._dbguard as _guard
 import tennislab.launcher.db as _db
 import tennislab.launcher.lookup as lk
 import tennislab.launcher.table as T
@@ -137,6 +136,7 @@ class HitsDB:
     def _read(self):
         keep = self._conn is not None
         conn = self._reader()
+        _guard.reset_budget(conn)  # each operation gets the whole read budget
         try:
             with self._errors(conn):
                 yield conn
@@ -185,7 +185,7 @@ class HitsDB:
                 row = conn.execute(
                     "SELECT hash, config_json, created_utc, tennislab_version FROM machine WHERE id = 1"
                 ).fetchone()
-                cfg = json.loads(row[1]) if row else None
+                cfg = _db.stored_json(row[1], "machine.config_json") if row else None
                 fills = []
                 for r in conn.execute(
                     "SELECT f.id, f.grid_json, f.n_rows, f.chunk_size, f.n_chunks, f.started_utc, f.finished_utc, "
@@ -618,16 +618,15 @@ def _window(rng: Range, value: float, tol: float) -> tuple[float, float]:
 
 
 def _sane(hit: dict, spec: MachineSpec) -> None:
-    """A hit read from the file must be finite and within the machine's ranges, else the file is damaged."""
+    """A hit read from the file must be finite, its settings within the machine's ranges and its results
+    within their physical ranges (:data:`tennislab.launcher._dbguard.HIT_RANGES`), else the file is damaged."""
     for k in _db.HIT_SETTINGS:
         v = hit.get(k)
         rng = spec.range_of(k)
-        if not isinstance(v, int | float) or not (rng.lo - 1e-6 <= v <= rng.hi + 1e-6):
+        if isinstance(v, bool) or not isinstance(v, int | float) or not (rng.lo - 1e-6 <= v <= rng.hi + 1e-6):
             raise _db.DatabaseFileError(f"damaged file: hit {hit.get('id')} has {k} = {v!r}")
-    for k in _db.HIT_RESULTS:
-        v = hit.get(k)
-        if not isinstance(v, int | float) or not math.isfinite(v) or abs(v) > 1e4:
-            raise _db.DatabaseFileError(f"damaged file: hit {hit.get('id')} has {k} = {v!r}")
+    cols = ["id", *(c for c in (*_db.HIT_RESULTS, "branch") if c in hit)]
+    _guard.check_hit_rows(cols, [tuple(hit[c] for c in cols)], _db.DatabaseFileError)
 
 
 def _physics_summary(p: dict) -> dict:

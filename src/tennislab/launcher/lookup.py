@@ -15,7 +15,6 @@ larger net clearance (a safer ball for the same landing), then the smaller hit i
 
 from __future__ import annotations
 
-import json
 import math
 import sqlite3
 from dataclasses import dataclass, field, replace
@@ -24,7 +23,7 @@ import numpy as np
 
 from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column
+from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column, stored_json
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW, Preferences
 
 #: Two candidates whose misses differ by less than this are a tie [m] (module docstring).
@@ -559,7 +558,9 @@ def any_near(conn: sqlite3.Connection, x: float, y: float, q: HitQuery, d: float
 
 def grid_values(conn: sqlite3.Connection, spec_json: dict | None = None) -> dict:
     """Per setting, the sorted values filled into the file (from ``fills``' grids, no scan of ``hits``)."""
-    spec = spec_json or json.loads(conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0])
+    spec = spec_json or stored_json(
+        conn.execute("SELECT spec_json FROM machine WHERE id = 1").fetchone()[0], "machine.spec_json"
+    )
     attrs = {
         "height_m": "height",
         "speed_kmh": "speed",
@@ -570,10 +571,15 @@ def grid_values(conn: sqlite3.Connection, spec_json: dict | None = None) -> dict
     }
     out: dict[str, set] = {f: set() for f in attrs}
     for (g,) in conn.execute("SELECT grid_json FROM fills"):
-        gj = json.loads(g)
+        gj = stored_json(g, "fills.grid_json")
+        if not isinstance(spec, dict) or not isinstance(gj, dict):
+            raise DatabaseFileError("damaged file: a fill's grid or the machine spec is not a JSON object")
         for f, attr in attrs.items():
             r = spec[attr]
-            out[f].update(round(r["lo"] + int(i) * r["step"], 9) for i in gj.get(f) or [])
+            idx = gj.get(f) or []
+            if not isinstance(idx, list) or not all(isinstance(i, int) and 0 <= i < 10**7 for i in idx):
+                raise DatabaseFileError(f"damaged file: fills.grid_json: {f} is not a list of grid indices")
+            out[f].update(round(r["lo"] + i * r["step"], 9) for i in idx)
     return {f: sorted(v) for f, v in out.items()}
 
 

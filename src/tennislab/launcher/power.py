@@ -57,7 +57,7 @@ import math
 from dataclasses import dataclass
 
 from tennislab.core.ball import Ball
-from tennislab.errors import check_range
+from tennislab.errors import InputError, check_answer, check_range
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
 from tennislab.launcher.rollers import roller_geometry, roller_speeds, surface_speeds
 from tennislab.results import Result
@@ -162,6 +162,16 @@ def power_report(
     o10 = math.copysign(math.sqrt(max(o1 * o1 + 2.0 * w_1 / i_r, 0.0)), o1)
     o20 = math.copysign(math.sqrt(max(o2 * o2 + 2.0 * w_2 / i_r, 0.0)), o2)
     e0 = (0.5 * i_r * o10**2, 0.5 * i_r * o20**2)
+    for name, v, unit in (
+        ("roller_inertia", i_r, "kg m^2"),
+        ("rpm_before_throw", max(abs(o10), abs(o20)), "rad/s"),
+        ("startup_energy", max(e0), "J"),
+        ("startup_time", max(e0) / motor_power, "s"),
+        ("throw_power", max(w_1, w_2) / throw_time, "W"),
+    ):
+        check_answer(name, v, unit)
+    if i_r <= 0.0:
+        raise InputError("roller_mass: too small: the roller's inertia is 0 (give a mass of a real roller, kg)")
     return PowerReport(
         float(speed),
         float(spin),
