@@ -149,6 +149,57 @@ def test_host_header(host, ok):
         assert problem[0] == 400 and problem[1].startswith("host:")
 
 
+def _raw(*pairs: tuple[str, str]) -> Headers:
+    return Headers(raw=[(k.encode(), v.encode()) for k, v in pairs])
+
+
+@pytest.mark.parametrize(
+    "pairs, status",
+    [
+        ((("host", "127.0.0.1"), ("host", "evil.example")), 400),
+        ((("host", "127.0.0.1"), ("host", "127.0.0.1")), 400),
+        ((("host", "127.0.0.1"), ("origin", "http://127.0.0.1"), ("origin", "http://evil.example")), 403),
+        ((("host", "127.0.0.1"), ("origin", "http://evil.example"), ("origin", "http://127.0.0.1")), 403),
+        ((("host", "127.0.0.1"), ("sec-fetch-site", "Cross-Site")), 403),
+        ((("host", "127.0.0.1"), ("sec-fetch-site", "SAME-SITE")), 403),
+        ((("host", "127.0.0.1"), ("sec-fetch-site", " cross-site ")), 403),
+        ((("host", "127.0.0.1"), ("sec-fetch-site", "same-origin"), ("sec-fetch-site", "cross-site")), 403),
+        ((("host", "127.0.0.1"), ("origin", "HTTP://127.0.0.1")), None),
+        ((("host", "127.0.0.1"), ("sec-fetch-site", "Same-Origin")), None),
+    ],
+)
+def test_repeated_and_mixed_case_headers(pairs, status):
+    """Issue 24 point 14: two Origin headers (own first, a foreign second) were served, and Sec-Fetch-Site
+    was compared case-sensitively.  More than one Host or Origin is refused; fetch metadata and origins
+    are compared without regard to case."""
+    problem = Guard(None, LOOPBACK_HOSTS).check("POST", "/api/flight", _raw(*pairs))
+    assert (problem and problem[0]) == status, problem
+
+
+def test_two_origin_headers_refused_before_any_work(client):
+    before = done(client)
+    headers = [("Origin", "http://testserver"), ("Origin", "http://evil.example"), ("Content-Type", "application/json")]
+    r = client.post("/api/flight", content=b"{}", headers=headers)
+    assert one_line_error(r, 403).startswith("origin:")
+    assert done(client) == before
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le", "utf-32", "latin-1"])
+def test_json_bodies_are_utf8_only(client, encoding):
+    """A JSON body in UTF-16 or UTF-32 (which json.loads would guess from the bytes) is refused: 422."""
+    body = json.dumps({"speed_kmh": 100, "name": "\u00e9"}, ensure_ascii=False).encode(encoding)
+    r = client.post("/api/flight", content=body, headers={"Content-Type": "application/json"})
+    assert one_line_error(r, 422).startswith("request:")
+
+
+def test_a_key_given_twice_is_refused(client):
+    """One duplicate-key rule for every reader: refused, not the last value taken."""
+    r = client.post(
+        "/api/flight", content=b'{"speed_kmh": 100, "speed_kmh": 5}', headers={"Content-Type": "application/json"}
+    )
+    assert "duplicate key" in one_line_error(r, 422)
+
+
 def test_host_name_parsing():
     assert host_name("[::1]:80") == "::1" and host_name("Example.ORG") == "example.org"
     assert host_name("x:80x") is None and host_name("[::1]x") is None

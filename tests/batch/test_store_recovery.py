@@ -171,6 +171,63 @@ def test_own_leftover_temporaries_are_cleaned_others_kept(tmp_path, data):
     assert np.array_equal(res.data["s"], ref["s"])
 
 
+def test_only_temporaries_this_job_can_write_are_removed(tmp_path, data):
+    """Issue 24 point 15: a rerun deleted user files that only looked like its leftovers.  A 3-part job
+    writes ``.part-00000..00002.parquet.tmp-<16 hex>`` and ``.manifest.json.tmp-<16 hex>``, nothing else."""
+    out, ref = _job(tmp_path, data)
+    ours = [".part-00002.parquet.tmp-0123456789abcdef", ".manifest.json.tmp-fedcba9876543210"]
+    theirs = [
+        ".part-00099.parquet.tmp-0123456789abcdef",  # a part this job does not have
+        ".part-000001.parquet.tmp-0123456789abcdef",  # a spelling it does not write
+        ".part-00001.parquet.tmp-0123456789ABCDEF",  # not its random suffix
+        ".part-00001.parquet.tmp-0123456789abcdef0",
+    ]
+    for name in ours + theirs:
+        with open(os.path.join(out, name), "w") as fh:
+            fh.write("x")
+    res = run_batch(affine, data, chunk_size=1000, out=out, progress=False)
+    assert res.computed == 0 and np.array_equal(res.data["s"], ref["s"])
+    left = set(os.listdir(out))
+    assert not left & set(ours) and set(theirs) <= left
+
+
+@pytest.mark.parametrize(
+    "parts",
+    [{"x": {"rows": 1, "bytes": 1, "blake2b": "0" * 32}}, {"-1": {"rows": 1, "bytes": 1, "blake2b": "0" * 32}}],
+    ids=["part-key-not-a-number", "part-key-negative"],
+)
+def test_malformed_part_keys_are_one_line(tmp_path, data, parts):
+    """Issue 24 point 6: a manifest whose part key is not a part number gave a ValueError traceback."""
+    out, _ = _job(tmp_path, data)
+    man = json.load(open(os.path.join(out, MANIFEST)))
+    man["parts"] = parts
+    with open(os.path.join(out, MANIFEST), "w") as fh:
+        json.dump(man, fh)
+    before = _snapshot(out)
+    with pytest.raises(InputError, match="malformed part records"):
+        run_batch(affine, data, chunk_size=1000, out=out, progress=False)
+    with pytest.raises(InputError, match="malformed part records"):
+        read_output(out)
+    assert _snapshot(out) == before
+
+
+@pytest.mark.parametrize("which", [MANIFEST, LEDGER, "part-00001.parquet"])
+def test_special_files_in_the_folder_never_block(tmp_path, data, which):
+    """A FIFO in place of the manifest, the ledger or a part never blocks a rerun: the manifest's and the
+    ledger's are refused in one line, a part's is computed again."""
+    out, ref = _job(tmp_path, data)
+    path = os.path.join(out, which)
+    if os.path.exists(path):
+        os.unlink(path)
+    os.mkfifo(path)
+    if which in (MANIFEST, LEDGER):
+        with pytest.raises(InputError, match="FIFO"):
+            run_batch(affine, data, chunk_size=1000, out=out, progress=False)
+        return
+    res = run_batch(affine, data, chunk_size=1000, out=out, progress=False)
+    assert np.array_equal(res.data["s"], ref["s"])
+
+
 def test_failed_start_leaves_no_directory(tmp_path, data):
     out = tmp_path / "new"
     with pytest.raises(RuntimeError, match="no worker"):

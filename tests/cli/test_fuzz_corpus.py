@@ -28,7 +28,10 @@ import contextlib
 import io
 import json
 import os
+import signal
+import socket
 import sqlite3
+import stat
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -48,24 +51,63 @@ NOT_UTF8 = b"\xff\xfe\xfa"
 BIG_FIELD = '"' + "a" * 200_000 + '"'  #: one CSV field over the csv module's 128 kB field limit
 
 
-def _snapshot(root: str) -> dict[str, bytes | None]:
-    """Every file (its bytes) and folder (None) under ``root``, hidden ones included."""
-    out: dict[str, bytes | None] = {}
+class Special:
+    """A file that is not a regular file, made by :func:`_write`: ``Special("fifo")``, ``Special("socket")``
+    or ``Special("link", target)`` (a symbolic link, e.g. to the character device /dev/zero)."""
+
+    def __init__(self, kind: str, target: str = "") -> None:
+        self.kind, self.target = kind, target
+
+    def __repr__(self) -> str:
+        return f"Special({self.kind!r}, {self.target!r})"
+
+
+FIFO = Special("fifo")
+SOCKET = Special("socket")
+DEVICE = Special("link", "/dev/zero")  #: a character device that never ends
+NULL_DEVICE = Special("link", "/dev/null")
+STDOUT = Special("link", "/dev/stdout")
+_SOCKETS: list = []  #: bound sockets stay open while the test runs
+
+
+def _snapshot(root: str) -> dict[str, object]:
+    """Every file (its bytes), folder (None), link (its target) and special file (its type) under
+    ``root``, hidden ones included; nothing but regular files is ever opened."""
+    out: dict[str, object] = {}
     for d, dirs, files in os.walk(root):
-        for name in dirs:
-            out[os.path.relpath(os.path.join(d, name), root)] = None
-        for name in files:
+        for name in dirs + files:
             p = os.path.join(d, name)
-            with open(p, "rb") as fh:
-                out[os.path.relpath(p, root)] = fh.read()
+            st = os.lstat(p)
+            key = os.path.relpath(p, root)
+            if stat.S_ISLNK(st.st_mode):
+                out[key] = ("link", os.readlink(p))
+            elif stat.S_ISDIR(st.st_mode):
+                out[key] = None
+            elif stat.S_ISREG(st.st_mode):
+                with open(p, "rb") as fh:
+                    out[key] = fh.read()
+            else:
+                out[key] = ("special", stat.S_IFMT(st.st_mode))
     return out
 
 
-def _write(files: dict[str, str | bytes]) -> None:
+def _write(files: dict) -> None:
     for name, content in files.items():
         parent = os.path.dirname(name)
         if parent:
             os.makedirs(parent, exist_ok=True)
+        if isinstance(content, Special):
+            if content.kind == "fifo":
+                os.mkfifo(name)
+            elif content.kind == "socket":
+                s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+                s.bind(name)
+                _SOCKETS.append(s)
+            elif content.kind == "hardlink":
+                os.link(content.target, name)
+            else:
+                os.symlink(content.target, name)
+            continue
         data = content if isinstance(content, bytes) else content.encode("utf-8")
         with open(name, "wb") as fh:
             fh.write(data)
@@ -174,6 +216,8 @@ POINT = {
     "whitespace": " \n\t\n",
     "non-utf8": b'{"samples": ["' + NOT_UTF8 + b'"]}',
     "json-lines-bad-line": '{"samples": []}\n{"samples": [\n',
+    "duplicate-key": '{"samples": [], "samples": [' + _SAMPLE + "]}",
+    "duplicate-key-in-a-sample": '{"samples": [{"time": 1, "time": 2, "ball": [0, 0, 1]}]}',
 }
 
 _CAM = {"fx": 2000, "fy": 2000, "cx": 960, "cy": 540, "R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}
@@ -208,6 +252,7 @@ CAMERAS = {
     "missing-position": _cams(dict(_CAM, name="a")),
     "position-1e9": _cams(dict(_CAM, name="a", position=[1e9, 0, 0])),
     "width-1e300": _cams(dict(_CAM, name="a", width=1e300, position=[0, -20, 5])),
+    "duplicate-key": _cams(dict(_CAM, name="a", position=[0, -20, 5])).replace('"fx": 2000', '"fx": 2000, "fx": 1', 1),
 }
 
 DETECTIONS = {
@@ -225,6 +270,7 @@ DETECTIONS = {
     "negative-sigma": "t,camera,u,v,sigma_px\n0,a,1,1,-1\n",
     "field-over-csv-limit": "t,camera,u,v\n" + BIG_FIELD + ",a,1,1\n",
     "one-detection": "t,camera,u,v\n0,a,100,100\n",
+    "duplicate-column": "t,camera,u,v,u\n0,a,100,100,5\n0,b,200,100,5\n",
 }
 
 AERO_HEAD = "speed_ms,spin_rpm,cd,cl\n"
@@ -251,6 +297,7 @@ AERO = {
     "nul-bytes": AERO_HEAD.encode() + b"\x00\n",
     "unclosed-quote": AERO_HEAD + '"10,0,0.6,0.2\n',
     "field-over-csv-limit": AERO_HEAD + BIG_FIELD + ",0,0.6,0.2\n",
+    "duplicate-column": _grid().replace("cd,cl", "cd,cl,cd", 1).replace(",0.2\n", ",0.2,0.9\n"),
 }
 
 YOUNG = {
@@ -272,6 +319,7 @@ YOUNG = {
     "huge-negative-load-kg": "load_kg,deformation_m\n-1e300,0.001\n",
     "unclosed-quote": 'load_n,deformation_m\n"10,0.001\n',
     "field-over-csv-limit": "load_n,deformation_m\n" + BIG_FIELD + ",1\n",
+    "duplicate-column": "load_n,deformation_m,load_n\n10,0.001,20\n",
 }
 
 FRICTION = {
@@ -286,6 +334,7 @@ FRICTION = {
     "angle-negative": "friction_angle_deg\n-5\n",
     "contact-length-non-numeric": "friction_angle_deg,contact_length_m\n30,abc\n",
     "contact-length-negative": "friction_angle_deg,contact_length_m\n30,-1\n",
+    "duplicate-column": "friction_angle_deg,friction_angle_deg\n30,40\n",
 }
 
 DRILL_OK = """name: T
@@ -327,6 +376,8 @@ DRILL_YAML = {
     "target-string": DRILL_OK.replace("[9.0, 0.0]", "far"),
     "target-nan": DRILL_OK.replace("[9.0, 0.0]", "[.nan, 0.0]"),
     "alias-before-anchor": "name: *nope\n",
+    "duplicate-key": DRILL_OK + "name: U\n",
+    "duplicate-shot": DRILL_OK.replace("program:", "  a:\n    type: lob\n    target: [9.0, 1.0]\nprogram:"),
 }
 DRILL_JSON = {
     "invalid-json": '{"name": ',
@@ -338,6 +389,8 @@ DRILL_JSON = {
     "top-number": "3",
     "non-utf8": b'{"name": "' + NOT_UTF8 + b'"}',
     "over-size-limit": json.dumps({"name": "T", "x": list(range(60_000))}),
+    "duplicate-key": '{"name": "T", "name": "U", "shots": {"a": {"type": "drive", "target": [9, 0]}}, '
+    '"program": [{"shot": "a"}]}',
 }
 
 CV_HEAD = (
@@ -376,6 +429,7 @@ SURFACE_TOML = {
     "non-utf8": b'e = 0.7\nmu = 0.5\nname = "' + NOT_UTF8 + b'"\n',
     "deep-nesting-1e5": DEEP_TOML,
     "long-name": 'e = 0.7\nmu = 0.5\nname = "' + "x" * 300 + '"\n',
+    "duplicate-key": "e = 0.7\ne = 0.8\nmu = 0.5\n",
 }
 SURFACE_JSON = {
     "invalid-json": '{"e": ',
@@ -383,6 +437,7 @@ SURFACE_JSON = {
     "deep-nesting-1e5": DEEP_JSON,
     "5000-digit-integer": '{"e": ' + DIGITS + ', "mu": 0.5}',
     "unknown-key": '{"e": 0.7, "mu": 0.5, "colour": 1}',
+    "duplicate-key": '{"e": 0.7, "e": 0.8, "mu": 0.5}',
 }
 
 CONFIG = {
@@ -403,6 +458,7 @@ CONFIG = {
     "physics-not-a-table": "physics = 3\n",
     "10^5-deep-nesting": DEEP_TOML,
     "5000-digit-integer": f"[physics]\ncd = {DIGITS}\n",
+    "duplicate-key": "[physics]\ncd = 0.5\ncd = 0.6\n",
 }
 
 PLAYER = {
@@ -415,6 +471,7 @@ PLAYER = {
     "non-utf8": b'name = "' + NOT_UTF8 + b'"\n',
     "empty": "",
     "nested-table": "[a.b]\nc = 1\n",
+    "duplicate-key": "impact_height = 2.5\nimpact_height = 2.6\n",
 }
 
 MANIFEST = {
@@ -428,6 +485,10 @@ MANIFEST = {
     "deep-nesting-1e5": DEEP_JSON,
     "5000-digit-integer": '{"format": ' + DIGITS + "}",
     "nul-bytes": b"\x00\x00",
+    "duplicate-key": '{"format": "tennislab.batch/2", "format": "tennislab.batch/2"}',
+    "part-key-not-a-number": '{"format": "tennislab.batch/2", "parts": {"x": {"rows": 1, "bytes": 1, "blake2b": "'
+    + "0" * 32
+    + '"}}}',
 }
 
 FLY = ["fly", "--speed-kmh", "100", "--elevation-deg", "5"]
@@ -594,9 +655,76 @@ for _key, _argv in MISSING_OR_DIRECTORY.items():
     )
 
 
+#: every reader once more, its file a FIFO, a socket or a link to a character device (/dev/zero, which
+#: never ends): refused in one line, without blocking on the FIFO or reading the device (issue 24, point 3)
+_TINY_TABLE = ["--height", "1", "--speed-kmh", "90", "90", "--spin-rpm", "0", "0", "--spin-axis-deg", "0", "0"]
+SPECIAL_READERS: dict[str, tuple[list[str], dict]] = {
+    **{k: (v, {}) for k, v in MISSING_OR_DIRECTORY.items()},
+    "detections": (["call", "--cameras", "cams.json", "--detections", "{p}"], {"cams.json": GOOD_CAMERAS}),
+    "calibrate-serves": (["calibrate", "serves", "--serves", "{p}", "--quiet"], {}),
+    "calibrate-sensitivity": (["calibrate", "sensitivity", "--serves", "{p}", "--quiet"], {}),
+    "calibrate-surface-track": (["calibrate", "surface", "--track", "{p}", "--quiet"], {}),
+    "calibrate-surface-point": (["calibrate", "surface", "--rally", "{p}", "--quiet"], {}),
+    "aero-table-call": ([*STATE, "--aero", "table", "--aero-table", "{p}"], {}),
+    "aero-table-calibrate": (
+        ["calibrate", "validate", "--serves", "s.csv", "--aero-table", "{p}", "--quiet"],
+        {"s.csv": CV_HEAD + CV_ROW},
+    ),
+    "drill-json": (["launcher", "drill", "--drill", "{p}.json"], {}),
+    "surface-json": ([*FLY, "--bounces", "1", "--surface", "{p}.json"], {}),
+    "config-before-command": (["--config", "{p}", *FLY], {}),
+    "database-play": (["launcher", "play", "--db", "{p}", "--drill", "Lobs"], {}),
+    "database-drills-list": (["launcher", "drills", "list", "--db", "{p}"], {}),
+    "database-drills-export": (["launcher", "drills", "export", "--db", "{p}", "Lobs", "-"], {}),
+    "database-drills-import": (["launcher", "drills", "import", "--db", "{p}", "lobs"], {}),
+    "database-table": (["launcher", "table", "--db", "{p}", *_TINY_TABLE, "--no-progress"], {}),
+}
+SPECIALS = {"fifo": FIFO, "socket": SOCKET, "device": DEVICE}
+for _key, (_argv, _extra) in SPECIAL_READERS.items():
+    for _kind, _special in SPECIALS.items():
+        _names = {a.format(p="sp") for a in _argv if "{p}" in a}
+        CORPUS.append(
+            pytest.param(
+                [a.format(p="sp") for a in _argv], {**_extra, **dict.fromkeys(_names, _special)}, id=f"{_key}-{_kind}"
+            )
+        )
+for _kind, _special in SPECIALS.items():
+    CORPUS += [
+        pytest.param(FLY, {"tennislab.toml": _special}, id=f"config-in-working-folder-{_kind}"),
+        pytest.param(
+            ["call", "--rally", "pts"],
+            {"pts/a.json": '{"samples": []}', "pts/b.json": _special},
+            id=f"point-dir-{_kind}",
+        ),
+        pytest.param(
+            [*SERVE_WINDOW, "--out-dir", "out"], {"out/manifest.json": _special}, id=f"batch-manifest-{_kind}"
+        ),
+    ]
+
+
+@pytest.fixture(autouse=True)
+def _never_hangs():
+    """A case that blocks (a FIFO opened for reading, a device read to its end) fails after 60 s instead
+    of hanging the suite."""
+
+    def hung(signum, frame):
+        raise AssertionError("the command blocked (a FIFO or a device was opened or read)")
+
+    old = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(60)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
 @pytest.mark.parametrize("argv,files", CORPUS)
-def test_malformed_input_is_refused_in_one_line(cwd, capsys, argv, files):
-    assert_refused(capsys, argv, files)
+def test_malformed_input_is_refused_in_one_line(cwd, capsys, request, argv, files):
+    err = assert_refused(capsys, argv, files)
+    case = request.node.callspec.id
+    if "duplicate" in case and "duplicate-point" not in case:  # one rule for every reader: a repeated key is refused
+        assert "duplicate" in err or "a key given twice" in err, err
+    if case.endswith(("-fifo", "-socket", "-device")):  # refused as what it is, not read
+        assert any(w in err for w in ("FIFO", "socket", "character device")), err
     assert not os.path.exists("drills.sqlite")  # a refused import creates no database
 
 
@@ -656,6 +784,146 @@ def test_broken_database_is_refused_in_one_line(cwd, capsys, launcher_db, cmd, b
     assert_refused(capsys, DB_COMMANDS[cmd], {"x.sqlite": BROKEN_DB[broken](launcher_db)})
 
 
+# ------------------------------------------------ crafted databases: a file from another coach (issue 24, 1, 2, 10)
+_ENDLESS = "WITH RECURSIVE r(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM r) SELECT count(*) FROM r"
+_DEEP = "[" * 100_000 + "]" * 100_000
+#: SQL that turns a real database (hits of a small fill, the shipped drill 'lobs') into a hostile one
+CRAFTED_SCHEMA = {
+    # passes the identity and quick_check tests; reading drills would never return
+    "drills-a-recursive-view": "DROP TABLE drills; CREATE VIEW drills AS WITH RECURSIVE r(id) AS (SELECT 1 UNION ALL "
+    "SELECT id + 1 FROM r) SELECT id, 'x' AS name, 'x.yaml' AS filename, NULL AS format_version, 1 AS revision, "
+    "'' AS sha256, x'' AS source, '[]' AS sequence_json, '' AS imported_utc FROM r",
+    "trigger-deletes-hits": "CREATE TRIGGER t AFTER INSERT ON drills BEGIN DELETE FROM hits; END",
+    "trigger-endless-cte": f"CREATE TRIGGER t AFTER INSERT ON fills BEGIN SELECT ({_ENDLESS}); END; "
+    f"CREATE TRIGGER u AFTER UPDATE ON drills BEGIN SELECT ({_ENDLESS}); END",
+    "an-extra-view": "CREATE VIEW v AS SELECT 1",
+    "an-extra-index": "CREATE INDEX evil ON hits (land_x)",
+    "an-extra-virtual-table": "CREATE VIRTUAL TABLE evil USING rtree(id, a, b)",
+    "an-extra-table": "CREATE TABLE notes (x)",
+    "a-changed-table": "ALTER TABLE hits ADD COLUMN evil TEXT",
+    "a-changed-index": "DROP INDEX hits_cell; CREATE INDEX hits_cell ON hits (land_x)",
+}
+#: stored values out of their ranges: {variant: (SQL, commands that read them and must refuse)}
+_INFO = ("info", "info-check", "info-json")
+_DRILLS = ("drills-list", "drills-export", "drill", "play", "drills-import", *_INFO)
+CRAFTED_VALUES = {
+    "deep-json-machine-spec": (f"UPDATE machine SET spec_json = '{_DEEP}'", ("lookup",)),
+    "deep-json-machine-config": (f"UPDATE machine SET config_json = '{_DEEP}'", (*_INFO, "lookup", "table")),
+    "duplicate-key-machine-config": (
+        """UPDATE machine SET config_json = '{"machine": {}, "machine": {}, "physics": {}}'""",
+        (*_INFO, "lookup", "table"),
+    ),
+    "deep-json-drill-sequence": (f"UPDATE drills SET sequence_json = '{_DEEP}'", _DRILLS),
+    "deep-json-fill-grid": (f"UPDATE fills SET grid_json = '{_DEEP}'", (*_INFO, "lookup")),
+    "drill-sequence-not-names": ("UPDATE drills SET sequence_json = '[1, 2]'", _DRILLS),
+    "drill-revision-a-text": ("UPDATE drills SET revision = 'x'", _DRILLS),
+    "drill-source-not-its-sha256": ("UPDATE drills SET source = x'00'", ("drills-export", "drill", "play")),
+    "hits-net-clearance-minus-5": ("UPDATE hits SET net_clearance_m = -5", ("lookup",)),
+    "hits-flight-time-minus-1": ("UPDATE hits SET flight_time_s = -1", ("lookup",)),
+    "hits-apex-1e6-m": ("UPDATE hits SET apex_z_m = 1e6", ("lookup",)),
+    "hits-bounce-speed-minus-1": ("UPDATE hits SET bounce_speed_ms = -1", ("lookup",)),
+}
+DB_COMMANDS_W = {**DB_COMMANDS, "table": ["launcher", "table", "--db", "x.sqlite", *_TINY_TABLE, "--no-progress"]}
+
+
+def _craft(base: bytes, sql: str, where) -> bytes:
+    path = str(where / f"c{len(os.listdir(where))}.sqlite")
+    with open(path, "wb") as fh:
+        fh.write(base)
+    con = sqlite3.connect(path, isolation_level=None)
+    con.executescript(sql)
+    con.close()  # the last connection: the log is folded into the file and removed
+    with open(path, "rb") as fh:
+        return fh.read()
+
+
+@pytest.fixture(scope="module")
+def crafted_db(tmp_path_factory) -> dict[str, bytes]:
+    """The crafted databases: a real one (a small fill, 'lobs' imported) changed by each variant's SQL."""
+    d = tmp_path_factory.mktemp("crafted")
+    real = str(d / "hits.sqlite")
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        assert main(["launcher", "table", "--db", real, *_TINY_TABLE, "--no-progress"]) == 0
+        assert main(["launcher", "drills", "import", "--db", real, "lobs"]) == 0
+    base = _craft(open(real, "rb").read(), "", d)
+    out = {"real": base}
+    out.update({k: _craft(base, sql, d) for k, sql in CRAFTED_SCHEMA.items()})
+    out.update({k: _craft(base, sql, d) for k, (sql, _) in CRAFTED_VALUES.items()})
+    return out
+
+
+@pytest.mark.parametrize("cmd", sorted(DB_COMMANDS_W))
+@pytest.mark.parametrize("variant", sorted(CRAFTED_SCHEMA))
+def test_database_with_objects_we_did_not_create_is_refused(cwd, capsys, crafted_db, variant, cmd):
+    """Views, triggers, virtual tables, indexes and tables tennislab did not create, or changed
+    definitions: every reader and writer refuses the file at once (nothing runs, nothing is written)."""
+    err = assert_refused(capsys, DB_COMMANDS_W[cmd], {"x.sqlite": crafted_db[variant]})
+    assert "as tennislab writes it" in err
+
+
+def _clean_run(capsys, argv, files) -> tuple[int, str, str]:
+    _write(files)
+    capsys.readouterr()
+    rc = _main(argv)
+    out, err = capsys.readouterr()
+    assert "Traceback" not in out + err and rc in (0, 2), (argv, rc, err)
+    assert rc == 0 or len(err.splitlines()) == 1, (argv, err)
+    return rc, out, err
+
+
+@pytest.mark.parametrize("cmd", sorted(DB_COMMANDS_W))
+@pytest.mark.parametrize("variant", sorted(CRAFTED_VALUES))
+def test_stored_values_are_validated_on_read(cwd, capsys, crafted_db, variant, cmd):
+    """Stored JSON (10^5 deep, a key twice), drills and hits out of their ranges: a command that reads
+    them refuses the file in one line; the others answer as usual (never a traceback)."""
+    sql, readers = CRAFTED_VALUES[variant]
+    if cmd in readers:
+        err = assert_refused(capsys, DB_COMMANDS_W[cmd], {"x.sqlite": crafted_db[variant]})
+        assert "damaged" in err or "not a tennislab" in err, err
+    elif cmd != "table":  # a fill that is not affected would fly for a second: not needed here
+        _clean_run(capsys, DB_COMMANDS_W[cmd], {"x.sqlite": crafted_db[variant]})
+
+
+def test_the_crafted_databases_start_from_a_working_one(cwd, capsys, crafted_db):
+    """The base of the crafted files answers every reader (so each refusal above is the variant's)."""
+    for cmd in ("info", "info-check", "lookup", "drills-list", "drills-export", "drill"):
+        rc, out, err = _clean_run(capsys, DB_COMMANDS[cmd], {"x.sqlite": crafted_db["real"]})
+        assert rc == 0, (cmd, err)
+
+
+def test_a_hostile_trigger_never_runs(cwd, capsys, crafted_db):
+    """Issue 24 point 1: `after insert on drills begin delete from hits` made `drills import` delete every
+    hit and exit 0; now the import is refused and the hits stay."""
+    _write({"x.sqlite": crafted_db["trigger-deletes-hits"]})
+    assert _main(["launcher", "drills", "import", "--db", "x.sqlite", "lobs"]) == 2
+    assert sorted(os.listdir(".")) == ["x.sqlite"]  # no -wal, no -shm
+    con = sqlite3.connect("file:x.sqlite?mode=ro&immutable=1", uri=True)
+    assert con.execute("SELECT count(*) FROM hits").fetchone()[0] == 861
+    con.close()
+
+
+def test_a_pending_log_that_is_not_a_file_is_refused(cwd, capsys, crafted_db):
+    for kind, special in SPECIALS.items():
+        d = f"w-{kind}"
+        os.mkdir(d)
+        os.chdir(d)
+        try:
+            for cmd in ("info", "lookup", "drills-import"):
+                assert_refused(capsys, DB_COMMANDS[cmd], {"x.sqlite": crafted_db["real"], "x.sqlite-wal": special})
+                os.unlink("x.sqlite")
+                os.unlink("x.sqlite-wal")
+        finally:
+            os.chdir("..")
+
+
+def test_drill_names_from_a_database_are_printed_escaped(cwd, capsys, crafted_db, tmp_path):
+    """Issue 24 point 11: text from a file (here a drill's name in a database) cannot drive the terminal."""
+    evil = _craft(crafted_db["real"], "UPDATE drills SET name = char(27) || '[2J' || char(10) || 'Lobs'", tmp_path)
+    rc, out, err = _clean_run(capsys, ["launcher", "drills", "list", "--db", "x.sqlite"], {"x.sqlite": evil})
+    assert rc == 0 and "\x1b" not in out  # no raw escape character reaches the terminal
+    assert r"\x1b[2J\nLobs" in out  # the name is shown, escaped, on one line
+
+
 # ---------------------------------------------------------------- output flags pointed at bad places
 
 BAD_PLACES = {
@@ -667,6 +935,12 @@ BAD_PLACES = {
     "an-existing-directory": ("adir", {"adir/keep": "x"}),
     "trailing-slash": ("newdir/", {}),
     "empty-string": ("", {}),
+    # special files are never replaced (issue 24, point 9): the output would vanish into a pipe or a
+    # device, or the device node would be replaced by a plain file
+    "a-fifo": ("ff{ext}", {"ff{ext}": FIFO}),
+    "a-socket": ("sk{ext}", {"sk{ext}": SOCKET}),
+    "a-link-to-a-device": ("dev{ext}", {"dev{ext}": NULL_DEVICE}),
+    "a-link-to-stdout": ("so{ext}", {"so{ext}": STDOUT}),
 }
 _VALID_SERVES = {"s.csv": CV_HEAD + CV_ROW}
 _VALID_TRACK = {"t.csv": TRACK_HEAD + "".join(f"{i / 100},{-10 + i * 0.3},0,{2 - 0.01 * i}\n" for i in range(30))}
@@ -779,8 +1053,14 @@ OUTPUTS = [
         ("unknown-extension", "no-extension"),
     ),
 ]
+
+
+def _at(extra: dict, ext: str) -> dict:
+    return {k.format(ext=ext): v for k, v in extra.items()}
+
+
 OUTPUT_CASES = [
-    pytest.param(argv, flag, place.format(ext=ext), {**files, **extra}, id=f"{name}{flag}-{bad}")
+    pytest.param(argv, flag, place.format(ext=ext), {**files, **_at(extra, ext)}, id=f"{name}{flag}-{bad}")
     for name, argv, flag, ext, files, fine in OUTPUTS
     for bad, (place, extra) in BAD_PLACES.items()
     if bad not in fine
@@ -800,7 +1080,7 @@ def test_output_to_a_bad_place_is_refused_in_one_line(cwd, capsys, argv, flag, p
 def test_drills_export_to_a_bad_place_is_refused_in_one_line(cwd, capsys, launcher_db, bad):
     place, extra = BAD_PLACES[bad]
     argv = ["launcher", "drills", "export", "--db", "real.sqlite", "Lobs", place.format(ext=".yaml")]
-    assert_refused(capsys, argv, {"real.sqlite": launcher_db["real"], **extra})
+    assert_refused(capsys, argv, {"real.sqlite": launcher_db["real"], **_at(extra, ".yaml")})
 
 
 # ---------------------------------------------------------------- random input (hypothesis)
@@ -847,3 +1127,244 @@ _JSON = st.recursive(
 def test_random_point_json_is_refused_in_one_line(tmp_path, monkeypatch, capsys, data):
     assume(_refused_by(parse_points, data))
     _fuzz(tmp_path, monkeypatch, capsys, ["call", "--rally", "in.json"], "in.json", data)
+
+
+def test_every_read_has_a_step_budget(cwd, capsys, crafted_db, monkeypatch):
+    """Behind the schema check: were a hostile view to get through, the read stops at its step budget
+    (one line) instead of running for ever; and every connection has trusted_schema off."""
+    import tennislab.launcher._dbguard as guard
+
+    monkeypatch.setattr(guard, "check_schema", lambda *a, **k: None)
+    monkeypatch.setattr(guard, "READ_STEP_BUDGET", 2_000_000)
+    err = assert_refused(capsys, DB_COMMANDS["drills-list"], {"x.sqlite": crafted_db["drills-a-recursive-view"]})
+    assert "ran past its budget of 2,000,000 SQLite steps" in err
+    conn = guard.connect(":memory:")
+    assert conn.execute("PRAGMA trusted_schema").fetchone()[0] == 0
+    with pytest.raises(sqlite3.OperationalError, match="interrupted"):
+        conn.execute(_ENDLESS).fetchone()
+    guard.reset_budget(conn)
+    assert conn.execute("SELECT 1").fetchone() == (1,)  # the next operation has its whole budget again
+    conn.close()
+
+
+# ---------------------------------------------------------------- an output that is also an input (issue 24, 7)
+
+SAME_FILE = [
+    pytest.param(
+        ["calibrate", "validate", "--serves", "s.csv", "--csv", "s.csv", "--quiet"], _VALID_SERVES, id="validate-csv"
+    ),
+    pytest.param(
+        ["calibrate", "validate", "--serves", "s.csv", "--csv", "./s.csv", "--quiet"],
+        _VALID_SERVES,
+        id="validate-csv-dot",
+    ),
+    pytest.param(
+        ["calibrate", "serves", "--serves", "s.csv", "--out-table", "s.csv", "--quiet"],
+        _VALID_SERVES,
+        id="serves-out-table",
+    ),
+    pytest.param(["calibrate", "tracks", "t.csv", "--csv", "t.csv", "--quiet"], _VALID_TRACK, id="tracks-csv"),
+    pytest.param(
+        ["calibrate", "tracks", "t.csv", "--out-table", "t.csv", "--quiet"], _VALID_TRACK, id="tracks-out-table"
+    ),
+    pytest.param(
+        ["calibrate", "surface", "--track", "t.csv", "--csv", "t.csv", "--quiet"], _VALID_TRACK, id="surface-csv"
+    ),
+    pytest.param(["call", "--rally", "p.csv", "--csv", "p.csv"], {"p.csv": '{"samples": []}'}, id="call-rally-csv"),
+    pytest.param(["launcher", "drill", "d.csv", "--csv", "d.csv"], {"d.csv": DRILL_OK}, id="drill-csv"),
+    pytest.param(
+        [*SERVE_WINDOW, "--csv", "c.csv", "--config", "c.csv"], {"c.csv": "[physics]\ncd = 0.55\n"}, id="config-csv"
+    ),
+    pytest.param(
+        ["calibrate", "validate", "--serves", "s.csv", "--csv", "h.csv", "--quiet"],
+        {**_VALID_SERVES, "h.csv": Special("hardlink", "s.csv")},
+        id="validate-hard-link",
+    ),
+    pytest.param(
+        ["calibrate", "validate", "--serves", "s.csv", "--csv", "l.csv", "--quiet"],
+        {**_VALID_SERVES, "l.csv": Special("link", "s.csv")},
+        id="validate-symbolic-link",
+    ),
+]
+
+
+@pytest.mark.parametrize("argv,files", SAME_FILE)
+def test_an_output_that_is_an_input_is_refused_before_the_work(cwd, capsys, argv, files):
+    err = assert_refused(capsys, argv, files)
+    assert "is also an input of this command" in err
+
+
+def test_an_output_read_by_the_command_is_refused_when_it_would_be_written(cwd, capsys, launcher_db):
+    """Outputs named at run time, and inputs read without a flag, are checked when written: the database a
+    drill is exported from, and ./tennislab.toml (nothing is written, one line)."""
+    err = assert_refused(
+        capsys,
+        ["launcher", "drills", "export", "--db", "x.sqlite", "Lobs", "x.sqlite"],
+        {"x.sqlite": launcher_db["real"]},
+    )
+    assert "is also an input of this command" in err
+    err = assert_refused(
+        capsys,
+        ["calibrate", "surface", "--track", "t.csv", "--out-surface", "tennislab.toml", "--quiet"],
+        {**_VALID_TRACK, "tennislab.toml": "[physics]\ncd = 0.55\n"},
+    )
+    assert "is also an input of this command" in err
+
+
+# ---------------------------------------------------------------- numbers at the edge of the floats (issue 24, 4, 5)
+def _float_flags():
+    """(command words, flag, nargs, argparse action) of every float flag of every command."""
+    import argparse
+
+    from tennislab.cli import build_parser
+
+    out = []
+
+    def walk(p, words):
+        for a in p._actions:
+            if isinstance(a, argparse._SubParsersAction):
+                for name, sub in a.choices.items():
+                    walk(sub, [*words, name])
+            elif a.option_strings and (a.type is float or getattr(a.type, "__name__", "") == "float"):
+                out.append((tuple(words), a.option_strings[-1], a.nargs if isinstance(a.nargs, int) else 1, a))
+
+    walk(build_parser(), [])
+    return out
+
+
+FLOAT_FLAGS = _float_flags()
+BAD_FLOATS = ["1e-320", "-4e-310", "5e-324", "nan", "inf", "-inf", "1e999"]
+
+
+def test_every_float_flag_takes_only_finite_normal_numbers(cwd, capsys):
+    """A subnormal (1e-320: dividing by it gives inf), NaN or an infinity given to any float flag of any
+    command is refused when the command line is parsed (every float flag's type checks it); through the
+    CLI it is one line naming the flag, before any work (a spread of flags over every command)."""
+    import argparse
+
+    assert len(FLOAT_FLAGS) > 100
+    for *_, action in FLOAT_FLAGS:
+        for v in BAD_FLOATS:
+            with pytest.raises(argparse.ArgumentTypeError):
+                action.type(v)
+        assert action.type("1e-300") == 1e-300 and action.type("0") == 0.0
+    per_command: dict = {}
+    for words, flag, n, _ in FLOAT_FLAGS:
+        per_command.setdefault(words, []).append((flag, n))
+    for words, flags in per_command.items():
+        for (flag, n), v in zip(flags[::4], BAD_FLOATS * 10):
+            err = assert_refused(capsys, [*words, flag, *([v] * n)])
+            assert flag in err, (words, flag, err)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["impact", "--racket-speed", "40", "--impact-angle", "10", "--dt", "1e-12"],
+        ["impact", "--racket-speed", "40", "--impact-angle", "10", "--integrator", "euler", "--dt", "5e-8"],
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--dt", "1e-12"],
+        ["serve-mc", "--impact-angle", "3", "--face-angle", "8", "--n", "100", "--dt", "1e-300"],
+        [*SERVE_WINDOW, "--dt", "1e-9"],
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--dt", "0.01"],
+    ],
+    ids=["impact", "impact-euler", "serve", "serve-mc", "serve-window", "serve-dt-too-large"],
+)
+def test_an_impact_step_that_would_not_end_the_contact_is_refused(cwd, capsys, argv):
+    """serve and serve-mc share impact's bounds: a fixed step of at least 1e-7 s (a contact in at most
+    5e4 steps), not a two-minute run that returns a ball at 2e-5 m/s."""
+    err = assert_refused(capsys, argv)
+    assert "--dt" in err
+
+
+def test_every_impact_checks_that_its_contact_ended(monkeypatch):
+    """One contact-ended check for every impact (impact, serve, serve-mc, serve-window): a kernel that
+    ran out of steps is refused, never answered."""
+    import tennislab.core.impact as imp
+
+    def unfinished(vn, vt, P, steps, dt, method, out):
+        out[:] = 0.0
+        out[:, imp.OUT_COLUMNS.index("status")] = 1.0
+
+    monkeypatch.setattr(imp, "_impact_serial_kernel", unfinished)
+    monkeypatch.setattr(imp, "_impact_batch_kernel", unfinished)
+    with pytest.raises(InputError, match="contact did not end"):
+        imp.impact_batch([40.0, 41.0], [0.1, 0.2])
+    with pytest.raises(InputError, match="contact did not end"):
+        imp.impact_batch(40.0, 0.1, parallel=False)
+
+
+def test_answers_that_are_not_finite_are_refused(cwd, capsys):
+    """launcher power answered "inf rpm ... inf s" for a roller of 1e-320 kg (now refused as a subnormal);
+    a normal but tiny mass whose inertia underflows is refused as an answer that is not finite."""
+    err = assert_refused(capsys, ["launcher", "power", "--speed-kmh", "100", "--roller-mass", "2.3e-308"])
+    assert "not finite" in err or "computed value is inf" in err
+
+
+# ---------------------------------------------------------------- file names in any encoding (issue 24, 8, 13)
+NOT_UTF8_NAME = os.fsdecode(b"\xff\xfe-x")  #: a file name that is not UTF-8 (as Python gets it from argv)
+NAMED_WRITERS = [
+    pytest.param(["calibrate", "tracks", "t.csv", "--quiet", "--csv"], ".csv", _VALID_TRACK, id="calibrate-tracks-csv"),
+    pytest.param(["call", "--rally", "p.json", "--csv"], ".csv", {"p.json": '{"samples": []}'}, id="call-rally-csv"),
+    pytest.param(["launcher", "drills", "import", "lobs", "--db"], ".sqlite", {}, id="drills-import-db"),
+    pytest.param(["launcher", "table", *_TINY_TABLE, "--no-progress", "--db"], ".sqlite", {}, id="launcher-table-db"),
+]
+
+
+@pytest.mark.parametrize("argv,ext,files", NAMED_WRITERS)
+def test_an_output_name_that_is_not_utf8_is_written_and_shown_escaped(cwd, capsys, argv, ext, files):
+    """The file is written under its own bytes, what is printed names it escaped (``\\xff``) and encodes as
+    UTF-8; a database of such a name is read back (issue 24 point 13: `launcher table --db $'\\xff.sqlite'`
+    called its own file damaged)."""
+    _write(files)
+    name = NOT_UTF8_NAME + ext
+    capsys.readouterr()
+    rc = _main([*argv, name])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    (out + err).encode("utf-8")  # strict: no lone surrogate reaches the terminal
+    assert os.path.isfile(os.fsencode(name))
+    assert not [n for n in os.listdir(b".") if n.startswith(b".tmp-") or n.endswith((b"-wal", b"-shm"))]
+    if ext == ".sqlite":
+        rc = _main(["launcher", "info", "--db", name])
+        out, err = capsys.readouterr()
+        assert rc == 0, err
+        assert "\\xff\\xfe-x.sqlite: tennislab launcher database" in out
+        (out + err).encode("utf-8")
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["call", "--track", NOT_UTF8_NAME + ".csv"],
+        ["launcher", "info", "--db", NOT_UTF8_NAME + ".sqlite"],
+        [*FLY, "--plot", "nodir/" + NOT_UTF8_NAME + ".png"],
+        ["call", "--rally", "p.json", "--csv", "nodir/" + NOT_UTF8_NAME + ".csv"],
+    ],
+    ids=["missing-input", "missing-database", "plot-in-a-missing-folder", "call-csv-in-a-missing-folder"],
+)
+def test_errors_naming_a_file_that_is_not_utf8_are_one_line(cwd, capsys, argv):
+    err = assert_refused(capsys, argv, {"p.json": '{"samples": []}'})
+    assert "\\xff\\xfe-x" in err
+    err.encode("utf-8")
+
+
+# ---------------------------------------------------------------- OS errors name the file (issue 24, 16)
+def test_no_space_left_names_the_file_and_leaves_nothing(cwd, capsys, monkeypatch):
+    """An OS error while writing (no space left) is one line naming the file; the temporary file and any
+    folder made for the output are removed (a failed `drills export` left an empty folder)."""
+    import errno as _errno
+
+    real_fsync = os.fsync
+
+    def full(fd):
+        raise OSError(_errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    err = assert_refused(capsys, [*SERVE_WINDOW, "--csv", "w.csv"])
+    assert "w.csv" in err and "No space left on device" in err
+    monkeypatch.setattr(os, "fsync", real_fsync)
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["launcher", "drills", "import", "--db", "d.sqlite", "lobs"]) == 0
+    monkeypatch.setattr(os, "fsync", full)
+    err = assert_refused(capsys, ["launcher", "drills", "export", "--db", "d.sqlite", "Lobs", "new/deeper/lobs.yaml"])
+    assert "new/deeper/lobs.yaml" in err and "No space left on device" in err

@@ -163,8 +163,11 @@ def _load_json(path: str, what: str):
         raise InputError(f"out: {exc}") from None
     try:
         return load_json_document(raw.decode("utf-8"), path, max_depth=_MAX_DEPTH)
-    except (UnicodeDecodeError, InputError):
+    except UnicodeDecodeError:
         raise InputError(f"out: {path} is not a tennislab {what} (not JSON)") from None
+    except InputError as exc:
+        why = "a key given twice" if "duplicate key" in str(exc) else "not JSON"
+        raise InputError(f"out: {path} is not a tennislab {what} ({why})") from None
 
 
 def load_manifest(path: str) -> dict:

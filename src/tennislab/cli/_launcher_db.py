@@ -33,7 +33,7 @@ from tennislab.cli._launcher_args import (
 )
 from tennislab.cli.batch_flags import add_scheduler_flag, progress_from_args
 from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
-from tennislab.errors import InputError
+from tennislab.errors import InputError, escape_text
 from tennislab.io.files import check_output_dir, check_output_path
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
@@ -356,12 +356,12 @@ def run_play(args) -> int:
         emit_json(res)
         return 0
     print(
-        f"drill {res.drill!r} ({res.key}) from {res.source}: {len(res.sequence)} shots, {len(res.distinct)} distinct, "
-        f"{res.duration_s:g} s"
+        f"drill '{escape_text(res.drill)}' ({escape_text(res.key)}) from {escape_text(res.source)}: "
+        f"{len(res.sequence)} shots, {len(res.distinct)} distinct, {res.duration_s:g} s"
     )
     for r in res.sequence:
         print(
-            f"  t={r['time_s']:6.1f} s  {r['shot']:<14} h {r['height_m']:g} speed {r['speed_kmh']:g} elev "
+            f"  t={r['time_s']:6.1f} s  {escape_text(r['shot']):<14} h {r['height_m']:g} speed {r['speed_kmh']:g} elev "
             f"{r['elevation_deg']:g} head {r['heading_deg']:g} spin {r['spin_rpm']:g}@{r['spin_axis_deg']:g}  "
             f"rollers {r['rpm1']:.0f}/{r['rpm2']:.0f} rpm  next in {r['interval_s']:g} s  (miss {r['miss_mm']:.0f} mm)"
         )
@@ -380,20 +380,22 @@ def run_drills(args) -> int:
             if r.get("shadowed"):
                 rev = "  (the stored one answers this name)"
             print(
-                f"{r['key']:<22} {r['name']!r:<26} {r['source']:<8}{rev}  {r['n_shots']} shots "
-                f"({r['n_distinct']} distinct)"
+                f"{escape_text(r['key']):<22} {chr(39) + escape_text(r['name']) + chr(39):<26} {r['source']:<8}{rev}  "
+                f"{r['n_shots']} shots ({r['n_distinct']} distinct)"
             )
         return 0
     db = HitsDB(args.db)
     if args.action == "import":
-        if not os.path.exists(args.db):  # a new database: where it goes, checked before anything is read
-            check_output_path("db", args.db)
+        check_output_path("db", args.db)  # where it goes (a new file) or what it replaces, before anything is read
         res = db.import_drills(args.files)
         if args.json:
             emit_json(res)
         else:
             for r in res.imported:
-                print(f"{r['name']}: revision {r['revision']}, {r['n_shots']} shots ({r['n_distinct']} distinct)")
+                print(
+                    f"{escape_text(r['name'])}: revision {r['revision']}, {r['n_shots']} shots "
+                    f"({r['n_distinct']} distinct)"
+                )
         return 0
     files = list(args.files)
     if args.drill:
@@ -425,7 +427,7 @@ def run_drills(args) -> int:
         emit_json({"exported": done})
     else:
         for d in done:
-            print(f"{d['name']} (revision {d['revision']}) -> {d['path']}")
+            print(f"{escape_text(d['name'])} (revision {d['revision']}) -> {escape_text(d['path'])}")
     return 0
 
 

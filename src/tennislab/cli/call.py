@@ -28,7 +28,7 @@ from tennislab.cli.common import (
     save_figure,
     surface_from_arg,
 )
-from tennislab.errors import InputError
+from tennislab.errors import InputError, escape_text
 from tennislab.io.cameras import read_cameras, read_detections
 from tennislab.io.hawkeye import read_points
 from tennislab.io.track import read_track
@@ -223,12 +223,13 @@ def _fmt(v, spec: str) -> str:
 def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None:
     print(f"{'point':>28s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'dist mm':>8s} {'tracker':8s} note")
     for s in res.shots:
-        tr = s["tracker"]["call"] or "-"
+        tr = escape_text(s["tracker"]["call"] or "-")
         ag = s["agreement"]["call_agrees"]
-        note = s["reason"] or ("DISAGREES" if ag is False else "")
-        name = os.path.basename(str(s["point"]))[-28:]
+        note = escape_text(s["reason"] or ("DISAGREES" if ag is False else ""))
+        name = escape_text(os.path.basename(str(s["point"])))[-28:]
+        stroke = escape_text(s["stroke"] or "-")[:10]
         print(
-            f"{name:>28s} {s['shot']:2d} {str(s['stroke'] or '-')[:10]:10s} {s['call']:7s} "
+            f"{name:>28s} {s['shot']:2d} {stroke:10s} {s['call']:7s} "
             f"{_fmt(s['p_in'], '6.3f'):>6s} {_fmt(s['distance_mm'], '+8.1f'):>8s} {tr:8s} {note}"
         )
     sm = res.summary

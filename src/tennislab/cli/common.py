@@ -105,7 +105,8 @@ def checked_floats(parser: argparse.ArgumentParser) -> None:
 
 def _command_actions(parser: argparse.ArgumentParser, args) -> list:
     """The actions of the command ``args`` were parsed for: the top level's and each sub-command's."""
-    out, p = [], parser
+    out: list = []
+    p: argparse.ArgumentParser | None = parser
     while p is not None:
         out += p._actions
         nxt = None

@@ -29,7 +29,7 @@ from tennislab.cli.common import (
     emit_json,
     physics_from_args,
 )
-from tennislab.errors import InputError
+from tennislab.errors import InputError, escape_text
 from tennislab.io.drill import write_csv
 from tennislab.launcher import HitsDB, aim, compile_drill, power_report, roller_report
 from tennislab.launcher.aim import fly_settings
@@ -289,20 +289,20 @@ def run_drill(args) -> int:
         emit_json(out)
     else:
         print(
-            f"drill {drill.name!r} ({drill.key}): {len(comp.shots)} shots, {len(comp.unique)} distinct, "
-            f"{comp.duration_s:g} s; checks {'passed' if comp.ok else 'FAILED'}"
+            f"drill '{escape_text(drill.name)}' ({escape_text(drill.key)}): {len(comp.shots)} shots, "
+            f"{len(comp.unique)} distinct, {comp.duration_s:g} s; checks {'passed' if comp.ok else 'FAILED'}"
         )
         for u in comp.unique:
             st = u.solution.settings if u.solution else None
             state = "ok" if u.ok else f"FAILED: {u.problem}"
             if st is None:
-                print(f"  {u.label}: {state}")
+                print(f"  {escape_text(u.label)}: {escape_text(state)}")
                 continue
             print(
-                f"  {u.label}: elev {st.elevation_deg:g} head {st.heading_deg:g} speed {st.speed_kmh:g} "
+                f"  {escape_text(u.label)}: elev {st.elevation_deg:g} head {st.heading_deg:g} speed {st.speed_kmh:g} "
                 f"spin {st.spin_rpm:g}@{st.spin_axis_deg:g} h {st.height_m:g} -> "
                 f"({u.solution.landing[0]:.2f}, {u.solution.landing[1]:.2f}) miss {u.solution.miss_mm:.0f} mm, "
-                f"net {u.solution.net_clearance_m:.2f} m: {state}"
+                f"net {u.solution.net_clearance_m:.2f} m: {escape_text(state)}"
             )
         if args.csv:
             print(f"csv: {args.csv}")

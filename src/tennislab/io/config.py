@@ -25,6 +25,7 @@ import tomllib
 
 from tennislab.errors import InputError
 from tennislab.io.files import read_text
+from tennislab.io.formats import toml_message
 
 #: largest configuration file read [bytes]
 MAX_BYTES = 1_000_000
@@ -75,7 +76,7 @@ def read_toml(path: str, limit: int = MAX_BYTES) -> dict:
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: not valid TOML: {' '.join(str(exc).split())}") from None
+        raise InputError(f"{path}: not valid TOML: {toml_message(exc)}") from None
     except RecursionError:
         raise InputError(f"{path}: not valid TOML: nested too deeply") from None
     except ValueError as exc:  # e.g. an integer of thousands of digits (Python's int-string limit)

@@ -311,6 +311,25 @@ def check_output_path(param: str, path, suffixes=None, *, create_dirs: bool = Fa
     return p
 
 
+_STREAMS = re.compile(r"^/(proc/|dev/(fd/|std(in|out|err)$|tty|pts/))")
+
+
+def stream_link(path) -> str | None:
+    """The first target of the chain of links at ``path`` that names a stream rather than a file
+    (``/dev/stdout``, ``/dev/fd/1``, ``/proc/self/fd/1``, a terminal), else None.  Such a link points
+    at whatever that descriptor is at the moment (a pipe, a terminal, another program's file)."""
+    p = os.path.abspath(os.fspath(path))
+    for _ in range(40):  # the kernel's own limit on a chain of links
+        try:
+            target = os.readlink(p)
+        except OSError:
+            return None
+        p = os.path.normpath(os.path.join(os.path.dirname(p), target))
+        if _STREAMS.match(p if isinstance(p, str) else os.fsdecode(p)):
+            return p
+    return None
+
+
 def check_existing_output(param: str, path, shown_as=None) -> None:
     """An output that exists already must be a regular file (itself, or the file a link names) that
     is writable and not an input of this command: a FIFO, a device, a socket or a link to one (such
@@ -325,6 +344,12 @@ def check_existing_output(param: str, path, shown_as=None) -> None:
     except OSError:
         st = lst  # a dangling link: replaced by the new file
     link = stat.S_ISLNK(lst.st_mode)
+    stream = stream_link(path) if link else None
+    if stream is not None:
+        raise InputError(
+            f"{param}: {name} is a link to {shown(stream)} (a device or a process's stream), not a file; "
+            "refusing to replace it"
+        )
     if not stat.S_ISREG(st.st_mode) and not stat.S_ISLNK(st.st_mode):
         target = f" (a link to {shown(os.path.realpath(path))})" if link else ""
         raise InputError(

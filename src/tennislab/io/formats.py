@@ -110,6 +110,15 @@ def load_json_lines(text: str, name: str, *, max_depth: int = MAX_DEPTH, constan
     return out
 
 
+def toml_message(exc: BaseException) -> str:
+    """One line for a :mod:`tomllib` error (a key given twice is said as such: the one duplicate rule)."""
+    msg = " ".join(str(exc).split())
+    if msg.startswith(("Cannot overwrite a value", "Cannot declare")):
+        where = msg[msg.find("(") :] if "(" in msg else ""
+        return f"duplicate key (each key once) {where}".strip()
+    return msg
+
+
 def check_header(name: str, header: list[str]) -> None:
     """Refuse a CSV header in which a (non-empty) column name appears twice."""
     seen: set[str] = set()

@@ -21,7 +21,7 @@ import tomllib
 
 from tennislab.errors import InputError
 from tennislab.io.files import read_text
-from tennislab.io.formats import MAX_DEPTH, load_json_document
+from tennislab.io.formats import MAX_DEPTH, load_json_document, toml_message
 
 #: largest surface file read [bytes]
 MAX_BYTES = 64_000
@@ -43,7 +43,7 @@ def read_surface(path: str) -> dict:
     try:
         data = tomllib.loads(text)
     except (ValueError, RecursionError) as exc:
-        msg = " ".join(str(exc).split())[:160]
+        msg = toml_message(exc)[:160]
         raise InputError(f"{where}: not valid TOML ({msg})") from None
     return _values(path, where, data)
 

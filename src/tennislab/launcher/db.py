@@ -56,7 +56,7 @@ import numpy as np
 import tennislab.launcher._dbguard as _guard
 from tennislab import __version__
 from tennislab.errors import InputError, escape_text
-from tennislab.io.files import check_input_file, note_input, shown
+from tennislab.io.files import check_input_file, note_input, shown, stream_link
 from tennislab.launcher._schema import MIGRATIONS
 
 #: Schema version of the file (``PRAGMA user_version``); see :data:`MIGRATIONS`.
@@ -352,6 +352,9 @@ def _check_path(path: str, must_exist: bool) -> None:
     if must_exist and not os.path.exists(path):
         raise DatabaseFileError("no such file")
     if os.path.lexists(path):
+        stream = stream_link(path)
+        if stream is not None:  # SQLite would read, lock and write beside whatever that stream is now
+            raise DatabaseFileError(f"is a link to {shown(stream)} (a device or a process's stream), not a file")
         try:
             st = check_input_file(path)  # a FIFO or a device is never handed to SQLite (it would block)
         except InputError as exc:
@@ -693,6 +696,7 @@ def import_drill(conn: sqlite3.Connection, record: dict, data: bytes, filename: 
     shots, seq = [_plain(x) for x in record["shots"]], _plain(record["sequence"])
     sha = hashlib.sha256(data).hexdigest()
     filename = os.path.basename(filename)
+    list_drills(conn)  # the stored drills are what tennislab stores, checked before anything is written
     conn.execute("BEGIN IMMEDIATE")
     try:
         row = conn.execute("SELECT id, revision, sha256 FROM drills WHERE name = ?", (name,)).fetchone()
@@ -719,7 +723,8 @@ def import_drill(conn: sqlite3.Connection, record: dict, data: bytes, filename: 
         )
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        if conn.in_transaction:
+            conn.execute("ROLLBACK")
         raise
     return drill_info(conn, name)
 
