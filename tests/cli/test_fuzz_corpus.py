@@ -1,25 +1,32 @@
-"""Fuzz suite of the hardening issue: malformed input for every reader, and every output flag pointed at
-a bad place, fed through the CLI commands that use them.
+"""Fuzz suite of the hardening issues (21 and 24): malformed and hostile input for every reader, every
+output flag pointed at a bad place, crafted databases, numbers at the edge of the floats, fed through the
+CLI commands that use them.
 
-What it promises, for every case: ``tennislab.cli.main`` returns exit code 2, stderr is exactly one
-non-empty line (``tennislab[ COMMAND]: error: ...``), no "Traceback" appears on stdout or stderr, and
+What it promises, for every refused case: ``tennislab.cli.main`` returns exit code 2, stderr is exactly
+one non-empty line (``tennislab[ COMMAND]: error: ...``), no "Traceback" appears on stdout or stderr, and
 nothing is written: the working folder (``tmp_path``, entered with ``monkeypatch.chdir``) holds the same
-files and folders with the same bytes afterwards (input files included; a refused ``drills import``
-creates no database).  Readers covered: track CSV, tracker point JSON, camera JSON + detections CSV,
-aero table CSV, material CSVs, drill YAML/JSON, CourtVision serves CSV, surface TOML/JSON,
-``tennislab.toml`` and player TOML, the batch manifest, the launcher SQLite database; outputs: every
-``--plot``, ``--csv``, ``--out-table``, ``--out-surface``, ``--out``, ``--out-dir``, ``--db`` and the
-``drills export`` file.  Hypothesis feeds random bytes (and random near-valid documents) to the track
-CSV and point JSON readers through ``call``, using the reader itself as the oracle of "malformed".
+files, folders, links and special files with the same bytes afterwards (input files included; a refused
+``drills import`` creates no database, no ``-wal``/``-shm``).  Readers covered: track CSV, tracker point
+JSON (a file and a folder), camera JSON + detections CSV, aero table CSV, material CSVs, drill YAML/JSON,
+CourtVision serves CSV, surface TOML/JSON, ``tennislab.toml`` and player TOML, the batch manifest, the
+launcher SQLite database (and its ``-wal``); outputs: every ``--plot``, ``--csv``, ``--out-table``,
+``--out-surface``, ``--out``, ``--out-dir``, ``--db`` and the ``drills export`` file.
 
-Size and run time: about 630 cases, about 17-22 s on 2 cores (every case fails in its checks, before any physics).
+Issue 24 added (docs/security.md F11-F15, D6-D9, N1-N3, A3/A4/A8): every reader given a FIFO, a socket
+and a link to /dev/zero (each case under a 60 s alarm: a blocking open fails instead of hanging); every
+output given a FIFO, a socket, a link to /dev/null and a link to /dev/stdout; crafted databases (views,
+triggers, recursive CTEs, extra or changed schema objects; 10^5-deep and duplicate-key stored JSON; hits
+and drills out of range) for every database command; outputs that are inputs of the same command; every
+float flag given subnormals, NaN and infinities; impact steps that would not end a contact; output names
+that are not UTF-8; an OS error while writing.  Hypothesis feeds random bytes (and random near-valid
+documents) to the track CSV and point JSON readers through ``call``, using the reader itself as the oracle
+of "malformed".
 
-Gaps it found, all closed since (2026-12-01) and now among its cases: TOML nested 10^5 deep or holding
-a 5000-digit integer (``--config``, ``./tennislab.toml``, ``--player FILE``) gave tracebacks; material
-rows of 1e308 N / 1e-308 m answered an infinite modulus; ``serve-window --csv`` and ``launcher drill
---csv`` took any extension; ``--db newdir/`` wrote a file named ``newdir``; ``launcher table`` checked a
-300-character ``--db`` name and a malformed ``--out-dir`` manifest only after printing its estimate.
-Left as designed: ``drills export NAME OUT`` creates the missing folders of the ``OUT`` the user named.
+Size and run time: about 1,100 cases, every one failing in its checks before any physics except a few
+that write a small file or fill a 8,181-setting table once (about 1-2 min on 2 shared cores).
+
+Left as designed: ``drills export NAME OUT`` creates the missing folders of the ``OUT`` the user named
+(and removes them again when the write fails).
 """
 
 from __future__ import annotations
@@ -1368,3 +1375,14 @@ def test_no_space_left_names_the_file_and_leaves_nothing(cwd, capsys, monkeypatc
     monkeypatch.setattr(os, "fsync", full)
     err = assert_refused(capsys, ["launcher", "drills", "export", "--db", "d.sqlite", "Lobs", "new/deeper/lobs.yaml"])
     assert "new/deeper/lobs.yaml" in err and "No space left on device" in err
+
+
+def test_shot_names_from_a_drill_file_are_printed_escaped(cwd, capsys):
+    """Issue 24 point 11: `launcher drill` printed a drill file's shot and drill names raw (a newline broke
+    the line, terminal escape codes reached the terminal)."""
+    evil = DRILL_OK.replace("name: T", 'name: "T\\e[2J"').replace("  a:", '  "a\\e[31mred\\nline":')
+    evil = evil.replace("- shot: a", '- shot: "a\\e[31mred\\nline"')
+    rc, out, err = _clean_run(capsys, ["launcher", "drill", "d.yaml"], {"d.yaml": evil})
+    assert rc == 0, err
+    assert "\x1b" not in out
+    assert r"a\x1b[31mred\nline:" in out and r"drill 'T\x1b[2J'" in out
