@@ -5,8 +5,10 @@ unknown model name, a malformed file) is an :class:`InputError`.  The CLI turns
 it into a one-line message on stderr and exit code 2, with no traceback.
 
 Numbers given by a user are checked here (:func:`check_finite`, :func:`check_range`,
-:func:`check_vector`): finite and *normal* (a subnormal number such as ``1e-320`` is below
-:data:`TINY` and never a physical value; dividing by it gives ``inf``), and within their range.
+:func:`check_vector`): finite, and within their range.  A subnormal number (nonzero, of magnitude
+below :data:`TINY` = 2.2e-308, such as ``1e-320``) is never a physical value and dividing by it gives
+``inf``: it is read as 0, so a parameter that must be positive (a mass, a speed, a time) refuses it and
+one that may be 0 takes 0.  (The command line refuses subnormals outright: ``cli.common.finite_float``.)
 Answers are checked finite before they are shown (:func:`check_answer`).  Text that came from a
 file or a file name is shown through one escaper (:func:`escape_text`).
 """
@@ -28,17 +30,21 @@ class InputError(TennisLabError, ValueError):
     """Bad user input: the message names the field and the allowed range."""
 
 
+def is_subnormal(v: float) -> bool:
+    """Whether ``v`` is a nonzero float of magnitude below :data:`TINY` (2.2e-308)."""
+    return v != 0.0 and abs(v) < TINY
+
+
 def check_finite(name: str, value: float) -> float:
-    """Return ``float(value)`` or raise :class:`InputError` if it is not finite."""
+    """Return ``float(value)`` (a subnormal read as a signed 0) or raise :class:`InputError` if it is not
+    finite."""
     try:
         v = float(value)
     except (TypeError, ValueError):
         raise InputError(f"{name}: expected a number, got {value!r}") from None
     if not math.isfinite(v):
         raise InputError(f"{name}: must be a finite number, got {value!r}")
-    if v != 0.0 and abs(v) < TINY:
-        raise InputError(f"{name}: {v!r} is a subnormal number (magnitude below {TINY:.3g}); give 0 or a normal number")
-    return v
+    return math.copysign(0.0, v) if is_subnormal(v) else v
 
 
 def check_answer(name: str, value: float, unit: str = "") -> float:
@@ -68,7 +74,9 @@ def check_range(
     if bad_lo or bad_hi:
         left = "(" if lo_open else "["
         rng = f"{left}{'-inf' if lo is None else lo}, {'inf' if hi is None else hi}]"
-        raise InputError(f"{name}: {v:g}{u} is outside the allowed range {rng}{u}")
+        given = float(value)
+        sub = " (a subnormal number, read as 0)" if is_subnormal(given) else ""
+        raise InputError(f"{name}: {given:g}{u}{sub} is outside the allowed range {rng}{u}")
     return v
 
 
@@ -80,9 +88,7 @@ def check_vector(name: str, value, n: int = 3):
         raise InputError(f"{name}: expected {n} numbers, got {value!r}") from None
     if len(vals) != n:
         raise InputError(f"{name}: expected {n} numbers, got {len(vals)}")
-    for i, x in enumerate(vals):
-        check_finite(f"{name}[{i}]", x)
-    return vals
+    return tuple(check_finite(f"{name}[{i}]", x) for i, x in enumerate(vals))
 
 
 def _escape_char(ch: str) -> str:

@@ -134,7 +134,7 @@ def test_tracks_command(capsys, tmp_path):
         (("serves", "--serves", "{f}", "--fit", "drag"), "--fit: unknown parameter"),
         (("serves", "--serves", "{bad}"), "missing column"),
         (("serves", "--serves", "{nan}"), "missing value"),
-        (("serves", "--serves", "/nonexistent/s.csv"), "No such file"),
+        (("serves", "--serves", "/nonexistent/s.csv"), "no such file"),
         (("sensitivity", "--serves", "{f}", "--cd", "a,b"), "--cd: expected comma-separated numbers"),
         (("tracks", "{bad}"), "missing column"),
         (("validate", "--serves", "{same}"), "--serves: no serves left after the checks"),

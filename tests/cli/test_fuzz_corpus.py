@@ -1386,3 +1386,19 @@ def test_shot_names_from_a_drill_file_are_printed_escaped(cwd, capsys):
     assert rc == 0, err
     assert "\x1b" not in out
     assert r"a\x1b[31mred\nline:" in out and r"drill 'T\x1b[2J'" in out
+
+
+def test_library_parameters_read_a_subnormal_as_zero():
+    """In the library a subnormal is read as 0: refused where the parameter must be positive (a division
+    follows), taken as 0 where 0 is allowed."""
+    from tennislab.core.impact import impact
+    from tennislab.errors import check_finite, check_range, check_vector
+    from tennislab.launcher.power import power_report
+
+    assert check_finite("x", 5e-324) == 0.0 and check_vector("w", (0.0, -5e-324, 1.0)) == (0.0, -0.0, 1.0)
+    with pytest.raises(InputError, match=r"^m: 9.99989e-321 kg \(a subnormal number, read as 0\) is outside"):
+        check_range("m", 1e-320, 0.0, 10.0, "kg", lo_open=True)
+    with pytest.raises(InputError, match="^speed: "):
+        impact(1e-320, 0.1)
+    with pytest.raises(InputError, match="^roller_mass: "):
+        power_report(20.0, roller_mass=1e-320)

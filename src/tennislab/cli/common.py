@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 
 from tennislab.core.aero import DEFAULT_AERO, aero_model_names
 from tennislab.core.flight import PRESETS, FlightParams
 from tennislab.core.launch import SPIN_AXES_DEG, spin_axis_angle
 from tennislab.core.surfaces import Surface, get_surface, register_surface
-from tennislab.errors import InputError, check_finite
+from tennislab.errors import InputError, is_subnormal
 from tennislab.io.aero_table import read_aero_table
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
 from tennislab.io.surface_file import is_surface_file, read_surface
@@ -78,10 +79,13 @@ def finite_float(text: str) -> float:
     """argparse ``type`` of every ``float`` flag: a finite, normal number (not NaN, not inf, not a
     subnormal such as 1e-320, which no physical quantity is and dividing by which gives inf)."""
     v = float(text)  # ValueError: argparse says "invalid float value"
-    try:
-        return check_finite("value", v)
-    except InputError as exc:
-        raise argparse.ArgumentTypeError(str(exc).split(": ", 1)[1]) from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text}: expected a finite number")
+    if is_subnormal(v):
+        raise argparse.ArgumentTypeError(
+            f"{text} is a subnormal number (magnitude below 2.2e-308, no physical value); give 0 or a normal number"
+        )
+    return v
 
 
 finite_float.__name__ = "float"

@@ -534,8 +534,7 @@ def impact_batch(
         raise InputError("speed: speed and alpha must be finite")
     if np.any(V < 0) or np.any(V > 150):
         raise InputError("speed: outside the allowed range [0, 150] m/s")
-    if np.any((V != 0) & (V < TINY)) or np.any((A != 0) & (np.abs(A) < TINY)):
-        raise InputError("speed: a subnormal number (below 2.2e-308) is no speed or angle; give 0 or a normal number")
+    V, A = (np.where(np.abs(x) < TINY, 0.0, x) for x in (V, A))  # subnormals are read as 0 (errors.check_finite)
     if np.any(np.abs(A) > math.pi / 2):
         raise InputError("alpha: outside the allowed range [-pi/2, pi/2] rad")
     steps = int(check_range("steps", steps, 4, 1e6))

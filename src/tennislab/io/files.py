@@ -208,7 +208,7 @@ def decode_text(data: bytes, name: str, *, nul: bool = True) -> str:
     except UnicodeDecodeError as exc:
         raise InputError(f"{shown(name)}: not UTF-8 text (byte {exc.start})") from None
     if not nul and "\x00" in text:
-        raise InputError(f"{shown(name)}: contains NUL bytes (not a text file)")
+        raise InputError(f"{shown(name)}: binary data (NUL bytes), not a text file")
     return text
 
 
