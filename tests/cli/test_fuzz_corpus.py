@@ -1402,3 +1402,17 @@ def test_library_parameters_read_a_subnormal_as_zero():
         impact(1e-320, 0.1)
     with pytest.raises(InputError, match="^roller_mass: "):
         power_report(20.0, roller_mass=1e-320)
+
+
+def test_a_drill_exported_under_a_name_that_is_not_utf8(cwd, capsys, launcher_db):
+    _write({"d.sqlite": launcher_db["real"]})
+    name = NOT_UTF8_NAME + ".yaml"
+    rc = _main(["launcher", "drills", "export", "--db", "d.sqlite", "Lobs", name])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    assert "\\xff\\xfe-x.yaml" in out
+    out.encode("utf-8")
+    from tennislab.launcher.drill_schema import shipped_path
+
+    with open(os.fsencode(name), "rb") as fh, open(shipped_path("lobs"), "rb") as gh:
+        assert fh.read() == gh.read()  # byte for byte, under its own name
