@@ -408,17 +408,25 @@ def test_serve_window_heat_map_picks_a_serve(wide_page):
     ib, ia = cells[len(cells) // 2]
     want = ("flat", "topspin", "other")[code[ib, ia] - 1]
     page.locator("#serve-heatmap").scroll_into_view_if_needed()
-    hb = page.locator("#serve-heatmap").bounding_box()
-    cw = page.eval_on_selector("#serve-heatmap", "c => [c.width, c.height]")
-    na, nb = len(win["alpha"]), len(win["beta"])
-    l, t, w, h = 40, 10, cw[0] - 50, cw[1] - 44  # HeatMap.geom()
-    px, py = l + (ia + 0.5) * w / na, t + h - (ib + 0.5) * h / nb
-    page.mouse.click(hb["x"] + px * hb["width"] / cw[0], hb["y"] + py * hb["height"] / cw[1])
+    cw = page.eval_on_selector("#serve-heatmap", "c => [c.width, c.height, c.clientWidth]")
+    assert abs(cw[0] - cw[2]) <= 2  # drawn at the size it is shown: labels at their size
+    px, py = page.eval_on_selector("#serve-heatmap", "(c, [i, j]) => c.tlHeat.cellCenter(i, j)", [int(ia), int(ib)])
+    inner = "c => { const r = c.getBoundingClientRect(); "
+    inner += "return [r.x + c.clientLeft, r.y + c.clientTop, c.clientWidth, c.clientHeight]; }"
+    x0, y0, w, h = page.eval_on_selector("#serve-heatmap", inner)  # the canvas inside its border
+    page.mouse.click(x0 + px * w / cw[0], y0 + py * h / cw[1])
     idle(page)
     assert float(page.input_value("#serve-impact_angle")) == win["alpha"][ia]
     assert float(page.input_value("#serve-face_angle")) == win["beta"][ib]
     got = results(page, "serve-result")
     assert got["success"] == "yes" and got["category"] == want
+    # the heat map spans where the window is: every success shown, beta far below 90
+    shown = page.eval_on_selector("#serve-heatmap", "c => c.tlHeat.shown()")
+    ok_b, ok_a = np.nonzero(code > 0)
+    assert shown["b0"] <= ok_b.min() and ok_b.max() <= shown["b1"]
+    assert shown["a0"] <= ok_a.min() and ok_a.max() <= shown["a1"]
+    assert win["beta"][shown["b1"]] < 60
+    assert "Shown where the window is" in page.inner_text("#window-note")
     # the 3-D view rotates when dragged
     page.locator("#serve-3d").scroll_into_view_if_needed()
     before = page.locator("#serve-3d").screenshot()
@@ -553,3 +561,49 @@ def test_linecall_example_then_an_uploaded_track(page):
     idle(page)
     assert page.input_value("#linecall-target") == "deuce-box"
     assert results(page, "call-result")["against"] == "deuce-box"
+
+
+# ---------------------------------------------------------------- the width of the screen, readable labels
+def test_the_page_uses_its_width_and_labels_stay_readable(page):
+    """At 1400 px the plots fill the column beside the form, two side by side; at 390 px they are one
+    above the other and every axis label is drawn at its size (12 px), never shrunk with the plot."""
+    for name, views in (
+        ("flight", ("#flight-3d", "#flight-side")),
+        ("serve", ("#serve-3d", "#serve-side")),
+        ("launcher", ("#launcher-court", "#launcher-side")),
+        ("linecall", ("#call-zoom", "#call-side")),
+    ):
+        open_page(page, name)
+        if name == "linecall":
+            page.click("#call-sample")
+            idle(page)
+        width = page.evaluate("window.innerWidth")
+        a, b = (page.locator(v).bounding_box() for v in views)
+        right = max(a["x"] + a["width"], b["x"] + b["width"])
+        if width >= 1000:
+            assert right >= 0.93 * width, (name, right, width)  # no empty half of the screen
+            assert abs(a["y"] - b["y"]) < 40 and b["x"] > a["x"] + a["width"] - 1, (name, a, b)  # side by side
+        else:
+            assert b["y"] >= a["y"] + a["height"] - 1, (name, a, b)  # one above the other
+        sizes = page.eval_on_selector_all(
+            f"#page-{name} svg.plot text.ticklabel, #page-{name} svg.plot text.axislabel",
+            "els => els.map(e => e.getBoundingClientRect().height)",
+        )
+        assert sizes and min(sizes) >= 11, (name, min(sizes) if sizes else None)
+        for canvas in page.eval_on_selector_all(
+            f"#page-{name} canvas", "els => els.filter(c => c.offsetParent).map(c => [c.width, c.clientWidth])"
+        ):
+            assert abs(canvas[0] - canvas[1]) <= 2, (name, canvas)  # a canvas is drawn at its shown size
+        assert page.locator(f"#page-{name} .plot-legend .legend-entry").count() >= 3, name  # every marker named
+        page.snap(f"width-{name}")
+
+
+def test_court_colours_follow_the_surface(wide_page):
+    page = wide_page
+    open_page(page, "flight")
+    fill(page, "flight", {"bounces": 1, "surface": "clay"})
+    colors = page.evaluate("tennislab.meta.court.surfaces")
+    fill_of = page.eval_on_selector("#flight-top rect.court", "r => getComputedStyle(r).fill")
+    clay = colors["clay"]["court"]
+    assert fill_of == "rgb({}, {}, {})".format(*(int(clay[i : i + 2], 16) for i in (1, 3, 5)))
+    assert "court: clay" in page.inner_text("#flight-legend")

@@ -4,7 +4,9 @@
 CSV text -> :func:`tennislab.io.track.parse_track` -> :func:`tennislab.linecall.call_track` -> its
 ``to_dict()`` (every ``tennislab call --json`` key: ``bounce.*``, ``mark.*``, ``call``, ``p_in``,
 ``distance_mm``, ``fit.*``, ``review_reasons``, ``spin``, ``net``) plus what the page draws: the
-track, the fitted trajectory, the mark's contact discs and the called line's rectangle.
+track, the fitted trajectory, the mark's contact discs and the called line's rectangle, and ``words``: the
+signed distance, the fitted scales and the spin said as the CLI and the report say them
+(:mod:`tennislab.plot.text`: "out by 3.1 mm", "1171 ± 733 rpm ...").
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.io.track import Track, parse_track
 from tennislab.linecall import TrackCall, call_track
+from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
 
 
 def pipeline(
@@ -69,6 +72,13 @@ def call(v: dict, text: str) -> dict:
         out["fitted"] = np.round(pts[np.all(np.isfinite(pts), axis=1)], 4).tolist()
     else:
         out["fitted"] = []
+    f = out.get("fit") or {}
+    out["words"] = {  # what the page says, in the words of the CLI and the report
+        "distance": in_out_by(out.get("distance_mm")),
+        "drag_scale": plus_minus(f.get("drag_scale"), f.get("drag_scale_sigma"), digits=3),
+        "lift_scale": plus_minus(f.get("lift_scale"), f.get("lift_scale_sigma"), digits=3),
+        "spin": spin_fit_words(out["spin"]) if (out.get("spin") or {}).get("rpm") is not None else "–",
+    }
     step = max(1, len(track) // 400)
     out["track"] = np.round(np.column_stack([track.t, track.xyz])[::step], 5).tolist()
     return out

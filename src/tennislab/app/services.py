@@ -13,6 +13,7 @@ import numpy as np
 
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
+from tennislab.plot.court import SURFACE_COLORS
 from tennislab.trajectory import FlightResult, fly
 from tennislab.units import KMH
 
@@ -43,7 +44,8 @@ def flight_of(tr) -> dict:
 
 # ------------------------------------------------------------------ court
 def court_geometry() -> dict:
-    """Lines, areas and net of the ITF court for drawing in the page."""
+    """Lines, areas and net of the ITF court for drawing in the page, and each surface's colours (those
+    of the figures: :data:`tennislab.plot.court.SURFACE_COLORS`)."""
     c = ITF_COURT
     return {
         "half_length": c.half_length,
@@ -55,6 +57,7 @@ def court_geometry() -> dict:
         "net_post_height": c.net_post_height,
         "lines": {k: list(v) for k, v in c.lines().items()},
         "areas": {k: list(c.area_bounds(k)) for k in c.area_names()},
+        "surfaces": {k: {"court": v[0], "surround": v[1]} for k, v in SURFACE_COLORS.items()},
     }
 
 

@@ -128,7 +128,7 @@ def plot_call(res, court=ITF_COURT, truth=None, zoom: float = 0.16, surface: str
     has_track = res.track is not None
     fig, axes = plt.subplots(1, 2 if has_track else 1, figsize=(13 if has_track else 6.5, 5.2), squeeze=False)
     handles = _draw_mark(axes[0, 0], res, out, court, truth, zoom, surface)
-    axes[0, 0].legend(handles=handles, loc="lower right", fontsize=7, framealpha=0.9)
+    axes[0, 0].legend(handles=handles, loc="lower right", fontsize=8, framealpha=0.9)
     if has_track:
         _draw_track(axes[0, 1], res, court, surface)
     fig.tight_layout()

@@ -10,6 +10,10 @@ import html
 import math
 from dataclasses import dataclass, field
 
+#: width [CSS px] a figure keeps on a narrow screen (it scrolls sideways there): its labels about 11 px
+#: (10-point text at the figures' 130 dpi is 18 px at full size; a 10-13 inch figure is 1300-1700 px)
+FIGURE_MIN_PX = 800
+
 CSS = """
 body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, "DejaVu Sans", sans-serif; margin: 0;
        color: #1b1b1b; background: #f7f7f4; line-height: 1.45; }
@@ -40,7 +44,15 @@ tr.paper td { color: #555; background: #fafafa; }
        margin: 0.2em 0.4em 0.2em 0; }
 .kpi b { font-size: 1.25em; }
 footer { font-size: 0.8em; color: #666; text-align: center; margin: 2em 0; }
-"""
+/* a phone: the figures keep a readable scale (about 11 px text) and scroll sideways inside their box */
+@media (max-width: 760px) {
+  header, main { padding-left: 0.7em; padding-right: 0.7em; }
+  section { padding: 0.4em 0.7em 0.8em; }
+  figure { overflow-x: auto; }
+  figure img { max-width: none; width: FIGURE_MIN_PX; }
+  figcaption::before { content: "(scroll sideways for the whole figure) "; }
+}
+""".replace("FIGURE_MIN_PX", f"{FIGURE_MIN_PX}px")
 
 
 def esc(s) -> str:

@@ -80,8 +80,8 @@ def linecall(ctx) -> None:
         ),
         H.figure(
             ctx.save(fig, "line_call.png"),
-            "Left: the mark (red/brown) against the service line, with the fit's 1σ and 2σ uncertainty. "
-            "Right: the track and the fitted flight.",
+            "Left: the mark against the lines it is judged by (yellow), the fitted first contact with its 1σ "
+            "and 2σ uncertainty and the true contact. Right: the track and the fitted flight.",
         ),
         H.table(["quantity", "value"], rows, left_cols=2),
         H.para(

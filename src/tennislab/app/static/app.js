@@ -19,11 +19,16 @@ function criteriaLabel(value) {
   return i >= 0 && f.choice_labels ? f.choice_labels[i] : (value || "seed-2d");
 }
 
-/* A signed distance of a mark to a line or area [mm] in words (positive: in): "in by 7.6 mm",
-   "out by 5.50 m". */
-function inOutBy(mm) {
-  const a = Math.abs(mm), size = a < 1000 ? `${a.toFixed(1)} mm` : `${(a / 1000).toFixed(2)} m`;
-  return `${mm >= 0 ? "in" : "out"} by ${size}`;
+/* A spin-axis angle [deg] by name (tennislab.plot.text.spin_axis_name: 0 topspin, 180 backspin, +90
+   sidespin curving left; within 2.5° of a named axis it is that axis). */
+function spinAxisName(deg) {
+  if (deg === null || deg === undefined || !Number.isFinite(deg)) return "along the path";
+  const wrap = x => { let a = ((x % 360) + 360) % 360; return a > 180 ? a - 360 : a; };
+  const a = wrap(deg);
+  for (const [ref, word] of [[0, "topspin"], [180, "backspin"], [90, "sidespin (curving left)"], [-90, "sidespin (curving right)"]]) {
+    if (Math.abs(wrap(a - ref)) <= 2.5) return word;
+  }
+  return `${Math.abs(a) < 90 ? "topspin" : "backspin"} and sidespin to the ${a > 0 ? "left" : "right"}`;
 }
 function $(sel) { return document.querySelector(sel); }
 function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
@@ -219,16 +224,38 @@ async function runPage(name) {
 }
 
 /* ---------- views shared by pages ---------- */
+/* Each page's last drawing, redrawn when the window is resized (the plots are as wide as their column). */
+const redraws = {};
+function drawn(name, fn) { redraws[name] = fn; fn(); }
+let resizeTimer = null;
+window.addEventListener("resize", () => {
+  clearTimeout(resizeTimer);
+  resizeTimer = setTimeout(() => { const fn = redraws[currentPage()]; if (fn) fn(); if (state.heat) state.heat.draw(); }, 150);
+});
+
+/* Flights on the side and top views of a page, in the colours of the court's surface; every marker in
+   the legend under them (#prefix-legend): the flight, where it lands (and bounces). */
 function drawFlight(prefix, flights, extra = {}) {
-  const court = state.meta.court, pts = flights.flatMap(f => f.points);
-  const side = P.courtSide($(`#${prefix}-side`), court, {points: pts.map(p => [p[0], p[2]]).concat(extra.side || [])});
-  const top = P.courtTop($(`#${prefix}-top`), court, {points: pts.map(p => [p[0], p[1]]).concat(extra.top || [])});
+  const court = state.meta.court, pts = flights.flatMap(f => f.points), surface = extra.surface;
+  const side = P.courtSide($(`#${prefix}-side`), court, {points: pts.map(p => [p[0], p[2]]).concat(extra.side || []), surface});
+  const top = P.courtTop($(`#${prefix}-top`), court, {points: pts.map(p => [p[0], p[1]]).concat(extra.top || []), surface});
   flights.forEach((f, i) => {
     const col = f.color || P.COLORS[i % P.COLORS.length];
     side.path(f.points.map(p => [p[0], p[2]]), {stroke: col, "stroke-width": 2, class: "traj"});
     top.path(f.points.map(p => [p[0], p[1]]), {stroke: col, "stroke-width": 2, class: "traj"});
-    for (const b of (f.bounces || [])) top.dot(b[0], b[1], 3.5, {fill: col, stroke: "#000", class: "bounce"});
+    (f.bounces || []).forEach((b, k) => {
+      top.dot(b[0], b[1], 3.5, {fill: col, stroke: "#000", class: "bounce"});
+      if ((f.bounces || []).length > 1) top.text(b[0] + 0.4, b[1] + 0.4, String(k + 1), {class: "drilllabel"});
+    });
   });
+  const el = $(`#${prefix}-legend`);
+  if (el) {
+    const nb = Math.max(0, ...flights.map(f => (f.bounces || []).length));
+    P.legend(el, [{kind: "line", color: P.COLORS[0], label: extra.what || "flight"},
+      {kind: "dot", color: P.COLORS[0], label: nb > 1 ? "landing and bounces (numbered, top view)" : "landing"},
+      {kind: "line", color: "#222", label: "net"}, {kind: "dash", color: "#999", label: "baselines and service lines (side view)"},
+      {kind: "patch", color: P.surfaceColors(court, surface).court, label: `court: ${surface || "hard"}`}]);
+  }
   return {side, top};
 }
 function emptyViews(prefix) {
@@ -236,6 +263,8 @@ function emptyViews(prefix) {
   P.courtSide($(`#${prefix}-side`), court, {});
   P.courtTop($(`#${prefix}-top`), court, {});
   if (state.views[prefix]) state.views[prefix].setTracks([]);
+  const el = $(`#${prefix}-legend`); if (el) el.replaceChildren();
+  delete redraws[prefix];
 }
 
 /* ---------- flight page ---------- */
@@ -259,8 +288,9 @@ async function runFlight() {
   });
   resultTable($("#flight-result"), rows, body);
   const bounces = [[r.landing.x, r.landing.y]].concat((r.bounces || []).slice(1).map(b => [b.x, b.y]));
-  drawFlight("flight", [{points: r.points, bounces}]);
-  state.views.flight.setTracks([{points: r.points}]);
+  const surface = body.bounces > 0 ? body.surface : "hard";
+  drawn("flight", () => drawFlight("flight", [{points: r.points, bounces}], {surface}));
+  state.views.flight.setTracks([{points: r.points}], surface);
   state.results.flight = {inputs: body, rows, points: r.points};
   exportsEnabled();
 }
@@ -306,7 +336,7 @@ function applyPlayer() {
   }
 }
 function clearWindow(msg) {
-  state.window = null; state.heat.set(null); $("#window-legend").replaceChildren();
+  state.window = null; state.heat.set(null); $("#window-legend").replaceChildren(); $("#window-note").textContent = "";
   setStatus($("#window-status"), msg || "", msg ? "busy" : ""); exportsEnabled();
 }
 async function runServe() {
@@ -323,7 +353,7 @@ async function runServe() {
   ], body);
   const rows = [...$("#serve-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
   if (r.flight) {
-    drawFlight("serve", [{points: r.flight.points, bounces: [[r.landing.x, r.landing.y]]}]);
+    drawn("serve", () => drawFlight("serve", [{points: r.flight.points, bounces: [[r.landing.x, r.landing.y]]}], {what: "serve"}));
     state.views.serve.setTracks([{points: r.flight.points}]);
   } else {
     emptyViews("serve");
@@ -349,11 +379,15 @@ async function runWindow() {
   if (cur) state.heat.select(cur.impact_angle, cur.face_angle);
   const legend = $("#window-legend"); legend.innerHTML = "";
   for (const it of r.legend) {
+    const entry = document.createElement("span"); entry.className = "legend-entry";  // swatch and label kept together
     const sp = document.createElement("span"); sp.className = "swatch"; sp.style.background = it.color;
-    const lab = document.createElement("span"); lab.textContent = ` ${it.label} (${it.n}) `; lab.dataset.code = it.code; lab.dataset.n = it.n;
+    const lab = document.createElement("span"); lab.textContent = `${it.label} (${it.n})`; lab.dataset.code = it.code; lab.dataset.n = it.n;
     lab.className = "legend-item";
-    legend.append(sp, lab);
+    entry.append(sp, lab); legend.append(entry);
   }
+  const sp = r.span, a = r.alpha, b = r.beta, note = $("#window-note");
+  note.textContent = sp ? `Shown where the window is: α ${sp.alpha_lo}–${sp.alpha_hi}°, β ${sp.beta_lo}–${sp.beta_hi}° `
+    + `(computed over α ${a[0]}–${a[a.length - 1]}°, β ${b[0]}–${b[b.length - 1]}° in ${r.step}° steps); the black box is the serve above.` : "";
   exportsEnabled();
 }
 page("window", {form: "window", status: "#window-status", clear() { clearWindow(); }});
@@ -364,6 +398,7 @@ page("launcher", {
   run: runAim,
   clear() {
     clearBox($("#aim-result")); state.lastAim = null; $("#add-shot").disabled = true;
+    delete redraws.launcher;
     drawLauncherCourt(); P.courtSide($("#launcher-side"), state.meta.court, {}); state.results.aim = null; exportsEnabled();
   },
 });
@@ -379,6 +414,11 @@ function drawLauncherCourt(extra, pts = []) {
     ax.text(s.result.landing.x + 0.3, s.result.landing.y + 0.3, String(i + 1), {class: "drilllabel"});
   });
   if (extra) extra(ax);
+  const items = [{kind: "square", color: "#222", label: "machine"}];
+  if (extra) items.push({kind: "line", color: P.COLORS[0], label: "this shot"}, {kind: "ring", color: "#ff0", label: "target (click to move)"},
+    {kind: "dot", color: P.COLORS[0], label: "landing"});
+  if (state.drill.length) items.push({kind: "dot", color: P.COLORS[1], label: "drill shots (numbered)"});
+  P.legend($("#launcher-legend"), items);
   ax.svg.onclick = evt => {
     const [x, y] = ax.fromClient(evt);
     $("#aim-target_x").value = x.toFixed(2); $("#aim-target_y").value = y.toFixed(2);
@@ -399,7 +439,8 @@ function drawAim(body, r) {
   resultTable($("#aim-result"), [
     ["height", st.height_m, "settings.height_m", "m", 1], ["speed", st.speed_kmh, "settings.speed_kmh", "km/h", 0],
     ["elevation", st.elevation_deg, "settings.elevation_deg", "deg", 0], ["heading", st.heading_deg, "settings.heading_deg", "deg", 0],
-    ["spin", st.spin_rpm, "settings.spin_rpm", "rpm", 0], ["spin axis", st.spin_axis_deg, "settings.spin_axis_deg", "deg", 0],
+    ["spin", st.spin_rpm, "settings.spin_rpm", "rpm", 0],
+    ["spin axis", st.spin_axis_deg, "settings.spin_axis_deg", "deg", 0, d => `${fmt(d, 0)}° (${spinAxisName(d)})`],
     ["roller 1", r.rollers.rpm1, "rollers.rpm1", "rpm", 0], ["roller 2", r.rollers.rpm2, "rollers.rpm2", "rpm", 0],
     ["landing x", r.landing.x, "landing.x", "m", 3], ["landing y", r.landing.y, "landing.y", "m", 3],
     ["miss", r.miss_mm, "miss_mm", "mm", 0], ["net clearance", r.net_clearance_m, "net_clearance_m", "m", 3],
@@ -408,13 +449,15 @@ function drawAim(body, r) {
     ["flight time", r.flight_time_s, "flight_time_s", "s", 2],
   ], body);
   const pts = r.flight.points;
-  drawLauncherCourt(ax => {
-    ax.path(pts.map(p => [p[0], p[1]]), {stroke: P.COLORS[0], "stroke-width": 2.5, class: "traj"});
-    ax.dot(body.target_x, body.target_y, 5, {fill: "none", stroke: "#ff0", "stroke-width": 2, class: "target"});
-    ax.dot(r.landing.x, r.landing.y, 4, {fill: P.COLORS[0], stroke: "#000", class: "landing"});
-  }, pts.map(p => [p[0], p[1]]));
-  const side = P.courtSide($("#launcher-side"), state.meta.court, {points: pts.map(p => [p[0], p[2]])});
-  side.path(pts.map(p => [p[0], p[2]]), {stroke: P.COLORS[0], "stroke-width": 2, class: "traj"});
+  drawn("launcher", () => {
+    drawLauncherCourt(ax => {
+      ax.path(pts.map(p => [p[0], p[1]]), {stroke: P.COLORS[0], "stroke-width": 2.5, class: "traj"});
+      ax.dot(body.target_x, body.target_y, 5, {fill: "none", stroke: "#ff0", "stroke-width": 2, class: "target"});
+      ax.dot(r.landing.x, r.landing.y, 4, {fill: P.COLORS[0], stroke: "#000", class: "landing"});
+    }, pts.map(p => [p[0], p[1]]));
+    const side = P.courtSide($("#launcher-side"), state.meta.court, {points: pts.map(p => [p[0], p[2]])});
+    side.path(pts.map(p => [p[0], p[2]]), {stroke: P.COLORS[0], "stroke-width": 2, class: "traj"});
+  });
   const rows = [...$("#aim-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
   state.results.aim = {inputs: body, rows, points: pts};
   exportsEnabled();
@@ -449,8 +492,9 @@ page("linecall", {
   run: () => runCall(),
   clear() {
     clearBox($("#call-result"));
-    P.courtTop($("#call-zoom"), state.meta.court, {width: 520, height: 340});
+    P.courtTop($("#call-zoom"), state.meta.court, {aspect: 0.62});
     P.courtSide($("#call-side"), state.meta.court, {});
+    $("#call-legend").replaceChildren(); delete redraws.linecall;
     state.results.call = null; exportsEnabled();
   },
 });
@@ -464,32 +508,48 @@ async function runCall() {
   const r = await post("linecall", "/api/linecall", {...body, csv: text}, $("#call-status")); if (!r) return;
   const bo = r.bounce || {}, mk = r.mark || {}, fit = r.fit || {};
   const why = r.reason || (r.review_reasons || []).join("; ") || null;
-  const mm = v => (typeof v === "number" ? v * 1000 : null);
+  const mm = v => (typeof v === "number" ? v * 1000 : null), words = r.words || {};
   resultTable($("#call-result"), [
     ["call", r.call, "call"], ["why", why, "reason"], ["against", r.target || r.line || "–", "against"],
     ["line drawn", r.line ?? "–", "line"],
     [body.line !== "auto" ? `mark vs the ${body.line}` : `mark vs ${r.target || "the area"} (lines included)`,
-      r.distance_mm, "distance_mm", "mm", 1, inOutBy],
+      r.distance_mm, "distance_mm", "mm", 1, () => words.distance],
     ["probability in", r.p_in, "p_in", "", 3], ["bounce x", bo.x, "bounce.x", "m", 4], ["bounce y", bo.y, "bounce.y", "m", 4],
-    ["bounce sigma", bo.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", mm(mk.length), "mark.length_mm", "mm", 1],
+    ["contact uncertainty (1σ)", bo.sigma_mm, "bounce.sigma_mm", "mm", 2], ["mark length", mm(mk.length), "mark.length_mm", "mm", 1],
     ["mark width", mm(mk.width), "mark.width_mm", "mm", 1], ["fit rms", fit.rms_mm, "fit.rms_mm", "mm", 2],
     ["outliers", fit.outliers, "fit.outliers", "", 0],
+    ["drag scale (1σ)", fit.drag_scale, "fit.drag_scale", "", 3, () => words.drag_scale],
+    ["lift scale (1σ)", fit.lift_scale, "fit.lift_scale", "", 3, () => words.lift_scale],
+    ["fitted spin (1σ)", r.spin ? r.spin.rpm : null, "spin.rpm", "rpm", 0, () => words.spin],
   ], body);
-  const court = state.meta.court;
-  const cx = mk.x ?? bo.x ?? (r.net && r.net.x) ?? 0, cy = mk.y ?? bo.y ?? (r.net && r.net.y) ?? 0, half = 0.3;
-  const zoom = P.courtTop($("#call-zoom"), court, {window: [cx - half, cx + half, cy - half * 0.6, cy + half * 0.6], width: 520, height: 340, tick: 0.2, pad: [40, 8, 8, 28]});
-  if (r.line_rect) zoom.rect(r.line_rect[0], r.line_rect[1], r.line_rect[2], r.line_rect[3], {class: "cline called"}, "data");
-  const g = P.svgEl("g", {id: "call-mark", class: "mark " + (r.call === "in" ? "in" : r.call === "out" ? "out" : "review")}, zoom.layers.front);
-  for (const d of (mk.discs || [])) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
-  if (typeof bo.x === "number") zoom.dot(bo.x, bo.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
-  const sidePts = r.track.map(p => [p[1], p[3]]).concat(r.fitted.map(p => [p[0], p[2]]));
-  const side = P.courtSide($("#call-side"), court, {points: sidePts});
-  for (const p of r.track) side.dot(p[1], p[3], 1.2, {fill: "#888"});
-  side.path(r.fitted.map(p => [p[0], p[2]]), {stroke: "#d62828", "stroke-width": 2, class: "traj"});
+  drawn("linecall", () => drawCall(r, body.surface));
   const rows = [...$("#call-result").querySelectorAll("td[data-key]")].map(c => [c.previousSibling.textContent, c.dataset.value, c.dataset.key]);
   state.results.call = {inputs: body, rows, track: r.track, fitted: r.fitted};
   exportsEnabled();
   return r;
+}
+/* The call's views on the court of its surface: the mark against the lines (zoomed, the line judged
+   highlighted) and the track with its fit (side view); every marker in the legend. */
+function drawCall(r, surface) {
+  const court = state.meta.court, bo = r.bounce || {}, mk = r.mark || {};
+  const cx = mk.x ?? bo.x ?? (r.net && r.net.x) ?? 0, cy = mk.y ?? bo.y ?? (r.net && r.net.y) ?? 0, half = 0.3;
+  const zoom = P.courtTop($("#call-zoom"), court, {window: [cx - half, cx + half, cy - half * 0.6, cy + half * 0.6],
+    aspect: 0.62, tick: 0.1, pad: [44, 8, 8, 32], surface});
+  if (r.line_rect) zoom.rect(r.line_rect[0], r.line_rect[1], r.line_rect[2], r.line_rect[3], {class: "cline called"}, "data");
+  const kind = r.call === "in" ? "in" : r.call === "out" ? "out" : "review";
+  const g = P.svgEl("g", {id: "call-mark", class: "mark " + kind}, zoom.layers.front);
+  for (const d of (mk.discs || [])) if (d[2] > 0) P.svgEl("circle", {cx: zoom.px(d[0]), cy: zoom.py(d[1]), r: d[2] * zoom.su}, g);
+  if (typeof bo.x === "number") zoom.dot(bo.x, bo.y, 2.5, {fill: "#000", id: "call-contact"}, "front");
+  const sidePts = r.track.map(p => [p[1], p[3]]).concat(r.fitted.map(p => [p[0], p[2]]));
+  const side = P.courtSide($("#call-side"), court, {points: sidePts, surface});
+  side.path(r.fitted.map(p => [p[0], p[2]]), {stroke: "#d62828", "stroke-width": 1.5, class: "traj"});
+  for (const p of r.track) side.dot(p[1], p[3], 1.8, {fill: "#444", "fill-opacity": 0.6});
+  P.legend($("#call-legend"), [
+    {kind: "patch", color: "#ffe066", label: `line drawn${r.line ? ": " + r.line : ""}`},
+    {kind: "patch", color: {in: "#8a4b1c", out: "#c81e1e", review: "#e0a020"}[kind], label: `ball mark (call ${r.call})`},
+    {kind: "dot", color: "#000", label: "fitted first contact"},
+    {kind: "dot", color: "#666", label: "track points (side view)"}, {kind: "line", color: "#d62828", label: "fitted flight"},
+  ]);
 }
 /* The example serve is called against the deuce service box: the page sets the target area for it (and
    says so); a file chosen next is called with the user's own choice again, the one before the example,
@@ -524,14 +584,14 @@ async function callSample() {
     if (!r.ok) { PAGES.linecall.clear(); setStatus($("#call-status"), `example track: HTTP ${r.status}`, "error"); return; }
     state.track = await r.text();
     if (await runCall()) {
-      setStatus($("#call-status"), `example serve: called against the ${areaLabel(SAMPLE_TARGET)} (target area set for it; a file you choose next is called against ${areaLabel(state.sampleOverride ? state.sampleOverride.target : t.value)})`, "ok");
+      setStatus($("#call-status"), `example serve: called against ${areaLabel(SAMPLE_TARGET)} (target area set for it; a file you choose next is called against ${areaLabel(state.sampleOverride ? state.sampleOverride.target : t.value)})`, "ok");
     }
   });
 }
 const SAMPLE_TARGET = "deuce-box";
 function areaLabel(v) {
-  if (v === "auto") return "singles court of the half it lands in";
-  return {"deuce-box": "deuce service box", "ad-box": "ad service box"}[v] || v;
+  if (v === "auto") return "the singles court of the half it lands in";
+  return "the " + ({"deuce-box": "deuce service box", "ad-box": "ad service box"}[v] || v);
 }
 
 /* ---------- exports: PNG of each plot, CSV of the numbers ---------- */
@@ -629,6 +689,9 @@ function showPage() {
 }
 async function openPage(fromURL) {
   const name = showPage();
+  if (redraws[name]) redraws[name]();  // drawn while hidden: again at the width it is shown at
+  if (state.views[name]) state.views[name].draw();
+  if (name === "serve" && state.heat) state.heat.draw();
   const given = fromURL ? applyURL() : false;
   const pg = PAGES[name];
   if (given || !state.ran[name]) {
