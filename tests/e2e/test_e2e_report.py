@@ -37,7 +37,7 @@ def test_report_figures_readable_at_both_widths(browser, report, tag):
             if w >= 1000:
                 assert shown >= 0.75 * min(natural, 1000), (shown, natural)  # the figure uses the page
             else:
-                assert shown == pytest.approx(H.FIGURE_MIN_PX, abs=3), shown  # a readable scale (+ its border), scrolled
+                assert shown == pytest.approx(H.FIGURE_MIN_PX, abs=3), shown  # readable (+ border)
                 assert shown / natural >= 0.45, (shown, natural)  # 10-point text no smaller than ~8-9 px
         if w < 1000:
             boxes = pg.eval_on_selector_all("figure", "els => els.map(e => [e.scrollWidth, e.clientWidth])")
