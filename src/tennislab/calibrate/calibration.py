@@ -28,7 +28,7 @@ from tennislab.calibrate.validate import as_serves, legacy_physics, usable, with
 from tennislab.core.aero import DEFAULT_AERO, get_aero_model
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 
 #: starting (or fixed) values: cd between the in-flight and Hawk-Eye measurements, cl of Cross 2020
 START = {"cd": 0.6, "cl": 0.6, "cd_s": 0.0, "speed_scale": 1.0}
@@ -51,7 +51,7 @@ def _fit_tuple(fit) -> tuple[str, ...]:
 
 
 @dataclass(frozen=True)
-class CalibrationResult(Result):
+class CalibrationResult(Table):
     """Aero coefficients calibrated on measured serves (:func:`calibrate_serves`).
 
     ``to_dict()`` keys: ``family`` (the formula), ``values`` {cd, cl, cd_s, speed_scale}, ``free``
@@ -260,7 +260,7 @@ def calibrate_serves(
 
 
 @dataclass(frozen=True)
-class SensitivityResult(Result):
+class SensitivityResult(Table):
     """Misses over a grid of (cd, cl, spin axis, speed scale) (:func:`sensitivity_serves`).
 
     ``to_dict()`` keys: ``family``, ``split``, ``n_fit``, ``n_held_out``, ``grid`` (list of {``cd``,

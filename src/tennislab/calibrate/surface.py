@@ -25,7 +25,7 @@ from tennislab.core.ball import Ball
 from tennislab.core.bounce import bounce_batch, court_pace_rating
 from tennislab.core.surfaces import Surface, cpr_category, get_surface
 from tennislab.errors import InputError
-from tennislab.results import Result
+from tennislab.results import Table
 
 #: parameters that can be fitted and their allowed ranges (those of :class:`Surface`)
 SURFACE_BOUNDS = {"e": (0.05, 1.0), "mu": (0.0, 2.0), "e_x": (0.0, 1.0)}
@@ -34,7 +34,7 @@ MIN_BOUNCES = 3
 
 
 @dataclass(frozen=True)
-class SurfaceCalibrationResult(Result):
+class SurfaceCalibrationResult(Table):
     """The fitted surface: ``values`` and their ``sd``, the residuals of the outgoing velocity [m/s]
     before (the base surface) and after, per bounce (:meth:`rows`), and the court pace rating."""
 

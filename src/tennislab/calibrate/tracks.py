@@ -36,7 +36,7 @@ from tennislab.core.integrators import rk4_step
 from tennislab.core.launch import launch_spin, spin_axis_angle
 from tennislab.errors import InputError, check_range
 from tennislab.io.track import Track
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 from tennislab.units import RPM
 
 H_MAX = 1e-3  #: [s] largest Runge-Kutta step (the error is then ~1e-9 m over a flight)
@@ -94,7 +94,7 @@ def _start_state(tr: Track) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class TrackCalibrationResult(Result):
+class TrackCalibrationResult(Table):
     """Aero coefficients fitted to tracks (:func:`calibrate_tracks`).
 
     ``to_dict()`` keys: ``family``, ``values`` {cd, cl, cd_s}, ``free``, ``sd`` {name: standard

@@ -23,7 +23,7 @@ from tennislab.calibrate.stats import by_group, summarize
 from tennislab.core.aero import AeroModel, aero_model_names, get_aero_model
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 
 GROUPS = ("serve_type", "family", "tour", "tournament", "event")  #: default groupings of the summaries
 
@@ -98,7 +98,7 @@ class ModelValidation:
 
 
 @dataclass(frozen=True)
-class ValidationResult(Result):
+class ValidationResult(Table):
     """The validation study (:func:`validate_serves`).
 
     ``to_dict()`` keys: ``n_read``, ``n_used``, ``excluded`` {reason: count}, ``excluded_reasons``

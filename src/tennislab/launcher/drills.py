@@ -33,7 +33,7 @@ from tennislab.errors import InputError
 from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_dict, rollers_rpm
 from tennislab.launcher.machine import MachineSpec
 from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, Preferences
-from tennislab.results import Result
+from tennislab.results import Table
 
 
 @dataclass(frozen=True)
@@ -303,8 +303,19 @@ CSV_COLUMNS = (
 
 
 @dataclass(frozen=True)
-class CompiledDrill(Result):
-    """A drill compiled to machine settings: the distinct shots and the timed sequence."""
+class CompiledDrill(Table):
+    """A drill compiled to machine settings: the distinct shots and the timed sequence (``rows()`` the
+    ``--csv`` rows, one per fired shot; ``to_frame()`` the same with units in every name)."""
+
+    COLUMNS = CSV_COLUMNS
+    FRAME_COLUMNS = {
+        "target_x": "target_x_m",
+        "target_y": "target_y_m",
+        "rpm1": "roller1_rpm",
+        "rpm2": "roller2_rpm",
+        "landing_x": "landing_x_m",
+        "landing_y": "landing_y_m",
+    }
 
     drill: Drill
     unique: list

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import tennislab.launcher.db as _db
 from tennislab.launcher.machine import Settings
 from tennislab.launcher.preferences import BRANCH_HIGH, Preferences, Tolerances
-from tennislab.results import Result
+from tennislab.results import Result, Table
 from tennislab.units import KMH
 
 
@@ -131,8 +131,16 @@ class LookupResult(Result):
 
 
 @dataclass(frozen=True)
-class PlayResult(Result):
-    """A drill run from the database: the timed settings a controller sends (``to_dict()``; ``rows()`` per shot)."""
+class PlayResult(Table):
+    """A drill run from the database: the timed settings a controller sends (``to_dict()``; ``rows()`` per
+    shot, the ``--jsonl`` lines; ``to_frame()`` the same with units in every name)."""
+
+    FRAME_COLUMNS = {
+        "rpm1": "roller1_rpm",
+        "rpm2": "roller2_rpm",
+        "landing_x": "landing_x_m",
+        "landing_y": "landing_y_m",
+    }
 
     drill: str
     key: str
@@ -166,7 +174,7 @@ class PlayResult(Result):
 
 
 @dataclass(frozen=True)
-class DrillList(Result):
+class DrillList(Table):
     """Drills stored in a database and shipped with tennislab (the JSON of ``launcher drills list``)."""
 
     drills: list
@@ -179,7 +187,7 @@ class DrillList(Result):
 
 
 @dataclass(frozen=True)
-class DrillsImported(Result):
+class DrillsImported(Table):
     """Drills stored by ``import_drills`` (the JSON of ``launcher drills import``): per drill its
     ``name``, ``revision``, ``n_shots`` and ``n_distinct``."""
 

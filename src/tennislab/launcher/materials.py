@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result
+from tennislab.results import Table
 
 #: Standard gravity used to turn a load in kg into a force [m/s^2] (CGPM 1901).
 G0 = 9.80665
@@ -97,8 +97,11 @@ SEED_TABLE3 = {
 
 
 @dataclass(frozen=True)
-class YoungResult(Result):
-    """Per-row moduli [Pa], their mean, min, max, and the least-squares slope modulus [Pa]."""
+class YoungResult(Table):
+    """Per-row moduli [Pa], their mean, min, max, and the least-squares slope modulus [Pa]; ``rows()`` /
+    ``to_frame()`` one row per load (the JSON's ``rows``)."""
+
+    COLUMNS = ("load_n", "deformation_m", "young_modulus_mpa")
 
     load: np.ndarray
     deformation: np.ndarray
@@ -110,13 +113,15 @@ class YoungResult(Result):
     contact_area: float
     diameter: float
 
-    def to_dict(self) -> dict:
-        rows = [
+    def rows(self) -> list[dict]:
+        return [
             {"load_n": float(f), "deformation_m": float(d), "young_modulus_mpa": float(e) / 1e6}
             for f, d, e in zip(self.load, self.deformation, self.modulus)
         ]
+
+    def to_dict(self) -> dict:
         return {
-            "rows": rows,
+            "rows": self.rows(),
             "mean_mpa": self.mean / 1e6,
             "min_mpa": self.minimum / 1e6,
             "max_mpa": self.maximum / 1e6,
@@ -202,8 +207,11 @@ def itf_young_moduli(diameter: float = 2 * SEED_BALL_RADIUS, contact_area: float
 
 
 @dataclass(frozen=True)
-class FrictionResult(Result):
-    """mu = tan(eta) per row, with optional contact lengths [m]; mean and maximum."""
+class FrictionResult(Table):
+    """mu = tan(eta) per row, with optional contact lengths [m]; mean and maximum; ``rows()`` /
+    ``to_frame()`` one row per measurement (the JSON's ``rows``)."""
+
+    COLUMNS = ("friction_angle_deg", "friction_coefficient", "contact_length_m")
 
     angle_deg: np.ndarray
     mu: np.ndarray
@@ -211,14 +219,17 @@ class FrictionResult(Result):
     mean: float
     maximum: float
 
-    def to_dict(self) -> dict:
+    def rows(self) -> list[dict]:
         rows = []
         for i, (a, m) in enumerate(zip(self.angle_deg, self.mu)):
             r = {"friction_angle_deg": float(a), "friction_coefficient": float(m)}
             if self.contact_length is not None:
                 r["contact_length_m"] = float(self.contact_length[i])
             rows.append(r)
-        return {"rows": rows, "mean": self.mean, "max": self.maximum}
+        return rows
+
+    def to_dict(self) -> dict:
+        return {"rows": self.rows(), "mean": self.mean, "max": self.maximum}
 
 
 def friction_coefficient(angle_deg, contact_length_m=None) -> FrictionResult:

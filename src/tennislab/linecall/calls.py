@@ -56,7 +56,7 @@ from tennislab.linecall.detect import (
 )
 from tennislab.linecall.fit import NOISE_FLOOR, TrackFit, fit_track
 from tennislab.linecall.net import NetCheck, check_net
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 from tennislab.units import RPM
 
 MAX_SPEED = 80.0  #: [m/s] fastest credible incoming speed at a bounce (fastest serves: 73 m/s off the racket)
@@ -71,15 +71,18 @@ CALLS = ("in", "out", "net", "let", "review")
 
 
 @dataclass(frozen=True)
-class TrackCall(Result):
+class TrackCall(Table):
     """One line call (``tennislab call --track/--position/--cameras --json`` is :meth:`to_dict`).
 
     ``call`` is one of :data:`CALLS`; ``provisional_call`` the in/out of the numbers when the call is
     ``review``; ``decision`` the output of :func:`~tennislab.linecall.decide.call_mark` (``p_in``,
     ``distance_mm``, ``target``/``line``, ``lines``).  ``fit_result``, ``mark_result`` and ``track``
     are the objects behind it (for plots; not in the JSON); their times are relative to
-    ``time_offset`` [s] (the first sample), the JSON's are absolute.
+    ``time_offset`` [s] (the first sample), the JSON's are absolute.  ``rows()`` / ``to_frame()``: the
+    samples the call used and the fit's residuals (:meth:`rows`; none for a state or cameras' call).
     """
+
+    COLUMNS = ("t_s", "x_m", "y_m", "z_m", "segment", "outlier", "residual_mm", "sigma_mm")
 
     method: str
     call: str
@@ -107,6 +110,31 @@ class TrackCall(Result):
     @property
     def distance_mm(self) -> float | None:
         return None if self.decision is None else self.decision["distance_mm"]
+
+    def rows(self) -> list[dict]:
+        """One row per sample of the track the call used: time [s, absolute], position [m]; with a fit
+        its ``segment`` (``before`` / ``after`` the bounce, ``unused``: in the contact, outside the
+        window or rejected), ``outlier``, the 3-D residual of the fitted flight and the point's sigma
+        [mm] (None where no fit was made)."""
+        if self.track is None:
+            return []
+        t, xyz = self.track
+        f = self.fit_result
+        names = {M.SEG_PRE: "before", M.SEG_POST: "after", M.SEG_OFF: "unused"}
+        out: list[dict] = []
+        for i in range(len(t)):
+            row: dict = {"t_s": float(t[i]) + self.time_offset, "x_m": float(xyz[i, 0]), "y_m": float(xyz[i, 1])}
+            row["z_m"] = float(xyz[i, 2])
+            if f is None:
+                row.update(segment=None, outlier=None, residual_mm=None, sigma_mm=None)
+            else:
+                res, sig = float(f.residual[i]), float(f.sigma[i])
+                row["segment"] = names.get(int(f.segment[i]), "unused")
+                row["outlier"] = bool(f.outlier[i])
+                row["residual_mm"] = 1000.0 * res if math.isfinite(res) else None
+                row["sigma_mm"] = 1000.0 * sig if math.isfinite(sig) else None
+            out.append(row)
+        return out
 
     def to_dict(self) -> dict:
         d = self.decision or {}
@@ -205,8 +233,10 @@ def _check_track(t, xyz, sigma):
     return t, xyz, sigma
 
 
-def review_call(reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None):
-    """A ``review`` answer without a bounce (the reasons say why)."""
+def review_call(
+    reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None, time_offset=0.0
+):
+    """A ``review`` answer without a bounce (the reasons say why); ``track`` times relative to ``time_offset``."""
     surface = get_surface(surface)
     return TrackCall(
         method=method,
@@ -224,6 +254,7 @@ def review_call(reasons, params, surface, *, net=None, method="track-fit", extra
         physics=params.to_dict(),
         extra=extra or {},
         track=track,
+        time_offset=time_offset,
     )
 
 
@@ -362,7 +393,7 @@ def call_track(
         msg = f"track: too few points ({t.size}); need at least {MIN_TRACK_POINTS}"
         if strict:
             raise InputError(msg)
-        return review_call([msg], params, surf, n_points=int(t.size), track=(t, xyz))
+        return review_call([msg], params, surf, n_points=int(t.size), track=(t, xyz), time_offset=t_ref)
     n_all = t.size
     noise = float(np.median(sigma)) if sigma is not None else noise_from_differences(t, xyz)
     direction = travel_direction(t, xyz)
@@ -385,6 +416,7 @@ def call_track(
             surface=surf.name,
             physics=params.to_dict(),
             track=(t, xyz),
+            time_offset=t_ref,
         )
     sel = np.arange(t.size)
     if net is not None and net.contact and net.resume >= 0:
@@ -423,7 +455,7 @@ def call_track(
     except InputError as exc:
         if strict:
             raise
-        return review_call([str(exc)], params, surf, net=net_d, n_points=int(n_all), track=(t, xyz))
+        return review_call([str(exc)], params, surf, net=net_d, n_points=int(n_all), track=(t, xyz), time_offset=t_ref)
     reasons = quality_reasons(fit, ts, noise) + extra_reasons
     mark = None
     decision = None

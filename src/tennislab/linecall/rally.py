@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
 from collections import Counter
 from collections.abc import Sequence
@@ -38,10 +39,10 @@ import numpy as np
 
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
-from tennislab.io.hawkeye import Point, ShotInfo
+from tennislab.io.hawkeye import Point, ShotInfo, read_points
 from tennislab.linecall.calls import CALLS, call_track, review_call
 from tennislab.linecall.detect import BOUNCE_Z, find_bounces, find_hits, travel_direction
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 
 SERVICE_LINE = 6.4  #: [m] the first hit of a point from behind this (|x|) is its serve (without shot records)
 MATCH_TOL = 0.15  #: [s] a tracker's shot belongs to the hit within this time
@@ -61,8 +62,21 @@ class Segment:
 
 
 @dataclass(frozen=True)
-class RallyCall(Result):
-    """Calls of every shot of one or more points (``tennislab call --rally --json`` is :meth:`to_dict`)."""
+class RallyCall(Table):
+    """Calls of every shot of one or more points (``tennislab call --rally --json`` is :meth:`to_dict`;
+    ``rows()`` the ``--csv`` rows, one per shot, and ``to_frame()`` the same with units in every name)."""
+
+    FRAME_COLUMNS = {
+        "t_hit": "t_hit_s",
+        "bounce_x": "bounce_x_m",
+        "bounce_y": "bounce_y_m",
+        "bounce_t": "bounce_t_s",
+        "net_y": "net_y_m",
+        "net_z": "net_z_m",
+        "tracker_distance": "tracker_distance_m",
+        "tracker_bounce_x": "tracker_bounce_x_m",
+        "tracker_bounce_y": "tracker_bounce_y_m",
+    }
 
     shots: tuple[dict, ...]
     points: tuple[dict, ...]
@@ -306,8 +320,25 @@ def summarize(shots: Sequence[dict], seconds: float) -> dict:
     return out
 
 
+def _points(points) -> list[Point]:
+    """The points of ``call_rally``: a file or a folder is read; read points are taken as they are."""
+    if isinstance(points, (str, os.PathLike)):
+        path = os.fspath(points)
+        try:
+            return read_points(path)
+        except OSError as exc:
+            raise InputError(f"points: {path}: {exc.strerror or exc}") from None
+    if isinstance(points, Point):
+        return [points]
+    if isinstance(points, Sequence) and all(isinstance(p, Point) for p in points):
+        return list(points)
+    kinds = {type(p).__name__ for p in points if not isinstance(p, Point)} if isinstance(points, Sequence) else set()
+    got = ", ".join(sorted(kinds)) or type(points).__name__
+    raise InputError(f"points: expected a point file, a folder of them or read points (Point), got {got}")
+
+
 def call_rally(
-    points: Point | Sequence[Point],
+    points: str | os.PathLike | Point | Sequence[Point],
     *,
     params: FlightParams | None = None,
     surface="hard",
@@ -320,12 +351,14 @@ def call_rally(
     workers: int = 1,
     progress="auto",
 ) -> RallyCall:
-    """Call every shot of the points (see the module docstring); ``workers`` > 1 calls points in
+    """Call every shot of the points (see the module docstring): ``points`` is a point JSON file or a
+    folder of them (read by :func:`tennislab.io.hawkeye.read_points`, as ``call --rally``), or points
+    already read; ``workers`` > 1 calls points in
     that many processes (the shots' order and numbers do not change).  ``progress``: points done and
     calls per second on stderr (:mod:`tennislab.batch.progress`: ``"auto"`` on a terminal for work
     over ~5 s, ``"always"``, True or False)."""
     params = params or FlightParams()
-    pts = [points] if isinstance(points, Point) else list(points)
+    pts = _points(points)
     if not pts:
         raise InputError("points: no points to call")
     workers = int(check_range("workers", workers, 1, 64))
@@ -400,3 +433,6 @@ def shot_row(s: dict) -> dict:
     ag = s.get("agreement") or {}
     row.update({k: ag.get(k) for k in ("call_agrees", "bounce_distance_mm", "along_path_mm", "across_mm")})
     return row
+
+
+RallyCall.COLUMNS = tuple(shot_row({}))

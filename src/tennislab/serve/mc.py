@@ -40,7 +40,7 @@ from tennislab.batch.sources import RowRange, default_chunk_size
 from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams, impact_batch
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 from tennislab.serve.pipeline import REASON_CODES, Setup, flights, make_setup
 from tennislab.serve.players import PlayerProfile
 from tennislab.serve.setup import SeedCriteria
@@ -276,7 +276,7 @@ def _in_process(fn, source):
 
 
 @dataclass(frozen=True)
-class MonteCarloResult(Result):
+class MonteCarloResult(Table):
     """Monte Carlo of a nominal serve (angles [deg], SI otherwise).  ``to_dict()`` is
     ``tennislab serve-mc --json``; ``rows()``/``to_frame()`` give the landing samples (only when the
     run kept them, ``samples=...``)."""
@@ -294,6 +294,9 @@ class MonteCarloResult(Result):
     n_landed: int
     caveats: tuple[str, ...] = ()
     samples: dict | None = field(default=None, repr=False)  #: land_x, land_y, success, landed, reason arrays
+
+    COLUMNS = ("land_x", "land_y", "success", "landed", "reason")
+    FRAME_COLUMNS = {"land_x": "land_x_m", "land_y": "land_y_m"}
 
     def to_dict(self) -> dict:
         return jsonable(

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from tennislab.core.impact import HIST_COLUMNS, ImpactParams, ImpactResult, to_court
 from tennislab.core.impact import impact as _impact
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result, jsonable
+from tennislab.results import Table, jsonable
 from tennislab.serve.setup import integration_caveats, seed_impact_params
 from tennislab.units import RPM
 
@@ -22,8 +22,27 @@ __all__ = ["ImpactSummary", "impact"]
 
 
 @dataclass(frozen=True)
-class ImpactSummary(Result):
-    """An impact and its inputs: racket speed [m/s], impact and face angles [deg], toss [m/s]."""
+class ImpactSummary(Table):
+    """An impact and its inputs: racket speed [m/s], impact and face angles [deg], toss [m/s].
+    ``rows()`` / ``to_frame()``: the contact history (``history=True``), normal positions of the racket,
+    the ball and the string node [m], their velocities [m/s], the tangential stretch [m], the
+    tangential velocities [m/s], the ball's spin [rad/s] and the forces [N] (racket frame)."""
+
+    COLUMNS = HIST_COLUMNS
+    FRAME_COLUMNS = {
+        "t": "t_s",
+        "x1": "racket_x_m",
+        "x2": "ball_x_m",
+        "x3": "node_x_m",
+        "v1": "racket_vn_ms",
+        "v2": "ball_vn_ms",
+        "e": "stretch_m",
+        "w1": "racket_vt_ms",
+        "w2": "ball_vt_ms",
+        "w3": "ball_omega_rad_s",
+        "F_N": "normal_force_n",
+        "F_t": "tangential_force_n",
+    }
 
     result: ImpactResult = field(repr=False)
     racket_speed: float

@@ -20,8 +20,8 @@ import numpy as np
 
 from tennislab.core.flight import FlightParams, Trajectory, fly
 from tennislab.core.impact import REGIMES, ImpactParams
-from tennislab.errors import check_range
-from tennislab.results import Result, jsonable
+from tennislab.errors import InputError, check_range
+from tennislab.results import DEFAULT_STEP_S, TRAJECTORY_COLUMNS, Table, jsonable, trajectory_rows
 from tennislab.serve.pipeline import REASONS, Setup, make_setup, serves
 from tennislab.serve.players import PlayerProfile
 from tennislab.serve.setup import CATEGORIES, SeedCriteria
@@ -57,8 +57,12 @@ class Verdict:
 
 
 @dataclass(frozen=True)
-class ServeResult(Result):
-    """One serve (angles in degrees, SI otherwise).  ``to_dict()`` is ``tennislab serve --json``."""
+class ServeResult(Table):
+    """One serve (angles in degrees, SI otherwise).  ``to_dict()`` is ``tennislab serve --json``;
+    ``rows(step_s)`` / ``to_frame()`` the ball's flight from the impact to the first bounce, every
+    ``step_s`` [s] (kept with ``simulate(..., trajectory=True)``)."""
+
+    COLUMNS = TRAJECTORY_COLUMNS
 
     player: PlayerProfile
     impact_angle: float  #: alpha [deg]
@@ -80,6 +84,12 @@ class ServeResult(Result):
     caveats: tuple[str, ...]
     inputs: dict  #: the 3-D options and the model names
     trajectory: Trajectory | None = field(default=None, repr=False)
+
+    def rows(self, step_s: float = DEFAULT_STEP_S) -> list[dict]:
+        """The flight every ``step_s`` [s]: time [s], position [m], velocity and speed [m/s], spin [rpm]."""
+        if self.trajectory is None:
+            raise InputError("trajectory: this serve kept no flight (pass simulate(..., trajectory=True))")
+        return trajectory_rows([self.trajectory], step_s)
 
     def to_dict(self) -> dict:
         imp = self.impact

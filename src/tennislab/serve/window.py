@@ -31,7 +31,7 @@ from scipy.ndimage import distance_transform_cdt
 from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result, jsonable
+from tennislab.results import Result, Table, jsonable
 from tennislab.serve.pipeline import Setup, flights, impacts, launch_3d, make_setup
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile
 from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
@@ -51,13 +51,24 @@ def window_chunk(inputs: dict, *, setup: Setup) -> dict:
 
 
 @dataclass(frozen=True)
-class ServeWindow(Result):
+class ServeWindow(Table):
     """Outcome of every serve on the alpha x beta grid for one player.
 
     Arrays are (n_beta, n_alpha); angles in degrees at this edge of the API
     (``alpha_deg``, ``beta_deg``); SI otherwise.  ``to_dict()`` is ``tennislab serve-window
     --json`` for one player; ``rows()`` / ``to_frame()`` give every serve.
     """
+
+    COLUMNS = ("player", *SUMMARY_KEYS, "success", "category")
+    #: the CSV's and the JSON's published names -> the frame's, with the unit (docs/conventions.md)
+    FRAME_COLUMNS = {
+        "beta": "beta_deg",
+        "alpha": "alpha_deg",
+        "speed": "speed_ms",
+        "landing_x": "landing_x_m",
+        "net_height": "net_height_m",
+        "launch_angle": "launch_angle_deg",
+    }
 
     player: PlayerProfile
     alpha_deg: np.ndarray
@@ -190,9 +201,12 @@ class ServeWindow(Result):
 
 
 @dataclass(frozen=True)
-class ServeWindows(Result):
+class ServeWindows(Table):
     """Windows of several players; ``to_dict()`` is ``{"players": {name: window}}`` (``serve-window
     --player all --json``), ``rows()`` every serve of every window."""
+
+    COLUMNS = ServeWindow.COLUMNS
+    FRAME_COLUMNS = ServeWindow.FRAME_COLUMNS
 
     windows: tuple[ServeWindow, ...]
 

@@ -26,7 +26,7 @@ from tennislab.core.launch import describe_spin, describe_velocity, launch_spin,
 from tennislab.core.rally import Rally, fly_bounces
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
-from tennislab.results import Result
+from tennislab.results import DEFAULT_STEP_S, TRAJECTORY_COLUMNS, Table, trajectory_rows
 from tennislab.units import DEG, KMH, RPM
 
 __all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "NET_MODES", "FlightResult", "fly", "launch_vectors"]
@@ -115,12 +115,16 @@ def _finite(x: float) -> float | None:
 
 
 @dataclass(frozen=True)
-class FlightResult(Result):
+class FlightResult(Table):
     """One flight: the first segment's landing, net crossing and apex, and the bounces if asked for.
 
     ``to_dict()`` is the JSON of ``tennislab fly --json`` (keys in SI by the rule of
-    docs/conventions.md, ``_kmh``/``_rpm``/``_mm`` where suffixed).
+    docs/conventions.md, ``_kmh``/``_rpm``/``_mm`` where suffixed); ``rows(step_s)`` /
+    ``to_frame(step_s=...)`` the flight sampled every ``step_s`` [s] (default 0.01 s) through every
+    segment (:func:`tennislab.results.trajectory_rows`).
     """
+
+    COLUMNS = TRAJECTORY_COLUMNS
 
     trajectory: Trajectory = field(repr=False)
     rally: Rally | None = field(default=None, repr=False)
@@ -142,6 +146,10 @@ class FlightResult(Result):
             _, ys = seg.sample(per)
             out.extend(np.round(ys[:, 0:3], 4).tolist())
         return out
+
+    def rows(self, step_s: float = DEFAULT_STEP_S) -> list[dict]:
+        """The flight every ``step_s`` [s]: time [s], position [m], velocity and speed [m/s], spin [rpm]."""
+        return trajectory_rows(self.segments, step_s)
 
     @property
     def caveats(self) -> list[str]:
