@@ -274,7 +274,8 @@ def run_command(cmd: Command) -> tuple[int, str, str]:
 
 # ------------------------------------------------------------------ comparing what a page shows
 _FLOAT = re.compile(r"\d+\.\d{9,}(?:e[-+]?\d+)?")  #: a number printed at full precision (JSON)
-ROUND_OFF = 1e-12  #: relative difference of two full-precision numbers that is round-off, not a change
+ROUND_OFF = 1e-9  #: relative difference of two full-precision numbers that is round-off, not a change (a miss
+#: of 1.2 mm from a landing at 9.5 m moves in its 12th digit)
 
 
 def _line_matches(shown: str, actual: str) -> bool:
@@ -644,7 +645,7 @@ def test_shown_outputs_are_compared_line_by_line_with_wildcards():
         check_command(Command(first.argv, None, None, ("landing: …",)), rc, out, err)
     assert shown_matches(("a 1 … s", "b"), "a 1 2.5 s\nb\n\n") and not shown_matches(("a 1 … s",), "a 2 2.5 s")
     assert shown_matches(('{"x":9.500848224017659}',), '{"x":9.500848224017663}')  # round-off
-    assert not shown_matches(('{"x":9.500848224017659}',), '{"x":9.500848224117659}')
+    assert not shown_matches(('{"x":9.500848224017659}',), '{"x":9.500848234017659}')
     assert not shown_matches(("x 9.5008",), "x 9.5009")  # a printed, rounded number is exact
     assert second.shown == ("tennislab …",) and second.span == (4, 5)
 
