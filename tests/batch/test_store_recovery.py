@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tennislab.batch import read_manifest, read_output, run_batch
-from tennislab.batch.store import LEDGER, MANIFEST, ChunkStore
+from tennislab.batch.store import LEDGER, LOCK, MANIFEST, ChunkStore
 from tennislab.errors import InputError
 
 CALLS: list[int] = []
@@ -211,7 +211,7 @@ def test_malformed_part_keys_are_one_line(tmp_path, data, parts):
     assert _snapshot(out) == before
 
 
-@pytest.mark.parametrize("which", [MANIFEST, LEDGER, "part-00001.parquet"])
+@pytest.mark.parametrize("which", [MANIFEST, LEDGER, LOCK, "part-00001.parquet"])
 def test_special_files_in_the_folder_never_block(tmp_path, data, which):
     """A FIFO in place of the manifest, the ledger or a part never blocks a rerun: the manifest's and the
     ledger's are refused in one line, a part's is computed again."""
@@ -220,8 +220,8 @@ def test_special_files_in_the_folder_never_block(tmp_path, data, which):
     if os.path.exists(path):
         os.unlink(path)
     os.mkfifo(path)
-    if which in (MANIFEST, LEDGER):
-        with pytest.raises(InputError, match="FIFO"):
+    if which in (MANIFEST, LEDGER, LOCK):
+        with pytest.raises(InputError, match="FIFO|not a regular file"):
             run_batch(affine, data, chunk_size=1000, out=out, progress=False)
         return
     res = run_batch(affine, data, chunk_size=1000, out=out, progress=False)

@@ -35,6 +35,7 @@ import contextlib
 import io
 import json
 import os
+import re
 import signal
 import socket
 import sqlite3
@@ -1416,3 +1417,27 @@ def test_a_drill_exported_under_a_name_that_is_not_utf8(cwd, capsys, launcher_db
 
     with open(os.fsencode(name), "rb") as fh, open(shipped_path("lobs"), "rb") as gh:
         assert fh.read() == gh.read()  # byte for byte, under its own name
+
+
+_NOT_A_NUMBER = re.compile(r"(?<![\w.])[-+]?(nan|inf)(?![\w])", re.I)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--racket-speed", "1"],
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--racket-speed", "1e-300"],
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--racket-mass", "1e-300"],
+        ["impact", "--racket-speed", "1e-300", "--impact-angle", "10"],
+        ["launcher", "power", "--speed-kmh", "100", "--roller-mass", "1e-300"],
+        ["launcher", "power", "--speed-kmh", "100", "--motor-power", "1e-300"],
+        ["launcher", "power", "--speed-kmh", "100", "--throw-time", "1e300"],
+    ],
+    ids=["serve-1-m-s", "serve-1e-300-m-s", "serve-racket-1e-300", "impact", "power-mass", "power-motor", "power-t"],
+)
+def test_answers_at_the_edge_are_numbers_or_refused(cwd, capsys, argv):
+    """Normal numbers at the edge of the floats: a one-line refusal, or an answer whose every number is
+    finite (a serve too slow to reach the net printed "ball centre nan m")."""
+    rc, out, err = _clean_run(capsys, argv, {})
+    if rc == 0:
+        assert not _NOT_A_NUMBER.search(out), out

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import functools
+import math
 
 from tennislab.batch import map_chunks
 from tennislab.cli.batch_flags import add_scheduler_flag, batch_options_from_args
@@ -223,8 +224,9 @@ def run_serve(args) -> int:
         f"{res.player.name}: {res.speed:.2f} m/s ({res.speed * 3.6:.1f} km/h), {res.spin_rpm:.0f} rpm "
         f"({res.category}), launch {res.launch_angle:.2f} deg"
     )
+    net = f"ball centre {res.net_height:.3f} m" if math.isfinite(res.net_height) else "the ball does not reach it"
     print(
-        f"net: ball centre {res.net_height:.3f} m; lands X = {res.landing_x:.3f} m from the impact point "
+        f"net: {net}; lands X = {res.landing_x:.3f} m from the impact point "
         f"(court x = {res.landing['x']:.3f}, y = {res.landing['y']:.3f}); judged by {_criteria(res.criteria)}"
     )
     print(res.verdict.line())
