@@ -327,6 +327,11 @@ def test_library_parameter_names_become_the_commands_flags():
     )
     assert flag_message("speed_kmh: 400 km/h is outside", opts) == "--speed-kmh: 400 km/h is outside"
     assert flag_message("velocity[0]: must be finite", opts) == "--velocity[0]: must be finite"
+    # the library's advice to set a parameter is said with the command's flag; Python users read the keyword
+    assert flag_message('cl: computes C_L from spin; use aero="constant" to set it', opts | {"--aero", "--cl"}) == (
+        "--cl: computes C_L from spin; use --aero constant to set it"
+    )
+    assert flag_message('wind: still air; use method="numeric"', opts) == 'wind: still air; use method="numeric"'
     # names the command has no flag for, paths and dotted keys stay as they are
     assert flag_message("mass: see my_file.csv and physics.spin_rpm", opts) == (
         "mass: see my_file.csv and physics.spin_rpm"

@@ -37,7 +37,8 @@ from tennislab.errors import InputError, escape_text
 from tennislab.io.files import check_output_dir, check_output_path
 from tennislab.launcher import HitsDB, compile_drill
 from tennislab.launcher.drill_schema import find_drill_source, parse_drill
-from tennislab.launcher.table import DEFAULT_CHUNK, LONG_FILL_S, FillReports, format_duration, make_grid, plan_fill
+from tennislab.launcher.table import DEFAULT_CHUNK, FillReports, make_grid, plan_fill
+from tennislab.plot.text import format_duration
 from tennislab.results import jsonable
 
 _RANGE_FLAGS = (
@@ -55,6 +56,8 @@ _STEP_NAMES = {
     "elevation": "elevation_deg",
     "heading": "heading_deg",
 }
+#: A fill estimated longer than this [s] needs ``--yes`` (the command's policy, not the library's).
+LONG_FILL_S = 3600.0
 #: Bytes a stored hit takes in the file, indexes included (docs/database.md).
 BYTES_PER_HIT = 460
 #: A practical first table (docs/database.md: 2.4e7 settings, ~3 min on 2 cores).
@@ -267,7 +270,7 @@ def run_table(args) -> int:
     plans = [db.plan(spec, params, g, chunk) for g in grids]
     total_s = sum(pl.estimated_s for pl in plans)
     for pl in plans:
-        print(f"table: {pl.describe()}", file=sys.stderr)
+        print(f"table: {_plan_text(pl)}", file=sys.stderr)
     if total_s > LONG_FILL_S and not args.yes:
         raise InputError(
             f"table: the fill is estimated at {format_duration(total_s)} "
@@ -342,7 +345,7 @@ def run_info(args) -> int:
     if args.json:
         emit_json(info)
     else:
-        print("\n".join(info.describe()))
+        print("\n".join(_info_lines(info)))
     return 0
 
 
@@ -439,3 +442,44 @@ def _check_out(path: str) -> None:
 
 def _shipped_only():
     return HitsDB("<no database>").list_drills()
+
+
+def _info_lines(info) -> list[str]:
+    """``launcher info``'s text: what a database holds (a :class:`~tennislab.launcher.DbInfo`)."""
+    lines = [f"{info.path}: tennislab launcher database, schema {info.schema_version}, {info.size_bytes:,} bytes"]
+    if info.hash is None:
+        lines.append("  empty: no machine yet (fill it with `launcher table`)")
+        return lines
+    m, p = info.machine or {}, info.physics or {}
+    lines.append(f"  hash {info.hash[:12]}, created {info.created_utc} by tennislab {info.tennislab_version}")
+    lines.append(
+        f"  machine at ({m['position'][0]:g}, {m['position'][1]:g}) m, rollers r {m['roller_radius']:g} m, "
+        f"axes {m['roller_axis_distance']:g} m apart"
+    )
+    b, a = p.get("ball", {}), p.get("atmosphere", {})
+    lines.append(
+        f"  physics: aero {p.get('aero', {}).get('name')}, ball {b.get('mass')} kg r {b.get('radius')} m, "
+        f"air {a.get('density')} kg/m^3, g {a.get('gravity')}, wind {a.get('wind')}, "
+        f"spin decay {p.get('spin_decay')}"
+    )
+    lines.append(f"  hits: {info.hits:,} in {len(info.fills)} fill(s)")
+    for f in info.fills:
+        state = "finished" if f["finished_utc"] else f"{f['chunks_done']}/{f['n_chunks']} chunks"
+        lines.append(f"    fill {f['id']}: {f['n_rows']:,} settings, {state}")
+    for k, r in info.ranges.items():
+        if r["count"]:
+            lines.append(f"  {k}: {r['min']:g} .. {r['max']:g} ({r['count']} values)")
+    names = ", ".join(f"{d['name']} (rev {d['revision']}, {d['n_shots']} shots)" for d in info.drills)
+    lines.append(f"  drills: {names or 'none'}")
+    if info.quick_check is not None:
+        lines.append(f"  quick_check: {info.quick_check}")
+    return lines
+
+
+def _plan_text(pl) -> str:
+    """A planned fill's size and estimate (a :class:`~tennislab.launcher.table.FillPlan`), printed before it starts."""
+    return (
+        f"{pl.grid_rows:,} settings ({' x '.join(str(v) for v in pl.shape.values())}), "
+        f"{pl.rows_to_fly:,} to fly in {pl.n_chunks - pl.chunks_done} chunks; "
+        f"~{pl.estimated_hits:,} hits; estimated {format_duration(pl.estimated_s)}"
+    )

@@ -113,13 +113,18 @@ _INNER = re.compile(r"(?<![\w.\-/])([a-z][a-z0-9]*(?:_[a-z0-9]+)+)(?![\w\-/])")
 _ALIASES = {"out": "out_dir"}
 
 
+#: a library message's advice to set a parameter: ``method="numeric"``
+_SETTING = re.compile(r'\b([a-z][a-z0-9_]*)="([^"\s]*)"')
+
+
 def flag_message(message: str, options: set[str]) -> str:
     """A library error names its parameter (``speed_kmh: ...``); the CLI says its flag (``--speed-kmh: ...``).
 
     The leading name is rewritten when the command has that flag; so are other parameter names with
     an underscore in the text (``give spin_rpm and spin_axis together`` -> ``--spin-rpm``, ``--spin-axis``),
     but not in a text that names a file's columns or keys (``missing column(s) spin_rpm``): those are
-    the file's words, not the command's.
+    the file's words, not the command's.  Advice to set a parameter (``use method="numeric"``) is said
+    with the command's flag (``use --method numeric``).
     """
     first = message.partition(": ")[0]
     if "." in first or "/" in first:  # about a file's content (``d.yaml: shots.a.spin_axis: ...``): its words
@@ -137,7 +142,12 @@ def flag_message(message: str, options: set[str]) -> str:
     head, sep, rest = message.partition(": ")
     if not sep or re.search(r"\b(column|columns|column\(s\)|header|key|keys|field|fields)\b", rest):
         return message
-    return head + sep + _INNER.sub(inner, rest)
+
+    def setting(mm: re.Match) -> str:  # the library's `method="numeric"` is the command's `--method numeric`
+        flag = "--" + mm.group(1).replace("_", "-")
+        return f"{flag} {mm.group(2)}" if flag in options else mm.group(0)
+
+    return head + sep + _INNER.sub(inner, _SETTING.sub(setting, rest))
 
 
 def _one_line(text: object) -> str:

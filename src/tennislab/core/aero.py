@@ -338,7 +338,7 @@ def stepanek1988(cd0: float = 0.55, cd: float | None = None, cl: float | None = 
     this model and is refused.
     """
     if cl is not None:
-        raise InputError("cl: the stepanek1988 model computes C_L from spin; use --aero constant to set it")
+        raise InputError('cl: the stepanek1988 model computes C_L from spin; use aero="constant" to set it')
     base = check_range("cd", cd0 if cd is None else cd, 0.0, 2.0)
     return AeroModel(
         "stepanek1988",

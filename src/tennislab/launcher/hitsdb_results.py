@@ -31,36 +31,6 @@ class DbInfo(Result):
     drills: list
     quick_check: str | None
 
-    def describe(self) -> list[str]:
-        lines = [f"{self.path}: tennislab launcher database, schema {self.schema_version}, {self.size_bytes:,} bytes"]
-        if self.hash is None:
-            lines.append("  empty: no machine yet (fill it with `launcher table`)")
-            return lines
-        m, p = self.machine or {}, self.physics or {}
-        lines.append(f"  hash {self.hash[:12]}, created {self.created_utc} by tennislab {self.tennislab_version}")
-        lines.append(
-            f"  machine at ({m['position'][0]:g}, {m['position'][1]:g}) m, rollers r {m['roller_radius']:g} m, "
-            f"axes {m['roller_axis_distance']:g} m apart"
-        )
-        b, a = p.get("ball", {}), p.get("atmosphere", {})
-        lines.append(
-            f"  physics: aero {p.get('aero', {}).get('name')}, ball {b.get('mass')} kg r {b.get('radius')} m, "
-            f"air {a.get('density')} kg/m^3, g {a.get('gravity')}, wind {a.get('wind')}, "
-            f"spin decay {p.get('spin_decay')}"
-        )
-        lines.append(f"  hits: {self.hits:,} in {len(self.fills)} fill(s)")
-        for f in self.fills:
-            state = "finished" if f["finished_utc"] else f"{f['chunks_done']}/{f['n_chunks']} chunks"
-            lines.append(f"    fill {f['id']}: {f['n_rows']:,} settings, {state}")
-        for k, r in self.ranges.items():
-            if r["count"]:
-                lines.append(f"  {k}: {r['min']:g} .. {r['max']:g} ({r['count']} values)")
-        names = ", ".join(f"{d['name']} (rev {d['revision']}, {d['n_shots']} shots)" for d in self.drills)
-        lines.append(f"  drills: {names or 'none'}")
-        if self.quick_check is not None:
-            lines.append(f"  quick_check: {self.quick_check}")
-        return lines
-
 
 @dataclass(frozen=True)
 class LookupResult(Result):

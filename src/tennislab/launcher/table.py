@@ -407,30 +407,11 @@ class FillPlan(Result):
     estimated_s: float
     shape: dict
 
-    def describe(self) -> str:
-        return (
-            f"{self.grid_rows:,} settings ({' x '.join(str(v) for v in self.shape.values())}), "
-            f"{self.rows_to_fly:,} to fly in {self.n_chunks - self.chunks_done} chunks; "
-            f"~{self.estimated_hits:,} hits; estimated {format_duration(self.estimated_s)}"
-        )
-
 
 #: Settings flown to time a fill before it starts (:class:`FillPlan`).
 PLAN_SAMPLE = 1500
 #: Hits per second through the single SQLite writer, inserts and indexes (docs/database.md: 1-3 x 10^4).
 INSERT_RATE = 1.5e4
-#: A fill estimated longer than this [s] needs ``yes=True`` (``--yes``).
-LONG_FILL_S = 3600.0
-
-
-def format_duration(s: float) -> str:
-    """A duration [s] as a person says it (s, min, h, days, years)."""
-    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
-        if s >= size:
-            return f"{s / size:.3g} {unit}"
-    return f"{s:.3g} s"
-
-
 def plan_fill(spec, params, grid: TableGrid, chunk_size: int = DEFAULT_CHUNK, done: int = 0) -> FillPlan:
     """Time a sample of the grid and estimate the fill (:class:`FillPlan`); flies nothing into any file."""
     n_chunks = -(-grid.size // int(chunk_size))

@@ -90,7 +90,7 @@ def _vertical(h, v0z, m_over_k, g, z_land, paper: bool):
         if -v0z >= vt:
             raise InputError(
                 f"velocity z: descending at {-v0z:g} m/s, faster than the terminal speed "
-                f"{vt:g} m/s of the closed form (use --method numeric)"
+                f'{vt:g} m/s of the closed form (use method="numeric")'
             )
         t1 = -math.atanh(-v0z / vt) / c  # virtual apex before t = 0
         zmax = h + m_over_k * math.log(math.cosh(c * t1))
@@ -187,10 +187,10 @@ def closed_form_from_physics(position, velocity, spin, params, z_land: float | N
     w = np.array(check_vector("spin", spin))
     if np.hypot(w[0], w[1]) > 1e-9 * max(1.0, abs(w[2])):
         raise InputError(
-            "spin: the closed form (seed 001 eqs 16-29) handles spin about the vertical axis only; use --method numeric"
+            'spin: the closed form (seed 001 eqs 16-29) handles spin about the vertical axis only; use method="numeric"'
         )
     if any(params.atmosphere.wind):
-        raise InputError("wind: the closed form assumes still air (seed 001); use --method numeric")
+        raise InputError('wind: the closed form assumes still air (seed 001); use method="numeric"')
     speed = float(np.linalg.norm(v))
     cd, cl = params.aero.coefficients(speed, abs(w[2]), params.ball.radius)
     k = params.k

@@ -113,3 +113,11 @@ def player_words(player) -> str:
     if name.endswith("*"):
         return f"{name[:-1]}, {player.impact_height:g} m, {player.racket_speed:g} m/s"
     return name
+
+
+def format_duration(s: float) -> str:
+    """A duration [s] as a person says it (s, min, h, days, years, three significant digits)."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if s >= size:
+            return f"{s / size:.3g} {unit}"
+    return f"{s:.3g} s"
