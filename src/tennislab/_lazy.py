@@ -17,7 +17,8 @@ read), ``__all__`` (the same names: the API), and one call::
 Nothing is imported until a name is used: ``import tennislab.serve`` costs nothing, and
 ``tennislab.serve.simulate`` (or ``from tennislab.serve import simulate``) imports the module that
 defines it, once.  A submodule not imported yet is imported on first access too, as a package that
-imported it eagerly would have it (``tennislab.launcher.db``).  A public name that is also the name
+imported it eagerly would have it (``tennislab.launcher.db``); a submodule that is part of the API is
+declared as ``from tennislab.serve import published``.  A public name that is also the name
 of a submodule (``tennislab.launcher.aim``, the function, defined in the module ``launcher/aim.py``)
 stays the public name when the submodule is imported, as after an eager import.
 """
@@ -71,6 +72,8 @@ def attach_stub(package: str, file: str) -> tuple[Callable[[str], object], Calla
                 if exc.name != f"{package}.{name}":
                     raise
                 raise AttributeError(f"module {package!r} has no attribute {name!r}") from None
+        if module == package:  # a public submodule (``from tennislab.serve import published``)
+            return importlib.import_module(f"{package}.{name}")
         value = getattr(importlib.import_module(module), name)
         setattr(sys.modules[package], name, value)
         return value

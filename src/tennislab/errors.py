@@ -21,6 +21,8 @@ import sys
 #: smallest positive normal float (2.2e-308); a nonzero number of smaller magnitude is subnormal
 TINY = sys.float_info.min
 
+__all__ = ["InputError", "TennisLabError", "check_finite", "check_range", "check_vector"]
+
 
 class TennisLabError(Exception):
     """Base class of all tennislab errors."""

@@ -26,6 +26,8 @@ import numpy as np
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
+__all__ = ["Result", "jsonable"]
+
 
 def jsonable(obj: Any) -> Any:
     """A JSON-ready copy of ``obj``: NumPy -> Python, NaN/inf -> ``None``, results -> their ``to_dict()``.

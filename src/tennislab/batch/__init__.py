@@ -28,9 +28,9 @@ from tennislab._lazy import attach_stub
 if TYPE_CHECKING:
     from tennislab.batch.api import BatchResult, execute_chunk, map_chunks, run_batch
     from tennislab.batch.grid import GridSpec
-    from tennislab.batch.schedulers import register_scheduler, register_url_scheme, scheduler_names
+    from tennislab.batch.schedulers import check_scheduler, register_scheduler, register_url_scheme, scheduler_names
     from tennislab.batch.sources import ArraySource, RowRange, StreamSource, default_chunk_size
-    from tennislab.batch.store import iter_output, read_manifest, read_output
+    from tennislab.batch.store import MANIFEST, iter_output, read_manifest, read_output
 
 __all__ = [
     "map_chunks",
@@ -45,9 +45,11 @@ __all__ = [
     "register_scheduler",
     "register_url_scheme",
     "scheduler_names",
+    "check_scheduler",
     "read_output",
     "iter_output",
     "read_manifest",
+    "MANIFEST",
 ]
 _getattr, __dir__ = attach_stub(__name__, __file__)
 

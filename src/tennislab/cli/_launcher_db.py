@@ -19,7 +19,6 @@ import json
 import os
 import sys
 
-from tennislab.batch.store import MANIFEST, load_manifest
 from tennislab.cli._launcher_args import (
     add_preference_flags,
     add_speed,
@@ -35,11 +34,7 @@ from tennislab.cli.batch_flags import add_scheduler_flag, progress_from_args
 from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError, escape_text
 from tennislab.io.files import check_output_dir, check_output_path
-from tennislab.launcher import HitsDB, compile_drill
-from tennislab.launcher.drill_schema import find_drill_source, parse_drill
-from tennislab.launcher.table import DEFAULT_CHUNK, FillReports, make_grid, plan_fill
 from tennislab.plot.text import format_duration
-from tennislab.results import jsonable
 
 _RANGE_FLAGS = (
     ("--speed-kmh", "speed_kmh", "ball speed [km/h]"),
@@ -213,6 +208,8 @@ def _ranges_from_args(spec, args) -> tuple[dict, dict]:
 def _drill_grids(spec, params, args, ranges, strides) -> list:
     """One grid per distinct (height, speed, spin, axis) a drill needs, every elevation and heading: the
     settings its shots ask for and those ``launcher drill`` aims them with (within their tolerances)."""
+    from tennislab.launcher import HitsDB, compile_drill, find_drill_source, make_grid, parse_drill
+
     data, source, fmt = find_drill_source(args.drill, stored=HitsDB(args.db) if os.path.exists(args.db) else None)
     d = parse_drill(data, source, fmt)
     comp = compile_drill(d, params)
@@ -243,11 +240,14 @@ def _drill_grids(spec, params, args, ranges, strides) -> list:
 
 def run_table(args) -> int:
     # where the fill writes, checked before any work (the plan flies a sample of the grid)
+    from tennislab.batch import MANIFEST, read_manifest
+    from tennislab.launcher import DEFAULT_CHUNK, FillReports, HitsDB, make_grid, plan_fill
+
     check_output_path("db", args.db)
     if getattr(args, "out_dir", None) is not None:
         check_output_dir("out_dir", args.out_dir)
         if os.path.exists(os.path.join(args.out_dir, MANIFEST)):
-            load_manifest(args.out_dir)  # a malformed manifest: one line, before the plan's sample flies
+            read_manifest(args.out_dir)  # a malformed manifest: one line, before the plan's sample flies
     spec = spec_from_args(args)
     params = physics_from_args(args)
     ranges, strides = _ranges_from_args(spec, args)
@@ -306,6 +306,8 @@ def run_table(args) -> int:
 
 # ------------------------------------------------------------------ lookup
 def run_lookup(args) -> int:
+    from tennislab.launcher import HitsDB
+
     db = HitsDB(args.db)
     given = given_flags(args)
     if given:
@@ -341,6 +343,8 @@ def run_lookup(args) -> int:
 
 # -------------------------------------------------------------- info, play
 def run_info(args) -> int:
+    from tennislab.launcher import HitsDB
+
     info = HitsDB(args.db).info(check=True if args.check else None)
     if args.json:
         emit_json(info)
@@ -350,6 +354,9 @@ def run_info(args) -> int:
 
 
 def run_play(args) -> int:
+    from tennislab.launcher import HitsDB
+    from tennislab.results import jsonable
+
     res = HitsDB(args.db).play(args.drill, max_miss_m=args.max_miss_m)
     if args.jsonl:
         for row in res.sequence:
@@ -373,6 +380,8 @@ def run_play(args) -> int:
 
 # ------------------------------------------------------------------ drills
 def run_drills(args) -> int:
+    from tennislab.launcher import HitsDB
+
     if args.action == "list":
         lst = HitsDB(args.db or "").list_drills() if args.db else _shipped_only()
         if args.json:
@@ -441,6 +450,8 @@ def _check_out(path: str) -> None:
 
 
 def _shipped_only():
+    from tennislab.launcher import HitsDB
+
     return HitsDB("<no database>").list_drills()
 
 

@@ -226,6 +226,9 @@ def main(argv=None) -> int:
 
 def _main(argv) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv == ["--version"]:  # what argparse's version action prints, without building every command
+        print(f"tennislab {__version__}")
+        return 0
     _file_backend()
     wants_help = any(a in ("-h", "--help", "--version") for a in argv)
     try:

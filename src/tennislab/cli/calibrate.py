@@ -15,22 +15,28 @@ from __future__ import annotations
 import csv
 import sys
 
-from tennislab.calibrate import (
-    calibrate_serves,
-    calibrate_surface,
-    calibrate_tracks,
-    measured_bounces,
-    registered_models,
-    sensitivity_serves,
-    validate_serves,
+from tennislab.cli.common import (
+    LazyHelp,
+    atomic_write,
+    emit_json,
+    figure_file,
+    output_file,
+    save_figure,
+    surface_from_arg,
 )
-from tennislab.cli.common import atomic_write, emit_json, figure_file, output_file, save_figure, surface_from_arg
-from tennislab.core.aero import DEFAULT_AERO
 from tennislab.errors import InputError
-from tennislab.io.aero_table import read_aero_table
-from tennislab.io.hawkeye import read_points
-from tennislab.io.track import read_track
-from tennislab.linecall import call_rally, call_track
+
+
+def _default_aero() -> str:
+    from tennislab.core import DEFAULT_AERO
+
+    return DEFAULT_AERO
+
+
+def _models_help() -> str:
+    from tennislab.calibrate import registered_models
+
+    return f"comma-separated aero models (default all: {', '.join(registered_models())})"
 
 
 def _physics_flags(p) -> None:
@@ -87,7 +93,7 @@ def register(sub) -> None:
         description="Fly each measured serve from its impact point with its speed and spin, aimed through its "
         "net point, and compare the predicted bounce with the measured one, for every aero model.",
     )
-    v.add_argument("--models", help=f"comma-separated aero models (default all: {', '.join(registered_models())})")
+    v.add_argument("--models", help=LazyHelp(_models_help))
     v.add_argument("--aero-table", metavar="CSV", help="also validate this aero table (speed_ms,spin_rpm,cd,cl)")
     v.add_argument(
         "--spin-axis",
@@ -117,7 +123,7 @@ def register(sub) -> None:
         default="fitted",
         help="fitted (default: per serve family, with cl fixed), topspin, none, sidespin or an angle [deg]",
     )
-    s.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' figures (default {DEFAULT_AERO})")
+    s.add_argument("--baseline", help=LazyHelp(lambda: f"model of the 'before' figures (default {_default_aero()})"))
     s.add_argument(
         "--out-table",
         metavar="CSV",
@@ -157,7 +163,7 @@ def register(sub) -> None:
     t.add_argument(
         "--spin-axis", default="topspin", help="its axis relative to each track's direction (default topspin)"
     )
-    t.add_argument("--baseline", default=DEFAULT_AERO, help=f"model of the 'before' residuals (default {DEFAULT_AERO})")
+    t.add_argument("--baseline", help=LazyHelp(lambda: f"model of the 'before' residuals (default {_default_aero()})"))
     t.add_argument(
         "--out-table",
         metavar="CSV",
@@ -196,6 +202,10 @@ def _register_surface(sp) -> None:
 def _measured_bounces(args):
     """The line calls of every shot of ``--rally`` / ``--track``, and their measured bounces
     (:func:`tennislab.calibrate.surface.measured_bounces`)."""
+    from tennislab.calibrate import measured_bounces
+    from tennislab.io import read_points, read_track
+    from tennislab.linecall import call_rally, call_track
+
     shots = []
     for f in args.rally:
         shots += call_rally(read_points(f), surface=args.base).to_dict()["shots"]
@@ -209,6 +219,8 @@ def _measured_bounces(args):
 
 
 def run_surface(args) -> int:
+    from tennislab.calibrate import calibrate_surface
+
     if not args.rally and not args.track:
         raise InputError("--rally: give tracks with points after the bounce (--rally FILE or --track FILE.csv)")
     base = surface_from_arg(args.base)
@@ -278,7 +290,7 @@ def _write_rows(path: str, rows: list[dict]) -> None:
 
 def _plot_misses(path: str, series: dict, title: str) -> None:
     # the figure module is imported only when a plot is asked for (Matplotlib adds ~0.3 s to a start-up)
-    from tennislab.plot.calibrate import plot_misses
+    from tennislab.plot import plot_misses
     from tennislab.plot.save import close_figure
 
     fig = plot_misses(series, title)
@@ -296,6 +308,9 @@ def _line(label: str, s: dict) -> str:
 
 
 def run_validate(args) -> int:
+    from tennislab.calibrate import validate_serves
+    from tennislab.io import read_aero_table
+
     models = [m.strip() for m in args.models.split(",") if m.strip()] if args.models else None
     table = read_aero_table(args.aero_table) if args.aero_table else None
     res = validate_serves(
@@ -330,6 +345,9 @@ def run_validate(args) -> int:
 
 
 def run_serves(args) -> int:
+    from tennislab.calibrate import calibrate_serves
+
+    args.baseline = args.baseline or _default_aero()
     res = calibrate_serves(
         args.serves,
         fit=args.fit,
@@ -374,6 +392,8 @@ def run_serves(args) -> int:
 
 
 def run_sensitivity(args) -> int:
+    from tennislab.calibrate import sensitivity_serves
+
     res = sensitivity_serves(
         args.serves,
         cd=_floats(args.cd, "cd"),
@@ -398,6 +418,10 @@ def run_sensitivity(args) -> int:
 
 
 def run_tracks(args) -> int:
+    from tennislab.calibrate import calibrate_tracks
+    from tennislab.io import read_track
+
+    args.baseline = args.baseline or _default_aero()
     tracks = [read_track(f) for f in args.files]
     res = calibrate_tracks(
         tracks,

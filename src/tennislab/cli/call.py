@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import os
+from typing import TYPE_CHECKING
 
 from tennislab.cli.batch_flags import add_progress_flag, progress_from_args
 from tennislab.cli.common import (
@@ -28,14 +29,12 @@ from tennislab.cli.common import (
     save_figure,
     surface_from_arg,
 )
+from tennislab.core import NET_MODES
 from tennislab.errors import InputError, escape_text
-from tennislab.io.cameras import read_cameras, read_detections
-from tennislab.io.hawkeye import read_points
-from tennislab.io.track import read_track
-from tennislab.linecall import RallyCall, TrackCall, call_detections, call_rally, call_state, call_track
-from tennislab.plot.linecall import plot_call, plot_rally
 from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
-from tennislab.trajectory import NET_MODES
+
+if TYPE_CHECKING:
+    from tennislab.linecall import RallyCall, TrackCall
 
 
 def register(sub) -> None:
@@ -142,6 +141,9 @@ def _fit_options(args) -> dict:
 
 
 def _single(args, params) -> TrackCall:
+    from tennislab.io import read_cameras, read_detections, read_track
+    from tennislab.linecall import call_detections, call_state, call_track
+
     if args.position is not None:
         if args.velocity is None:
             raise InputError("--position needs --velocity VX VY VZ")
@@ -249,6 +251,10 @@ def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None
 
 
 def run(args) -> int:
+    from tennislab.io import read_points
+    from tennislab.linecall import call_rally
+    from tennislab.plot import plot_call, plot_rally
+
     if args.csv and args.rally is None:
         raise InputError("--csv: only with --rally (one row per shot)")
     args.surface = surface_from_arg(args.surface)

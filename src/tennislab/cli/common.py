@@ -9,6 +9,11 @@ the launcher's machine flags (:func:`add_machine_flags`), the launch vocabulary
 about a named axis) and the output flags ``--csv`` / ``--plot`` / ``--json`` (:func:`add_output_flags`),
 whose paths are checked when the command line is parsed, before any work (:func:`output_file`,
 :func:`figure_file`, :func:`output_dir`).
+
+Start-up: building the parser loads no physics (``tennislab --help`` and ``--version`` stay fast, and a
+command loads only what it uses): the workflows and the core are imported where a command runs, and a
+help text that lists what a registry holds (the aero models, the spin axes) is a :class:`LazyHelp`,
+written when the help is shown.
 """
 
 from __future__ import annotations
@@ -17,19 +22,19 @@ import argparse
 import json
 import math
 import os
+from collections.abc import Callable, Iterator, Sequence
+from typing import TYPE_CHECKING
 
-from tennislab.core.aero import DEFAULT_AERO, aero_model_names
-from tennislab.core.flight import PRESETS, FlightParams
-from tennislab.core.launch import SPIN_AXES_DEG, spin_axis_angle
-from tennislab.core.surfaces import Surface, get_surface, register_surface
 from tennislab.errors import InputError, is_subnormal
-from tennislab.io.aero_table import read_aero_table
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
-from tennislab.io.surface_file import is_surface_file, read_surface
 from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
-from tennislab.results import jsonable
+
+if TYPE_CHECKING:
+    from tennislab.core.flight import FlightParams
 
 __all__ = [
+    "LazyChoices",
+    "LazyHelp",
     "PHYSICS_DESTS",
     "SPEED_UNITS",
     "add_launch_flags",
@@ -55,6 +60,47 @@ __all__ = [
 
 #: dests of the physics flags, in the order of :func:`add_physics_flags`
 PHYSICS_DESTS = ("aero", "cd", "cl", "aero_table", "mass", "radius", "air_density", "gravity", "wind", "spin_decay")
+
+
+class LazyHelp(str):
+    """A flag's help text computed when the help is shown (``fn()``, a ``%``-format as argparse's own),
+    so that a text naming what a registry holds does not load it when the parser is built."""
+
+    def __new__(cls, fn: Callable[[], str]) -> LazyHelp:
+        obj = super().__new__(cls, "(help)")
+        obj.fn = fn  # type: ignore[attr-defined]
+        return obj
+
+    def __mod__(self, params):  # argparse expands ``help % params``
+        return self.fn() % params
+
+
+class LazyChoices(Sequence):
+    """A flag's choices read from their registry when first needed (a value given, the help shown)."""
+
+    def __init__(self, fn: Callable[[], Sequence[str]]):
+        self._fn = fn
+        self._values: tuple[str, ...] | None = None
+
+    def _get(self) -> tuple[str, ...]:
+        if self._values is None:
+            self._values = tuple(self._fn())
+        return self._values
+
+    def __getitem__(self, i):
+        return self._get()[i]
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._get()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._get())
+
+    def __repr__(self) -> str:
+        return repr(self._get())
 
 
 # ------------------------------------------------------------------ output paths, checked at parse time
@@ -181,27 +227,37 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
     ``flags``: the dests (of :data:`PHYSICS_DESTS`) to add, for a command that uses only some of
     them (a flag a command would ignore must not be offered); default all.
     """
-    base = PRESETS[preset]
-    default_aero = base.get("aero", DEFAULT_AERO)
     chosen = PHYSICS_DESTS if flags is None else tuple(flags)
     unknown = set(chosen) - set(PHYSICS_DESTS)
     if unknown:
         raise ValueError(f"add_physics_flags: unknown physics flags {sorted(unknown)}")
     p.set_defaults(physics_preset=preset, **{d: None for d in PHYSICS_DESTS if d not in chosen})
     g = p.add_argument_group("physics")
+
+    def preset_value(key: str, value: object) -> object:
+        from tennislab.core.flight import PRESETS
+
+        return PRESETS[preset].get(key, value)
+
+    def aero_help() -> str:
+        from tennislab.core.aero import DEFAULT_AERO, aero_model_names
+
+        return f"aero model: {', '.join(aero_model_names())} (default {preset_value('aero', DEFAULT_AERO)})"
+
+    def with_default(text: str, key: str, value: float) -> LazyHelp:
+        return LazyHelp(lambda: f"{text} (default {preset_value(key, value)})")
+
     specs = {
-        "aero": dict(
-            default=None, metavar="NAME", help=f"aero model: {', '.join(aero_model_names())} (default {default_aero})"
-        ),
+        "aero": dict(default=None, metavar="NAME", help=LazyHelp(aero_help)),
         "cd": dict(type=float, help="drag coefficient for models that take one [-]"),
         "cl": dict(type=float, help="lift coefficient for models that take one [-]"),
         "aero_table": dict(metavar="CSV", help="CSV for --aero table (speed_ms,spin_rpm,cd,cl)"),
-        "mass": dict(type=float, metavar="KG", help=f"ball mass [kg] (default {base.get('mass', 0.0577)})"),
-        "radius": dict(type=float, metavar="M", help=f"ball radius [m] (default {base.get('radius', 0.0335)})"),
+        "mass": dict(type=float, metavar="KG", help=with_default("ball mass [kg]", "mass", 0.0577)),
+        "radius": dict(type=float, metavar="M", help=with_default("ball radius [m]", "radius", 0.0335)),
         "air_density": dict(
-            type=float, metavar="KG_M3", help=f"air density [kg/m^3] (default {base.get('air_density', 1.199)})"
+            type=float, metavar="KG_M3", help=with_default("air density [kg/m^3]", "air_density", 1.199)
         ),
-        "gravity": dict(type=float, metavar="M_S2", help=f"gravity [m/s^2] (default {base.get('gravity', 9.80665)})"),
+        "gravity": dict(type=float, metavar="M_S2", help=with_default("gravity [m/s^2]", "gravity", 9.80665)),
         "wind": dict(type=float, nargs=3, metavar=("WX", "WY", "WZ"), help="wind [m/s]"),
         "spin_decay": dict(type=float, metavar="PER_S", help="spin decay rate [1/s] (default 0: off)"),
     }
@@ -260,6 +316,8 @@ def add_output_flags(
 
 def physics_options(args) -> dict:
     """The physics flags as :meth:`FlightParams.from_options` keywords (a given ``--aero-table`` CSV is read here)."""
+    from tennislab.io.aero_table import read_aero_table
+
     table = None
     if getattr(args, "aero_table", None):
         table = read_aero_table(args.aero_table)
@@ -281,11 +339,15 @@ def physics_options(args) -> dict:
 
 def physics_from_args(args) -> FlightParams:
     """Build :class:`FlightParams` from parsed physics flags on top of the command's preset."""
+    from tennislab.core.flight import FlightParams
+
     return FlightParams.from_options(preset=getattr(args, "physics_preset", "standard"), **physics_options(args))
 
 
 def emit_json(obj) -> None:
     """Print one JSON object (a :class:`~tennislab.results.Result` prints its ``to_dict()``; NaN -> null)."""
+    from tennislab.results import jsonable
+
     print(json.dumps(jsonable(obj), indent=2))
 
 
@@ -317,6 +379,8 @@ def speed_from_args(args) -> float | None:
 def parse_spin_axis(values, flag: str = "--spin-axis"):
     """A ``--spin-axis`` value: one token (a name such as ``topspin`` or an angle [deg]) -> ``("angle", g [rad])``;
     three numbers -> ``("vector", (ax, ay, az))`` (any length, right-hand rule)."""
+    from tennislab.core.launch import spin_axis_angle
+
     vals = [values] if isinstance(values, str) else list(values)
     if len(vals) == 1:
         try:
@@ -358,8 +422,16 @@ def add_launch_flags(p, *, velocity_required: bool = False) -> None:
         "--spin-axis",
         nargs="+",
         metavar="AXIS",
-        help=f"spin axis: a name ({', '.join(SPIN_AXES_DEG)}), an angle [deg] about the flight "
-        "(0 topspin, 180 backspin, +90 curving left), or a vector AX AY AZ (right-hand rule)",
+        help=LazyHelp(_spin_axis_help),
+    )
+
+
+def _spin_axis_help() -> str:
+    from tennislab.core.launch import SPIN_AXES_DEG
+
+    return (
+        f"spin axis: a name ({', '.join(SPIN_AXES_DEG)}), an angle [deg] about the flight "
+        "(0 topspin, 180 backspin, +90 curving left), or a vector AX AY AZ (right-hand rule)"
     )
 
 
@@ -386,6 +458,9 @@ def surface_from_arg(value: str | None) -> str | None:
     """``--surface NAME|FILE``: a registered surface (clay, grass, hard, carpet, ...) or a surface file
     (``.toml``/``.json``, e.g. written by ``tennislab calibrate surface``), read and registered under
     its name; returns the name to pass to the workflows (None stays None)."""
+    from tennislab.core.surfaces import Surface, get_surface, register_surface
+    from tennislab.io.surface_file import is_surface_file, read_surface
+
     if value is None:
         return None
     if is_surface_file(value):

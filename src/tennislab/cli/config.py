@@ -17,16 +17,13 @@ import argparse
 import dataclasses
 import os
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from tennislab.cli.common import surface_from_arg
-from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
-from tennislab.io.aero_table import read_aero_table
-from tennislab.io.config import read_config, read_player_file
 from tennislab.io.files import check_input_file
-from tennislab.io.surface_file import is_surface_file
-from tennislab.serve.players import PlayerProfile, get_player, register_player
+
+if TYPE_CHECKING:
+    from tennislab.serve import PlayerProfile
 
 #: the file looked for in the working folder when ``--config`` is not given
 CONFIG_NAME = "tennislab.toml"
@@ -83,6 +80,8 @@ def find_config(explicit: str | None, cwd: str | None = None) -> str | None:
 def player_from_dict(name: str, fields: dict, where: str) -> PlayerProfile:
     """A :class:`~tennislab.serve.players.PlayerProfile` from a profile's fields (the dataclass's field
     names; ``name`` optional); an unknown or missing field is a one-line error naming it."""
+    from tennislab.serve import PlayerProfile
+
     known = [f.name for f in dataclasses.fields(PlayerProfile)]
     d: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
     d.setdefault("name", name)
@@ -114,6 +113,13 @@ def load_config(path: str | None) -> Config:
     """
     if path is None:
         return Config()
+    from tennislab.cli.common import surface_from_arg
+    from tennislab.core.flight import FlightParams
+    from tennislab.io.aero_table import read_aero_table
+    from tennislab.io.config import read_config
+    from tennislab.io.surface_file import is_surface_file
+    from tennislab.serve import get_player
+
     data = read_config(path)
     base = os.path.dirname(os.path.abspath(path))
     physics = dict(data["physics"])
@@ -157,6 +163,8 @@ def load_config(path: str | None) -> Config:
 
 def register_profiles(cfg: Config) -> None:
     """Make the configuration's players known to every command's ``--player NAME``."""
+    from tennislab.serve import register_player
+
     for name, player in cfg.players.items():
         aliases = (name.lower(),) if name.lower() != player.name else ()
         register_player(player, *aliases)
@@ -217,6 +225,8 @@ def resolve_profiles(args: argparse.Namespace, cfg: Config) -> None:
 
 def load_player_file(path: str) -> PlayerProfile:
     """Read a one-player TOML file (:func:`tennislab.io.config.read_player_file`) and register it."""
+    from tennislab.io.config import read_player_file
+
     try:
         check_input_file(path)
     except InputError as exc:

@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import textwrap
 
-import numpy as np
-
 from tennislab.cli.common import (
     add_launch_flags,
     add_physics_flags,
@@ -17,10 +15,8 @@ from tennislab.cli.common import (
     save_figure,
     surface_from_arg,
 )
+from tennislab.core import NET_MODES
 from tennislab.errors import InputError
-from tennislab.plot.text import spin_words
-from tennislab.plot.trajectory import plot_trajectories
-from tennislab.trajectory import NET_MODES, fly
 
 #: where a ball starts when --position is not given: a groundstroke from the centre of the near
 #: baseline, 1 m above the ground [m]
@@ -85,6 +81,11 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    import numpy as np
+
+    from tennislab.plot import plot_trajectories, spin_words
+    from tennislab.trajectory import fly
+
     from_config = getattr(args, "config_defaults", {})
     surface_given = args.surface is not None and args.surface != from_config.get("surface")
     if surface_given and args.bounces == 0:

@@ -7,11 +7,12 @@ physics flags it takes only the ball's ``--mass`` and ``--radius``.
 
 from __future__ import annotations
 
-from tennislab.cli.common import emit_json, figure_file, save_figure
-from tennislab.core.flight import PRESETS, FlightParams
-from tennislab.core.haake2003 import ball_model_names
-from tennislab.core.impact import FRICTION_MODELS, TANGENTIAL_DAMPING, ImpactParams
-from tennislab.serve import IMPACT_SCHEMES, impact, scheme_integration, seed_impact_params
+from typing import TYPE_CHECKING
+
+from tennislab.cli.common import LazyChoices, LazyHelp, emit_json, figure_file, save_figure
+
+if TYPE_CHECKING:
+    from tennislab.core import ImpactParams
 
 PAPER = "Grosen, Kousted & Treichel 2021"
 
@@ -26,13 +27,12 @@ def add_impact_flags(p) -> None:
         "--ball-model",
         default=None,
         metavar="NAME",
-        help=f"contact time/COR of the ball vs impact speed: {', '.join(ball_model_names())} (default haake2003, "
-        "placeholder data following Haake et al. 2003)",
+        help=LazyHelp(_ball_model_help),
     )
     g.add_argument(
         "--impact-scheme",
         default="converged",
-        choices=tuple(IMPACT_SCHEMES),
+        choices=LazyChoices(_impact_schemes),
         help="converged (default: the physical model, converged integration) or seed-literal (the paper's "
         "equations read literally: friction clamp, eq-6 damper with the ball's mass, racket starting 0.02 m "
         "behind the ball, Euler at 1e-4 s); the flags below override single parts",
@@ -40,14 +40,14 @@ def add_impact_flags(p) -> None:
     g.add_argument(
         "--friction-model",
         default=None,
-        choices=tuple(FRICTION_MODELS),
+        choices=LazyChoices(_friction_models),
         help="stick-slip rule: elastoplastic (never creates energy) or seed-clamp (the paper's eq 20 read "
         "literally: the force is clamped while the spring keeps stretching; can create energy)",
     )
     g.add_argument(
         "--tangential-damping",
         default=None,
-        choices=tuple(TANGENTIAL_DAMPING),
+        choices=LazyChoices(_tangential_damping),
         help="tangential damper: oscillator (restitutes 1.04 x COR, as the paper states) or ball (the paper's "
         "eq 6 with the ball's mass and contact time)",
     )
@@ -74,8 +74,37 @@ def add_impact_flags(p) -> None:
     )
 
 
+def _ball_model_help() -> str:
+    from tennislab.core import ball_model_names
+
+    return (
+        f"contact time/COR of the ball vs impact speed: {', '.join(ball_model_names())} (default haake2003, "
+        "placeholder data following Haake et al. 2003)"
+    )
+
+
+def _impact_schemes() -> tuple[str, ...]:
+    from tennislab.serve import IMPACT_SCHEMES
+
+    return tuple(IMPACT_SCHEMES)
+
+
+def _friction_models() -> tuple[str, ...]:
+    from tennislab.core import FRICTION_MODELS
+
+    return tuple(FRICTION_MODELS)
+
+
+def _tangential_damping() -> tuple[str, ...]:
+    from tennislab.core import TANGENTIAL_DAMPING
+
+    return tuple(TANGENTIAL_DAMPING)
+
+
 def impact_from_args(args, ball) -> tuple[ImpactParams, str, float]:
     """(ImpactParams, integrator, dt [s]) from the impact flags, for a ball (:class:`tennislab.core.ball.Ball`)."""
+    from tennislab.serve import scheme_integration, seed_impact_params
+
     params = seed_impact_params(
         ball=ball,
         racket_mass=args.racket_mass,
@@ -123,10 +152,13 @@ def register(sub) -> None:
         help="vertical ball velocity at impact [m/s] (negative: falling; default 0)",
     )
     add_impact_flags(p)
-    base = PRESETS["seed000"]
     g = p.add_argument_group("ball")
-    g.add_argument("--mass", type=float, help=f"ball mass [kg] (default {base['mass']}, the paper's)")
-    g.add_argument("--radius", type=float, help=f"ball radius [m] (default {base['radius']}, the paper's)")
+    g.add_argument(
+        "--mass", type=float, help=LazyHelp(lambda: f"ball mass [kg] (default {_seed('mass')}, the paper's)")
+    )
+    g.add_argument(
+        "--radius", type=float, help=LazyHelp(lambda: f"ball radius [m] (default {_seed('radius')}, the paper's)")
+    )
     p.add_argument(
         "--plot",
         metavar="FILE.png",
@@ -137,7 +169,16 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def _seed(key: str) -> float:
+    from tennislab.core import PRESETS
+
+    return PRESETS["seed000"][key]
+
+
 def run(args) -> int:
+    from tennislab.core import FlightParams
+    from tennislab.serve import impact
+
     ball = FlightParams.from_options(preset="seed000", mass=args.mass, radius=args.radius).ball
     params, method, dt = impact_from_args(args, ball)
     res = impact(
@@ -151,9 +192,7 @@ def run(args) -> int:
         history=bool(args.plot),
     )
     if args.plot:
-        # matplotlib.pyplot costs ~0.9 s to import (measured, -X importtime) and every command module
-        # is imported at start: plotting modules are imported only when a figure is asked for
-        from tennislab.plot.serve import plot_impact_history
+        from tennislab.plot import plot_impact_history
 
         title = f"V = {args.racket_speed:g} m/s, alpha = {args.impact_angle:g} deg"
         save_figure(plot_impact_history(res.result, title=title), args.plot)

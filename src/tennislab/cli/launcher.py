@@ -31,14 +31,17 @@ from tennislab.cli.common import (
 )
 from tennislab.errors import InputError, escape_text
 from tennislab.io.drill import write_csv
-from tennislab.launcher import HitsDB, aim, compile_drill, power_report, roller_report
-from tennislab.launcher.aim import fly_settings
-from tennislab.launcher.drill_schema import find_drill_source, parse_drill
-from tennislab.launcher.drills import CSV_COLUMNS, drill_trajectories
-from tennislab.launcher.machine import DEFAULT_SPEC, PAPER, speed_in_kmh
-from tennislab.launcher.power import DEFAULT_MOTOR_POWER, DEFAULT_ROLLER_MASS, DEFAULT_THROW_TIME
-from tennislab.plot.launcher import plot_aim, plot_drill
-from tennislab.plot.save import save_figure
+from tennislab.launcher import (
+    DEFAULT_MOTOR_POWER,
+    DEFAULT_ROLLER_MASS,
+    DEFAULT_SPEC,
+    DEFAULT_THROW_TIME,
+    PAPER,
+    power_report,
+    roller_report,
+    speed_in_kmh,
+)
+from tennislab.plot import save_figure
 from tennislab.units import KMH, RPM
 
 # (flag, help) of the optional model constants; each is a float, None = the model's default
@@ -139,6 +142,9 @@ def register(sub) -> None:
 
 
 def run_aim(args) -> int:
+    from tennislab.launcher import aim, fly_settings
+    from tennislab.plot import plot_aim
+
     check_output(args.plot, "--plot", figure=True)
     params = physics_from_args(args)
     spec = spec_from_args(args)
@@ -267,6 +273,16 @@ def run_power(args) -> int:
 
 
 def run_drill(args) -> int:
+    from tennislab.launcher import (
+        CSV_COLUMNS,
+        HitsDB,
+        compile_drill,
+        drill_trajectories,
+        find_drill_source,
+        parse_drill,
+    )
+    from tennislab.plot import plot_drill
+
     if args.file and args.drill and args.file != args.drill:
         raise InputError("--drill: give the drill once (DRILL or --drill NAME)")
     name = args.drill or args.file

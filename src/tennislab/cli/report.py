@@ -4,15 +4,22 @@ from __future__ import annotations
 
 import argparse
 
+from tennislab.cli.common import LazyChoices, LazyHelp
 from tennislab.cli.config import load_player_file
 from tennislab.errors import InputError
 from tennislab.io.files import check_output_dir, check_output_path
-from tennislab.report.build import SECTION_KEYS, build_report, index_path
-from tennislab.serve.players import SEED_PLAYERS, get_player
+
+
+def _section_keys() -> tuple[str, ...]:
+    from tennislab.report import SECTION_KEYS
+
+    return SECTION_KEYS
 
 
 def _out_path(value: str) -> str:
     """argparse type of ``--out``: a directory (created if missing) or a file ending in .html."""
+    from tennislab.report import index_path
+
     try:
         if index_path(value) == value:
             return check_output_path("out", value)
@@ -46,8 +53,8 @@ def register(sub) -> None:
         "--section",
         action="append",
         metavar="KEY",
-        choices=SECTION_KEYS,
-        help=f"build only this section (repeatable); keys: {', '.join(SECTION_KEYS)}",
+        choices=LazyChoices(_section_keys),
+        help=LazyHelp(lambda: f"build only this section (repeatable); keys: {', '.join(_section_keys())}"),
     )
     p.add_argument(
         "--strict",
@@ -59,6 +66,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    from tennislab.report import build_report
+    from tennislab.serve import SEED_PLAYERS, get_player
+
     own = args.player or ([args.config_defaults["player"]] if "player" in getattr(args, "config_defaults", {}) else [])
     players = None
     if own:  # one's own players first, then the paper's three for comparison

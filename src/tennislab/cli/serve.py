@@ -13,8 +13,8 @@ from __future__ import annotations
 import csv
 import functools
 import math
+from typing import TYPE_CHECKING
 
-from tennislab.batch import map_chunks
 from tennislab.cli.batch_flags import add_scheduler_flag, batch_options_from_args
 from tennislab.cli.common import (
     add_output_flags,
@@ -27,18 +27,10 @@ from tennislab.cli.common import (
 from tennislab.cli.impact import PAPER, add_impact_flags, impact_from_args
 from tennislab.errors import InputError
 from tennislab.plot.text import num
-from tennislab.serve import (
-    ServeWindow,
-    ServeWindows,
-    get_player,
-    monte_carlo,
-    player_names,
-    simulate,
-    window,
-    windows,
-)
-from tennislab.serve.mc import block_size
-from tennislab.serve.published import PEAK_SPIN_ALPHA, TABLE1
+from tennislab.serve import PEAK_SPIN_ALPHA, TABLE1, get_player, player_names
+
+if TYPE_CHECKING:
+    from tennislab.serve import ServeWindow, ServeWindows
 
 #: CSV columns of ``serve-window --csv``
 WINDOW_CSV = (
@@ -198,6 +190,8 @@ def _print_caveats(caveats) -> None:
 
 
 def run_serve(args) -> int:
+    from tennislab.serve import simulate
+
     res = simulate(
         _player(args),
         args.impact_angle,
@@ -213,7 +207,7 @@ def run_serve(args) -> int:
     if args.plot:
         # matplotlib.pyplot costs ~0.9 s to import (measured, -X importtime) and every command module
         # is imported at start: plotting modules are imported only when a figure is asked for
-        from tennislab.plot.trajectory import plot_trajectories
+        from tennislab.plot import plot_trajectories
 
         label = f"alpha {args.impact_angle:g}, beta {args.face_angle:g}"
         save_figure(plot_trajectories([res.trajectory], [label], title=f"{res.player.name} serve"), args.plot)
@@ -267,6 +261,8 @@ def comparison_table(win) -> list[str]:
 
 
 def _mapper(args):
+    from tennislab.batch import map_chunks
+
     opts = batch_options_from_args(args)
     if opts["scheduler"] == "local" and not opts["out"]:
         return None  # in process, no chunking overhead
@@ -274,6 +270,8 @@ def _mapper(args):
 
 
 def run_window(args) -> int:
+    from tennislab.serve import simulate, window, windows
+
     kw = dict(
         step=args.step,
         mapper=_mapper(args),
@@ -302,7 +300,7 @@ def run_window(args) -> int:
         atomic_write(args.csv, _w)
     if args.plot:
         # matplotlib: imported only for a figure (see run_serve)
-        from tennislab.plot.serve import plot_window
+        from tennislab.plot import plot_window
 
         trs = [
             [
@@ -354,7 +352,11 @@ def run_window(args) -> int:
 def _mc_mapper(args):
     """``map_chunks`` over blocks of serves (:func:`tennislab.serve.mc.block_size`): ``--chunk-size``
     (serves) is rounded to whole blocks, one block per chunk by default; the numbers never change."""
+    from tennislab.batch import map_chunks
+
     opts = batch_options_from_args(args)
+    from tennislab.serve import block_size
+
     block = block_size(max(1, args.n))
     opts["chunk_size"] = max(1, round(opts["chunk_size"] / block)) if opts.get("chunk_size") else 1
     opts["desc"] = f"serve-mc (chunks of {opts['chunk_size'] * block} serves)"
@@ -367,6 +369,8 @@ def _serves(outputs: dict) -> int:
 
 
 def run_mc(args) -> int:
+    from tennislab.serve import monte_carlo
+
     res = monte_carlo(
         _player(args),
         args.impact_angle,
@@ -386,7 +390,7 @@ def run_mc(args) -> int:
     )
     if args.plot:
         # matplotlib: imported only for a figure (see run_serve)
-        from tennislab.plot.serve import plot_mc
+        from tennislab.plot import plot_mc
 
         save_figure(plot_mc(res), args.plot)
     if args.json:

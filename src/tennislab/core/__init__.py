@@ -39,13 +39,11 @@ if TYPE_CHECKING:
     from tennislab.core.ball import Ball
     from tennislab.core.bounce import bounce, bounce_batch
     from tennislab.core.court import ITF_COURT, Court
-    from tennislab.core.events import STATUS_NAMES, Apex, Landing, NetContact, NetCrossing
+    from tennislab.core.events import DEFAULT_NET, NET_MODES, STATUS_NAMES, Apex, Landing, NetContact, NetCrossing
     from tennislab.core.flight import (
-        DEFAULT_NET,
         MAX_DISTANCE_M,
         MAX_SPEED_MS,
         MAX_SPIN_RPM,
-        NET_MODES,
         PRESETS,
         FlightParams,
         FlightTable,

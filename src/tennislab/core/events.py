@@ -187,6 +187,14 @@ NET_TAPE = Event(
 )
 
 #: events of a flight with the net as a plane the ball passes through (the default)
+#: How a flight treats the net (the one net rule): ``obstacle`` stops the ball where it meets the net
+#: (mesh or tape, :data:`OBSTACLE_EVENTS`), ``through`` lets it pass and only says whether it cleared
+#: (:data:`FLIGHT_EVENTS`, the seeds' models).  Every workflow that flies a state a user gives
+#: (``fly``, ``call --position``) defaults to :data:`DEFAULT_NET`;
+#: :func:`tennislab.core.flight.with_net` applies a mode to a set of parameters.
+NET_MODES = ("obstacle", "through")
+DEFAULT_NET = "obstacle"
+
 FLIGHT_EVENTS = (LAND, NET, APEX)
 #: events of a flight with the net as an obstacle
 OBSTACLE_EVENTS = (LAND, NET, APEX, NET_MESH, NET_TAPE)

@@ -41,9 +41,11 @@ from tennislab.core.events import (
     ALWAYS,
     COL,
     COLUMNS,
+    DEFAULT_NET,
     FLIGHT_EVENTS,
     IF_NET,
     NCOLS,
+    NET_MODES,
     NET_RESULTS,
     OBSTACLE_EVENTS,
     STATUS_NAMES,
@@ -82,13 +84,6 @@ MAX_DISTANCE_M = 1000.0
 MAX_STEPS = 100_000
 #: Most evaluations of the right-hand side in one :func:`fly` (a flight takes ~1,000-3,000 at rtol 1e-10)
 MAX_RHS_EVALS = 200_000
-
-#: How a flight treats the net (the one net rule): ``obstacle`` stops the ball where it meets the net
-#: (mesh or tape), ``through`` lets it pass and only says whether it cleared (the seeds' models).
-#: Every workflow that flies a state a user gives (``fly``, ``call --position``) defaults to
-#: :data:`DEFAULT_NET`; :func:`with_net` applies a mode to a set of parameters.
-NET_MODES = ("obstacle", "through")
-DEFAULT_NET = "obstacle"
 
 #: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
 #: keep the dataclass defaults: ITF type-2 ball, ISA sea-level moist air, DEFAULT_AERO).

@@ -25,7 +25,15 @@ from tennislab._lazy import attach_stub
 if TYPE_CHECKING:
     from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
     from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
-    from tennislab.launcher.drills import CompiledDrill, Drill, compile_drill, drill_key, expand_program
+    from tennislab.launcher.drills import (
+        CSV_COLUMNS,
+        CompiledDrill,
+        Drill,
+        compile_drill,
+        drill_key,
+        drill_trajectories,
+        expand_program,
+    )
     from tennislab.launcher.hitsdb import HitsDB
     from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
     from tennislab.launcher.machine import (
@@ -37,29 +45,49 @@ if TYPE_CHECKING:
         Settings,
         launch_states,
         settings_states,
+        speed_in_kmh,
         spin_vector,
     )
-    from tennislab.launcher.power import power_report
-    from tennislab.launcher.preferences import Preferences, Tolerances
+    from tennislab.launcher.materials import SEED_BALL_RADIUS, SEED_CONTACT_AREA, friction_coefficient, young_modulus
+    from tennislab.launcher.power import DEFAULT_MOTOR_POWER, DEFAULT_ROLLER_MASS, DEFAULT_THROW_TIME, power_report
+    from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, TRAJECTORIES, Preferences, Tolerances
     from tennislab.launcher.rollers import roller_report
-    from tennislab.launcher.table import FillPlan, FillReport, TableGrid, make_grid
+    from tennislab.launcher.table import (
+        DEFAULT_CHUNK,
+        FillPlan,
+        FillReport,
+        FillReports,
+        TableGrid,
+        make_grid,
+        plan_fill,
+    )
 
 __all__ = [
+    "CSV_COLUMNS",
+    "DEFAULT_CHUNK",
+    "DEFAULT_MOTOR_POWER",
+    "DEFAULT_POSITION",
+    "DEFAULT_ROLLER_MASS",
+    "DEFAULT_SPEC",
+    "DEFAULT_SPIN_AXIS_TOLERANCE_DEG",
+    "DEFAULT_THROW_TIME",
+    "PAPER",
+    "SEED_BALL_RADIUS",
+    "SEED_CONTACT_AREA",
+    "TRAJECTORIES",
     "AimResult",
     "AimSolution",
     "CompiledDrill",
-    "DEFAULT_POSITION",
-    "DEFAULT_SPEC",
     "DbInfo",
     "Drill",
     "DrillList",
     "DrillsImported",
     "FillPlan",
     "FillReport",
+    "FillReports",
     "HitsDB",
     "LookupResult",
     "MachineSpec",
-    "PAPER",
     "PlayResult",
     "Preferences",
     "Range",
@@ -70,18 +98,23 @@ __all__ = [
     "aim_all",
     "compile_drill",
     "drill_key",
+    "drill_trajectories",
     "expand_program",
     "find_drill_source",
     "fly_settings",
+    "friction_coefficient",
     "launch_states",
     "launcher_params",
     "load_drill",
     "make_grid",
     "parse_drill",
+    "plan_fill",
     "power_report",
     "roller_report",
     "settings_states",
     "shipped_drills",
+    "speed_in_kmh",
     "spin_vector",
+    "young_modulus",
 ]
 __getattr__, __dir__ = attach_stub(__name__, __file__)

@@ -139,6 +139,11 @@ class AimSolution:
             "heading_deg": s.heading_deg - self.exact_heading_deg,
         }
 
+    def to_dict(self, spec: MachineSpec | None = None, params: FlightParams | None = None) -> dict:
+        """The JSON of this solution on machine ``spec`` flown with ``params`` (``launcher aim``'s keys,
+        :func:`solution_dict`)."""
+        return solution_dict(self, spec or DEFAULT_SPEC, params)
+
 
 def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None) -> dict:
     """The JSON of one aim solution (the contract keys of ``launcher aim``).

@@ -412,6 +412,8 @@ class FillPlan(Result):
 PLAN_SAMPLE = 1500
 #: Hits per second through the single SQLite writer, inserts and indexes (docs/database.md: 1-3 x 10^4).
 INSERT_RATE = 1.5e4
+
+
 def plan_fill(spec, params, grid: TableGrid, chunk_size: int = DEFAULT_CHUNK, done: int = 0) -> FillPlan:
     """Time a sample of the grid and estimate the fill (:class:`FillPlan`); flies nothing into any file."""
     n_chunks = -(-grid.size // int(chunk_size))

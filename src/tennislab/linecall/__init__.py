@@ -25,6 +25,7 @@ from tennislab._lazy import attach_stub
 if TYPE_CHECKING:
     from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
     from tennislab.linecall.rally import RallyCall, call_rally, split_point
+    from tennislab.linecall.synth import sample_serve
 
 __all__ = [
     "CALLS",
@@ -34,6 +35,7 @@ __all__ = [
     "call_rally",
     "call_state",
     "call_track",
+    "sample_serve",
     "split_point",
 ]
 __getattr__, __dir__ = attach_stub(__name__, __file__)

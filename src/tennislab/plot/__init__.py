@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from tennislab.plot.linecall import call_title, plot_call, plot_rally
     from tennislab.plot.save import FIGURE_SUFFIXES, close_figure, figure_data_uri, figure_png, save_figure
     from tennislab.plot.serve import (
+        WINDOW_COLORS,
         plot_impact_history,
         plot_mc,
         plot_optimum,
@@ -26,10 +27,15 @@ if TYPE_CHECKING:
         plot_speed_spin,
         plot_window,
         plot_window_maps,
+        window_codes,
+        window_labels,
+        window_span,
     )
     from tennislab.plot.text import (
+        format_duration,
         in_out_by,
         length_mm,
+        num,
         player_words,
         plus_minus,
         spin_axis_name,
@@ -40,6 +46,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FIGURE_SUFFIXES",
+    "WINDOW_COLORS",
+    "num",
+    "window_codes",
+    "window_labels",
+    "window_span",
     "call_title",
     "close_figure",
     "court_figure",
@@ -48,6 +59,7 @@ __all__ = [
     "figure_data_uri",
     "figure_png",
     "flight_title",
+    "format_duration",
     "frame_views",
     "in_out_by",
     "length_mm",

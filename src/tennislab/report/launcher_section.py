@@ -7,10 +7,8 @@ baseline_rally`` prints.
 
 from __future__ import annotations
 
-from tennislab.launcher import PAPER, compile_drill, launcher_params, load_drill
-from tennislab.launcher.aim import solution_dict
-from tennislab.launcher.drills import drill_trajectories
-from tennislab.plot.launcher import plot_drill
+from tennislab.launcher import PAPER, compile_drill, drill_trajectories, launcher_params, load_drill
+from tennislab.plot import plot_drill
 from tennislab.report import html as H
 
 
@@ -23,7 +21,7 @@ def _shots(name: str = "baseline_rally"):
     trs = drill_trajectories(comp, params)
     shots = []
     for u in comp.unique:
-        d = solution_dict(u.solution, drill.spec, params)
+        d = u.solution.to_dict(drill.spec, params)
         d["zone"] = u.shot.zone_label()
         d["label"] = f"{u.label} ({u.shot.type})"
         d["lands"] = "in its zone" if u.ok else (u.problem or "misses")

@@ -23,7 +23,8 @@ from typing import TYPE_CHECKING
 from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
-    from tennislab.serve.mc import MonteCarloResult, monte_carlo
+    from tennislab.serve import published
+    from tennislab.serve.mc import MonteCarloResult, block_size, monte_carlo
     from tennislab.serve.pipeline import REASON_CODES
     from tennislab.serve.players import (
         SEED_PLAYERS,
@@ -32,6 +33,7 @@ if TYPE_CHECKING:
         player_names,
         register_player,
     )
+    from tennislab.serve.published import PEAK_SPIN_ALPHA, TABLE1
     from tennislab.serve.racket_impact import ImpactSummary, impact
     from tennislab.serve.setup import (
         IMPACT_SCHEMES,
@@ -44,6 +46,10 @@ if TYPE_CHECKING:
     from tennislab.serve.window import DefaultServe, ServeWindow, ServeWindows, default_serve, window, windows
 
 __all__ = [
+    "PEAK_SPIN_ALPHA",
+    "TABLE1",
+    "block_size",
+    "published",
     "DefaultServe",
     "IMPACT_SCHEMES",
     "REASONS",
