@@ -21,7 +21,16 @@ import sys
 #: smallest positive normal float (2.2e-308); a nonzero number of smaller magnitude is subnormal
 TINY = sys.float_info.min
 
-__all__ = ["InputError", "TennisLabError", "check_finite", "check_range", "check_vector"]
+__all__ = [
+    "InputError",
+    "TennisLabError",
+    "check_answer",
+    "check_finite",
+    "check_range",
+    "check_vector",
+    "escape_text",
+    "is_subnormal",
+]
 
 
 class TennisLabError(Exception):

@@ -19,7 +19,17 @@ if TYPE_CHECKING:
     from tennislab.io.config import read_config, read_player_file
     from tennislab.io.courtvision import read_ball_trajectory, read_pbp, read_serves
     from tennislab.io.drill import load_drill_data, write_csv
-    from tennislab.io.files import atomic_write, check_output_dir, check_output_path, read_text
+    from tennislab.io.files import (
+        atomic_write,
+        check_input_file,
+        check_output_dir,
+        check_output_path,
+        command_files,
+        read_text,
+        same_file,
+        shown,
+    )
+    from tennislab.io.formats import unique_pairs
     from tennislab.io.hawkeye import parse_points, read_points
     from tennislab.io.material_csv import read_friction_angles, read_load_deformation
     from tennislab.io.surface_file import is_surface_file, read_surface
@@ -28,6 +38,11 @@ if TYPE_CHECKING:
 __all__ = [
     "Track",
     "atomic_write",
+    "check_input_file",
+    "command_files",
+    "same_file",
+    "shown",
+    "unique_pairs",
     "check_output_dir",
     "check_output_path",
     "is_surface_file",
