@@ -226,10 +226,10 @@ def main(argv=None) -> int:
 
 def _main(argv) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    _file_backend()
     if argv == ["--version"]:  # what argparse's version action prints, without building every command
         print(f"tennislab {__version__}")
         return 0
-    _file_backend()
     wants_help = any(a in ("-h", "--help", "--version") for a in argv)
     try:
         path, no_config = _pre_config(argv)
