@@ -26,7 +26,7 @@ import numpy as np
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
-__all__ = ["Result", "jsonable"]
+__all__ = ["Result", "Table", "jsonable", "trajectory_rows"]
 
 
 def jsonable(obj: Any) -> Any:

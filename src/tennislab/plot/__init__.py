@@ -14,7 +14,14 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.plot.calibrate import plot_misses
-    from tennislab.plot.court import court_figure, draw_court_side, draw_court_top, frame_views, surface_colors
+    from tennislab.plot.court import (
+        SURFACE_COLORS,
+        court_figure,
+        draw_court_side,
+        draw_court_top,
+        frame_views,
+        surface_colors,
+    )
     from tennislab.plot.launcher import plot_aim, plot_drill
     from tennislab.plot.linecall import call_title, plot_call, plot_rally
     from tennislab.plot.save import FIGURE_SUFFIXES, close_figure, figure_data_uri, figure_png, save_figure
@@ -46,6 +53,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FIGURE_SUFFIXES",
+    "SURFACE_COLORS",
     "WINDOW_COLORS",
     "num",
     "window_codes",
