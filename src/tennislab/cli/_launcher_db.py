@@ -34,7 +34,7 @@ from tennislab.cli.batch_flags import add_scheduler_flag, progress_from_args
 from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
 from tennislab.errors import InputError, escape_text
 from tennislab.io.files import check_output_dir, check_output_path
-from tennislab.plot.text import format_duration
+from tennislab.plot import format_duration, spin_axis_name
 
 _RANGE_FLAGS = (
     ("--speed-kmh", "speed_kmh", "ball speed [km/h]"),
@@ -330,7 +330,7 @@ def run_lookup(args) -> int:
     print(
         f"settings: height {s['height_m']:g} m, speed {s['speed_kmh']:g} km/h, elevation "
         f"{s['elevation_deg']:g} deg, heading {s['heading_deg']:g} deg, spin {s['spin_rpm']:g} rpm, "
-        f"spin axis {s['spin_axis_deg']:g} deg ({out['branch']} trajectory)"
+        f"spin axis {s['spin_axis_deg']:g} deg ({spin_axis_name(s['spin_axis_deg'])}; {out['branch']} trajectory)"
     )
     print(f"rollers: {out['rollers']['rpm1']:.0f} rpm / {out['rollers']['rpm2']:.0f} rpm")
     print(

@@ -222,8 +222,13 @@ def _fmt(v, spec: str) -> str:
     return "-" if v is None else format(v, spec)
 
 
+def _mark(distance_mm) -> str:
+    """A shot's mark against its area in words ("in by 357.6 mm"; "-" when it has none)."""
+    return "-" if distance_mm is None else in_out_by(distance_mm)
+
+
 def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None:
-    print(f"{'point':>28s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'dist mm':>8s} {'tracker':8s} note")
+    print(f"{'point':>28s} {'#':>2s} {'stroke':10s} {'call':7s} {'p_in':>6s} {'mark':>16s} {'tracker':8s} note")
     for s in res.shots:
         tr = escape_text(s["tracker"]["call"] or "-")
         ag = s["agreement"]["call_agrees"]
@@ -232,7 +237,7 @@ def _print_rally(res: RallyCall, csv_path: str | None, plot: str | None) -> None
         stroke = escape_text(s["stroke"] or "-")[:10]
         print(
             f"{name:>28s} {s['shot']:2d} {stroke:10s} {s['call']:7s} "
-            f"{_fmt(s['p_in'], '6.3f'):>6s} {_fmt(s['distance_mm'], '+8.1f'):>8s} {tr:8s} {note}"
+            f"{_fmt(s['p_in'], '6.3f'):>6s} {_mark(s['distance_mm']):>16s} {tr:8s} {note}"
         )
     sm = res.summary
     print(

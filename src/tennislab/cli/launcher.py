@@ -41,7 +41,7 @@ from tennislab.launcher import (
     roller_report,
     speed_in_kmh,
 )
-from tennislab.plot import save_figure
+from tennislab.plot import save_figure, spin_axis_name
 from tennislab.units import KMH, RPM
 
 # (flag, help) of the optional model constants; each is a float, None = the model's default
@@ -172,7 +172,8 @@ def run_aim(args) -> int:
     print(
         f"  elevation {s['elevation_deg']:g} deg, heading {s['heading_deg']:g} deg "
         f"(exact {sol.exact_elevation_deg:.3f}, {sol.exact_heading_deg:.3f}); height {s['height_m']:g} m, "
-        f"speed {s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, spin axis {s['spin_axis_deg']:g} deg"
+        f"speed {s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, "
+        f"spin axis {s['spin_axis_deg']:g} deg ({spin_axis_name(s['spin_axis_deg'])})"
     )
     print(
         f"  from what was asked: speed {dv['speed_kmh']:+g} km/h, spin {dv['spin_rpm']:+g} rpm, axis "
