@@ -17,7 +17,7 @@ from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.io.track import Track, parse_track
 from tennislab.linecall import TrackCall, call_track
-from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
+from tennislab.plot import in_out_by, plus_minus, spin_fit_words
 
 
 def pipeline(

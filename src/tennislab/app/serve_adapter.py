@@ -13,7 +13,7 @@ is :func:`tennislab.serve.default_serve`.
 from __future__ import annotations
 
 from tennislab.app import services as S
-from tennislab.plot.serve import WINDOW_COLORS, window_codes, window_labels, window_span
+from tennislab.plot import WINDOW_COLORS, window_codes, window_labels, window_span
 from tennislab.serve import PlayerProfile, default_serve, get_player, player_names, simulate
 from tennislab.serve import window as serve_window
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
-from tennislab.plot.court import SURFACE_COLORS
+from tennislab.plot import SURFACE_COLORS
 from tennislab.trajectory import FlightResult, fly
 from tennislab.units import KMH
 

@@ -12,7 +12,7 @@ from tennislab.errors import InputError
 from tennislab.io.files import check_output_path
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec
 from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, TRAJECTORIES
-from tennislab.plot.save import FIGURE_SUFFIXES
+from tennislab.plot import FIGURE_SUFFIXES
 
 #: Physics flags' dests (cli.common.add_physics_flags) a database compares with its own physics.
 PHYSICS_DESTS = ("aero", "cd", "cl", "aero_table", "mass", "radius", "air_density", "gravity", "wind", "spin_decay")

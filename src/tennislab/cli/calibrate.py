@@ -290,8 +290,7 @@ def _write_rows(path: str, rows: list[dict]) -> None:
 
 def _plot_misses(path: str, series: dict, title: str) -> None:
     # the figure module is imported only when a plot is asked for (Matplotlib adds ~0.3 s to a start-up)
-    from tennislab.plot import plot_misses
-    from tennislab.plot.save import close_figure
+    from tennislab.plot import close_figure, plot_misses
 
     fig = plot_misses(series, title)
     save_figure(fig, path)

@@ -31,7 +31,7 @@ from tennislab.cli.common import (
 )
 from tennislab.core import NET_MODES
 from tennislab.errors import InputError, escape_text
-from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
+from tennislab.plot import in_out_by, plus_minus, spin_fit_words
 
 if TYPE_CHECKING:
     from tennislab.linecall import RallyCall, TrackCall

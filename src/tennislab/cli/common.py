@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 
 from tennislab.errors import InputError, is_subnormal
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
-from tennislab.plot.save import FIGURE_SUFFIXES, save_figure
+from tennislab.plot import FIGURE_SUFFIXES, save_figure
 
 if TYPE_CHECKING:
     from tennislab.core.flight import FlightParams

@@ -26,7 +26,7 @@ from tennislab.cli.common import (
 )
 from tennislab.cli.impact import PAPER, add_impact_flags, impact_from_args
 from tennislab.errors import InputError
-from tennislab.plot.text import num
+from tennislab.plot import num
 from tennislab.serve import PEAK_SPIN_ALPHA, TABLE1, get_player, player_names
 
 if TYPE_CHECKING:

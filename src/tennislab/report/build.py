@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from tennislab import __version__
 from tennislab.errors import InputError
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path
-from tennislab.plot.save import close_figure, figure_data_uri
+from tennislab.plot import close_figure, figure_data_uri
 from tennislab.report import flight_section, launcher_section, linecall_section, serve_sections
 from tennislab.report import html as H
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player

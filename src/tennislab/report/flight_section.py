@@ -11,7 +11,7 @@ from collections import Counter
 from tennislab.core.aero import DEFAULT_AERO
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
-from tennislab.plot.trajectory import plot_trajectories
+from tennislab.plot import plot_trajectories
 from tennislab.report import html as H
 from tennislab.trajectory import FlightResult, fly
 

@@ -15,8 +15,7 @@ import numpy as np
 from tennislab.core.court import ITF_COURT
 from tennislab.linecall import call_track
 from tennislab.linecall.synth import sample_serve
-from tennislab.plot.linecall import plot_call
-from tennislab.plot.text import in_out_by, plus_minus, spin_fit_words
+from tennislab.plot import in_out_by, plot_call, plus_minus, spin_fit_words
 from tennislab.report import html as H
 
 TARGET = "deuce-box"
