@@ -21,7 +21,7 @@ from scipy.optimize import root
 
 from tennislab.calibrate import SpinAxis, calibrate_serves, predict_bounces, synthetic_serves
 from tennislab.calibrate.aim import aim_through_net, launch_states
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 
 
 def main(argv=None) -> None:
@@ -50,7 +50,7 @@ def main(argv=None) -> None:
             st = launch_states(
                 s.impact[i : i + 1], s.speed[i : i + 1], s.spin[i : i + 1], [x[0]], [x[1]], ft[i : i + 1], fs[i : i + 1]
             )[0]
-            tr = fly(st[:3], st[3:6], st[6:9], params, rtol=1e-8, atol=1e-10)
+            tr = fly_dense(st[:3], st[3:6], st[6:9], params, rtol=1e-8, atol=1e-10)
             return [tr.net.y - s.net[i, 0], tr.net.z - s.net[i, 1]]
 
         root(f, [aim.elevation[i] + 0.01, aim.heading[i] + 0.01], tol=1e-8)

@@ -15,7 +15,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 from _shots import mixed_shots
 
-from tennislab.core.flight import FlightParams, fly, fly_batch
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 
 
 def _best_rate(fn, n: int, repeats: int) -> tuple[float, float]:
@@ -41,7 +41,7 @@ def _cpu_per_traj(fn, n: int, repeats: int) -> float:
 def _scipy_rate(S, p, n: int, repeats: int = 3) -> tuple[float, float]:
     def run():
         for i in range(n):
-            fly(S[i, :3], S[i, 3:6], S[i, 6:], p, method="RK45", rtol=1e-8, atol=1e-8)
+            fly_dense(S[i, :3], S[i, 3:6], S[i, 6:], p, method="RK45", rtol=1e-8, atol=1e-8)
 
     return _best_rate(run, n, repeats)
 
@@ -72,7 +72,7 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict
     tb = fly_batch(S[:2000], p)
     errs = []
     for i in range(60):
-        tr = fly(S[i, :3], S[i, 3:6], S[i, 6:], p)
+        tr = fly_dense(S[i, :3], S[i, 3:6], S[i, 6:], p)
         errs.append(math.hypot(tr.landing.x - tb["land_x"][i], tr.landing.y - tb["land_y"][i]))
     res = {
         "threads": numba.get_num_threads(),
@@ -100,7 +100,7 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict
     # wall-clock rates (the batch's two threads suffer most from a busy machine)
     cb = _cpu_per_traj(lambda: fly_batch(S[:200_000], p, parallel=False), 200_000, repeats)
     cs = _cpu_per_traj(
-        lambda: [fly(s[:3], s[3:6], s[6:], p, method="RK45", rtol=1e-8, atol=1e-8) for s in S[:n_scipy]],
+        lambda: [fly_dense(s[:3], s[3:6], s[6:], p, method="RK45", rtol=1e-8, atol=1e-8) for s in S[:n_scipy]],
         n_scipy,
         repeats,
     )

@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from test_flight_accuracy import shot_states
 
 from tennislab.core.aero import get_aero_model
-from tennislab.core.flight import FlightParams, fly, fly_batch
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 
 MODELS = tuple(os.environ.get("BENCH_MODELS", "choppin2018 stepanek1988 launcher2015 cross2014").split())
 
@@ -40,7 +40,7 @@ def main(argv=None) -> dict:
         steps: dict = {tol: [] for tol in tols}
         for seed in args.seeds:
             S = shot_states(args.shots, seed=seed)
-            ref = np.array([[tr.landing.x, tr.landing.y] for tr in (fly(s[:3], s[3:6], s[6:], p) for s in S)])
+            ref = np.array([[tr.landing.x, tr.landing.y] for tr in (fly_dense(s[:3], s[3:6], s[6:], p) for s in S)])
             for tol in tols:
                 tb = fly_batch(S, p, rtol=tol, atol=tol)
                 errs[tol].append(np.hypot(ref[:, 0] - tb["land_x"], ref[:, 1] - tb["land_y"]) * 1e3)

@@ -70,7 +70,7 @@ def bench_states(n):
 
 
 def bench_aim(n_targets):
-    from tennislab.core.flight import fly
+    from tennislab.core.flight import fly_dense
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim_all, launcher_params
     from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
@@ -93,7 +93,7 @@ def bench_aim(n_targets):
         s = next(iter(sols.values())).settings
         st = launch_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
         t0 = time.perf_counter()
-        fly(st[0:3], st[3:6], st[6:9], params)
+        fly_dense(st[0:3], st[3:6], st[6:9], params)
         t_fly += time.perf_counter() - t0
         n_ok += 1
     print(

@@ -41,7 +41,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from tennislab.core.aero import DEFAULT_AERO
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.core.mark import MarkParams
 from tennislab.core.rally import fly_bounces
 from tennislab.io.hawkeye import parse_points
@@ -287,7 +287,7 @@ def part_match(n_points, seed, sigma):
     )
     t1 = time.perf_counter()
     for _ in range(20):
-        fly((-11.9, 0.4, 2.85), (50, 1, -4.4), (0, 60, 80), FlightParams())
+        fly_dense((-11.9, 0.4, 2.85), (50, 1, -4.4), (0, 60, 80), FlightParams())
     fly_ms = (time.perf_counter() - t1) / 20 * 1000
     results = {}
     for workers in (1, 2):

@@ -326,3 +326,34 @@ def test_one_definition_of_the_right_hand_side():
             ):
                 bad.append(f"{m}:{node.lineno} calls aero_coefficients")
     assert not bad, "right-hand sides outside core/dynamics.py:\n" + "\n".join(bad)
+
+
+def test_one_name_one_thing_across_the_package_apis():
+    """A function or class exported by two packages is one object (a re-export), never two doing different
+    things (``core.flight.fly`` is ``fly_dense``: ``trajectory.fly`` is the workflow).  (Tables of words,
+    such as each package's ``REASONS``, may share a name.)"""
+    import importlib
+
+    seen: dict[str, tuple[str, object]] = {}
+    bad = []
+    for pkg in PACKAGES:
+        module = importlib.import_module(f"tennislab.{pkg}")
+        for name in module.__all__:
+            obj = getattr(module, name)
+            if not callable(obj):
+                continue
+            if name in seen and seen[name][1] is not obj:
+                bad.append(f"{name}: tennislab.{seen[name][0]} and tennislab.{pkg}")
+            seen.setdefault(name, (pkg, obj))
+    assert not bad, bad
+
+
+@pytest.mark.parametrize(
+    ("module", "old", "new"), [("core.flight", "fly", "fly_dense"), ("core.impact", "impact", "impact_single")]
+)
+def test_the_old_names_of_the_primitives_still_work(module, old, new):
+    import importlib
+
+    mod = importlib.import_module(f"tennislab.{module}")
+    with pytest.warns(DeprecationWarning, match=f"is now {new}"):
+        assert getattr(mod, old) is getattr(mod, new)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from tennislab.calibrate import SpinAxis, serves_csv, synthetic_serves
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.core.launch import launch_spin, launch_velocity
 from tennislab.io.track import track_to_csv
 from tennislab.units import RPM
@@ -28,7 +28,7 @@ def main() -> None:
     rng = np.random.default_rng(7)
     for i, (speed, elev) in enumerate(((25.0, 8.0), (32.0, 5.0), (38.0, 3.0)), start=1):
         a, b = np.radians(elev), 0.0
-        tr = fly((-12.0, 0.0, 1.0), launch_velocity(speed, a, b), launch_spin(2000 * RPM, a, b, 0.0), TRUTH)
+        tr = fly_dense((-12.0, 0.0, 1.0), launch_velocity(speed, a, b), launch_spin(2000 * RPM, a, b, 0.0), TRUTH)
         t = np.arange(0.0, 0.95 * tr.landing.t, 0.01)
         xyz = tr.sol(t).T[:, :3] + rng.normal(0.0, 0.003, (t.size, 3))
         text = track_to_csv(t, xyz, np.full(t.size, 0.003), f"synthetic launcher shot {i}: cross2014 cd 0.62 cl 0.45")

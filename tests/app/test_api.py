@@ -16,7 +16,7 @@ from tennislab.app import fields as F
 from tennislab.app.server import STATIC
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
-from tennislab.core.flight import fly as core_fly
+from tennislab.core.flight import fly_dense as core_fly
 from tennislab.results import jsonable
 from tennislab.serve import default_serve
 from tennislab.trajectory import fly
@@ -184,7 +184,7 @@ def test_flight_that_never_lands_is_a_clean_error(client):
 
 # ----------------------------------------------------------------- serve explorer
 def test_serve_matches_impact_model_and_window(client):
-    from tennislab.core.impact import impact
+    from tennislab.core.impact import impact_single
     from tennislab.serve import seed_flight_params, seed_impact_params
 
     win = client.post("/api/serve/window", json={"player": "professional", "step": 3}).json()
@@ -207,7 +207,7 @@ def test_serve_matches_impact_model_and_window(client):
         assert s["success"] == bool(code[ib, ia] > 0), (alpha[ia], beta[ib])
         if code[ib, ia] > 0:
             assert s["category"] == ("flat", "topspin", "other")[code[ib, ia] - 1]
-        ref = impact(40.0, min(alpha[ia], 89.999) * DEG, seed_impact_params(ball=fp.ball))
+        ref = impact_single(40.0, min(alpha[ia], 89.999) * DEG, seed_impact_params(ball=fp.ball))
         assert s["speed"] == pytest.approx(ref.speed, rel=1e-9)
         assert s["spin_rpm"] == pytest.approx(ref.omega / RPM, rel=1e-9)
         assert s["flight"]["points"][0] == pytest.approx([-11.885, 0.0, 3.0], abs=1e-4)

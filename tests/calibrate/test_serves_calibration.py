@@ -32,7 +32,7 @@ from tennislab.calibrate.aim import aim_through_net, spin_vectors
 from tennislab.calibrate.serves import load_serves
 from tennislab.calibrate.stats import by_group, summarize
 from tennislab.core.aero import get_aero_model
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
 
@@ -54,7 +54,7 @@ def test_aim_passes_the_net_point_and_matches_scipy(serves):
     aim = aim_through_net(s.impact, s.speed, s.spin, s.net, TRUTH, f_top=ft, f_side=fs)
     assert aim.converged.all() and aim.net_miss.max() < 1e-4
     for i in range(len(s)):
-        tr = fly(aim.states[i, :3], aim.states[i, 3:6], aim.states[i, 6:9], TRUTH)
+        tr = fly_dense(aim.states[i, :3], aim.states[i, 3:6], aim.states[i, 6:9], TRUTH)
         assert tr.net.y == pytest.approx(s.net[i, 0], abs=1e-4)
         assert tr.net.z == pytest.approx(s.net[i, 1], abs=1e-4)
         assert tr.landing.x == pytest.approx(s.bounce[i, 0], abs=1e-3)

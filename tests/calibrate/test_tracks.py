@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from tennislab.calibrate import calibrate_tracks
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.core.launch import launch_spin, launch_velocity
 from tennislab.errors import InputError
 from tennislab.io.track import Track
@@ -20,7 +20,7 @@ def _tracks(n=6, rpm=2500.0, axis_deg=0.0, noise=0.003, seed=1, params=TRUTH):
     for i in range(n):
         sp = rng.uniform(20, 45)
         a, b = np.radians(rng.uniform(0, 10)), np.radians(rng.uniform(-5, 5))
-        tr = fly(
+        tr = fly_dense(
             (-11.5, rng.uniform(-2, 2), 1.0 + rng.uniform(0, 1.0)),
             launch_velocity(sp, a, b),
             launch_spin(rpm * RPM, a, b, np.radians(axis_deg)),

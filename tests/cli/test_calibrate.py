@@ -7,7 +7,7 @@ import pytest
 
 from tennislab.calibrate import SpinAxis, serves_csv, synthetic_serves
 from tennislab.cli import main
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.io.track import track_to_csv
 
 
@@ -113,7 +113,7 @@ def test_tracks_command(capsys, tmp_path):
     truth = FlightParams.from_options(aero="constant", cd=0.58, cl=0.0)
     files = []
     for i, (vx, vz) in enumerate(((30.0, 4.0), (22.0, 6.0), (40.0, 1.0))):
-        tr = fly((-11.5, 0.0, 1.0), (vx, 0.0, vz), (0.0, 0.0, 0.0), truth)
+        tr = fly_dense((-11.5, 0.0, 1.0), (vx, 0.0, vz), (0.0, 0.0, 0.0), truth)
         t = np.arange(0.0, 0.9 * tr.landing.t, 0.01)
         p = tmp_path / f"t{i}.csv"
         p.write_text(track_to_csv(t, tr.sol(t).T[:, :3]))

@@ -1392,7 +1392,7 @@ def test_shot_names_from_a_drill_file_are_printed_escaped(cwd, capsys):
 def test_library_parameters_read_a_subnormal_as_zero():
     """In the library a subnormal is read as 0: refused where the parameter must be positive (a division
     follows), taken as 0 where 0 is allowed."""
-    from tennislab.core.impact import impact
+    from tennislab.core.impact import impact_single
     from tennislab.errors import check_finite, check_range, check_vector
     from tennislab.launcher.power import power_report
 
@@ -1400,7 +1400,7 @@ def test_library_parameters_read_a_subnormal_as_zero():
     with pytest.raises(InputError, match=r"^m: 9.99989e-321 kg \(a subnormal number, read as 0\) is outside"):
         check_range("m", 1e-320, 0.0, 10.0, "kg", lo_open=True)
     with pytest.raises(InputError, match="^speed: "):
-        impact(1e-320, 0.1)
+        impact_single(1e-320, 0.1)
     with pytest.raises(InputError, match="^roller_mass: "):
         power_report(20.0, roller_mass=1e-320)
 

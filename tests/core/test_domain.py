@@ -153,12 +153,12 @@ def test_callable_and_registry():
 
 
 def test_callable_model_used_by_batch_path():
-    from tennislab.core.flight import FlightParams, fly, fly_batch, initial_state
+    from tennislab.core.flight import FlightParams, fly_batch, fly_dense, initial_state
 
     p = FlightParams(aero=get_aero_model(lambda v, w: (0.6, 0.0)))
     s = initial_state((-11.0, 0, 1.0), (25.0, 0, 5.0))
     tb = fly_batch(s, p)
-    tr = fly(s[:3], s[3:6], s[6:], p)
+    tr = fly_dense(s[:3], s[3:6], s[6:], p)
     assert tb["land_x"][0] == pytest.approx(tr.landing.x, abs=1e-5)
 
 

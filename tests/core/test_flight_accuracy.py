@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from tennislab.core.aero import get_aero_model
 from tennislab.core.atmosphere import Atmosphere
-from tennislab.core.flight import FlightParams, fly, fly_batch, initial_state
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense, initial_state
 from tennislab.units import RPM
 
 
@@ -46,7 +46,7 @@ def test_batch_landing_within_0p01_mm_of_reference(aero):
     assert tb.ok.all()
     errs = []
     for i in range(len(S)):
-        tr = fly(S[i, :3], S[i, 3:6], S[i, 6:], p)  # SciPy DOP853, rtol 1e-10
+        tr = fly_dense(S[i, :3], S[i, 3:6], S[i, 6:], p)  # SciPy DOP853, rtol 1e-10
         errs.append(math.hypot(tr.landing.x - tb["land_x"][i], tr.landing.y - tb["land_y"][i]))
         if tr.net.result != "none":
             assert tb["net_z"][i] == pytest.approx(tr.net.z, abs=1e-5)
@@ -59,30 +59,30 @@ def test_reference_is_converged():
     S = shot_states(6, seed=7)
     p = FlightParams()
     for s in S:
-        a = fly(s[:3], s[3:6], s[6:], p)
-        b = fly(s[:3], s[3:6], s[6:], p, rtol=1e-12, atol=1e-14)
+        a = fly_dense(s[:3], s[3:6], s[6:], p)
+        b = fly_dense(s[:3], s[3:6], s[6:], p, rtol=1e-12, atol=1e-14)
         assert abs(a.landing.x - b.landing.x) < 1e-7
 
 
 def test_net_events():
     p = FlightParams()
     # into the net: a low flat drive
-    tr = fly((-11.885, 0.0, 1.0), (30.0, 0.0, 1.0), (0, 0, 0), p)
+    tr = fly_dense((-11.885, 0.0, 1.0), (30.0, 0.0, 1.0), (0, 0, 0), p)
     assert tr.net.result == "net" and tr.net.clearance < 0
     tb = fly_batch(initial_state((-11.885, 0.0, 1.0), (30.0, 0.0, 1.0)), p)
     assert tb.net_result[0] == "net"
     assert tb.clearance[0] == pytest.approx(tr.net.clearance, abs=1e-6)
     # lands before the net: net never reached
-    tr = fly((-11.885, 0.0, 1.0), (5.0, 0.0, 0.0), (0, 0, 0), p)
+    tr = fly_dense((-11.885, 0.0, 1.0), (5.0, 0.0, 0.0), (0, 0, 0), p)
     assert tr.net.result == "none" and math.isnan(tr.net.z)
     tb = fly_batch(initial_state((-11.885, 0.0, 1.0), (5.0, 0.0, 0.0)), p)
     assert tb.net_result[0] == "none"
     # clearance = z - h(y) - r at the crossing, h from the court's profile
-    tr = fly((-11.885, -2.0, 1.0), (25.0, 0.3, 5.0), (0, 150, 0), p)
+    tr = fly_dense((-11.885, -2.0, 1.0), (25.0, 0.3, 5.0), (0, 150, 0), p)
     assert tr.net.result == "over"
     assert tr.net.clearance == pytest.approx(tr.net.z - p.court.net_height(tr.net.y) - p.ball.radius)
     # from the far side toward the near side
-    tr = fly((11.885, 0.0, 1.0), (-25.0, 0.0, 5.0), (0, -150, 0), p)
+    tr = fly_dense((11.885, 0.0, 1.0), (-25.0, 0.0, 5.0), (0, -150, 0), p)
     tb = fly_batch(initial_state((11.885, 0.0, 1.0), (-25.0, 0.0, 5.0), (0, -150, 0)), p)
     assert tr.net.result == "over" and tb.net_result[0] == "over"
     assert tb["net_z"][0] == pytest.approx(tr.net.z, abs=1e-6)
@@ -90,10 +90,10 @@ def test_net_events():
 
 def test_apex_has_zero_vertical_velocity():
     p = FlightParams()
-    tr = fly((-11.0, 0.0, 1.0), (15.0, 0.0, 15.0), (0, 100, 0), p)
+    tr = fly_dense((-11.0, 0.0, 1.0), (15.0, 0.0, 15.0), (0, 100, 0), p)
     assert abs(tr.sol(tr.apex.t)[5]) < 1e-9
     # starting downward: the apex is the start
-    tr = fly((-11.885, 0.0, 2.8), (50.0, 0.0, -3.0), (0, 0, 0), p)
+    tr = fly_dense((-11.885, 0.0, 2.8), (50.0, 0.0, -3.0), (0, 0, 0), p)
     assert tr.apex.t == 0.0 and tr.apex.z == 2.8
 
 
@@ -150,7 +150,7 @@ def test_mechanical_energy_never_increases_without_wind(speed, elev, spin, ax, a
     w = np.zeros(3) if n < 1e-6 else a / n * spin * RPM
     e = math.radians(elev)
     p = FlightParams(aero=get_aero_model(aero))
-    tr = fly((-11.885, 0.0, 1.5), (speed * math.cos(e), 0.0, speed * math.sin(e)), w, p)
+    tr = fly_dense((-11.885, 0.0, 1.5), (speed * math.cos(e), 0.0, speed * math.sin(e)), w, p)
     ts, ys = tr.sample(400)
     m, g = p.ball.mass, p.atmosphere.gravity
     E = 0.5 * m * (ys[:, 3:6] ** 2).sum(axis=1) + m * g * ys[:, 2]
@@ -162,7 +162,7 @@ def test_wind_acts_on_air_relative_velocity():
     velocity it flies a vacuum parabola."""
     wind = (20.0, 0.0, 0.0)
     p = FlightParams(atmosphere=Atmosphere(wind=wind), aero=get_aero_model("constant", cd=0.6))
-    tr = fly((-11.0, 0.0, 1.0), (20.0, 0.0, 0.0), (0, 0, 0), p)
+    tr = fly_dense((-11.0, 0.0, 1.0), (20.0, 0.0, 0.0), (0, 0, 0), p)
     g, r = p.atmosphere.gravity, p.ball.radius
     t_land = math.sqrt(2 * (1.0 - r) / g)
     # vertical motion has drag from the relative vz only
@@ -172,19 +172,19 @@ def test_wind_acts_on_air_relative_velocity():
     # a head wind shortens the shot
     p2 = FlightParams(atmosphere=Atmosphere(wind=(-5.0, 0, 0)))
     p0 = FlightParams()
-    a = fly((-11.0, 0, 1.0), (25.0, 0, 5.0), (0, 0, 0), p2).landing.x
-    b = fly((-11.0, 0, 1.0), (25.0, 0, 5.0), (0, 0, 0), p0).landing.x
+    a = fly_dense((-11.0, 0, 1.0), (25.0, 0, 5.0), (0, 0, 0), p2).landing.x
+    b = fly_dense((-11.0, 0, 1.0), (25.0, 0, 5.0), (0, 0, 0), p0).landing.x
     assert a < b
 
 
 def test_spin_decay_optional():
     p = FlightParams(spin_decay=0.1)
-    tr = fly((-11.885, 0, 1.0), (25.0, 0, 5.0), (0, 200.0, 0), p)
+    tr = fly_dense((-11.885, 0, 1.0), (25.0, 0, 5.0), (0, 200.0, 0), p)
     assert tr.landing.spin[1] == pytest.approx(200.0 * math.exp(-0.1 * tr.landing.t), rel=1e-8)
     tb = fly_batch(initial_state((-11.885, 0, 1.0), (25.0, 0, 5.0), (0, 200.0, 0)), p)
     assert tb["land_wy"][0] == pytest.approx(tr.landing.spin[1], rel=1e-6)
     # default: off
-    tr0 = fly((-11.885, 0, 1.0), (25.0, 0, 5.0), (0, 200.0, 0))
+    tr0 = fly_dense((-11.885, 0, 1.0), (25.0, 0, 5.0), (0, 200.0, 0))
     assert tr0.landing.spin[1] == 200.0
 
 

@@ -23,7 +23,7 @@ from tennislab.core.events import (
     STATUS_OUT_OF_RANGE,
     event_array,
 )
-from tennislab.core.flight import MAX_STEPS, FlightParams, fly, fly_batch
+from tennislab.core.flight import MAX_STEPS, FlightParams, fly_batch, fly_dense
 from tennislab.core.integrators import serial_kernel_fp
 from tennislab.errors import InputError
 from tennislab.io.aero_table import read_aero_table
@@ -47,7 +47,7 @@ POS = (-11.885, 0.0, 1.0)
 def test_fly_refuses_absurd_launches(kw, match):
     args = dict(position=POS, velocity=(30.0, 0.0, 5.0), spin=(0.0, 0.0, 0.0)) | kw
     with pytest.raises(InputError, match=match):
-        fly(args["position"], args["velocity"], args["spin"])
+        fly_dense(args["position"], args["velocity"], args["spin"])
 
 
 @pytest.mark.parametrize(
@@ -128,7 +128,7 @@ def test_whole_allowed_range_lands_finite_in_both_paths(speed, elev, spin, z, ae
     v = (speed * math.cos(e), 0.0, speed * math.sin(e))
     w = (0.0, spin * 2 * math.pi / 60, 0.0)
     p = FlightParams(aero=get_aero_model(aero))
-    tr = fly((-11.885, 0.0, z), v, w, p)
+    tr = fly_dense((-11.885, 0.0, z), v, w, p)
     tb = fly_batch(np.array([[-11.885, 0.0, z, *v, *w]]), p)
     assert tr.landing is not None and np.all(np.isfinite(tr.landing.position))
     assert tb["status"][0] == STATUS_OK and tb["n_steps"][0] < 2000
@@ -155,12 +155,12 @@ def test_kernel_step_bound_counts_rejected_steps():
 def test_scipy_path_has_an_evaluation_budget(monkeypatch):
     monkeypatch.setattr(flight, "MAX_RHS_EVALS", 40)
     with pytest.raises(InputError, match="^flight: no result within 40 evaluations"):
-        fly(POS, (30.0, 0.0, 5.0))
+        fly_dense(POS, (30.0, 0.0, 5.0))
 
 
 def test_no_landing_within_t_max_is_a_status_not_a_hang():
     p = FlightParams(t_max=0.2)
-    assert fly(POS, (20.0, 0.0, 10.0), params=p).landing is None
+    assert fly_dense(POS, (20.0, 0.0, 10.0), params=p).landing is None
     assert fly_batch(np.array([[*POS, 20.0, 0.0, 10.0, 0, 0, 0]]), p)["status"][0] == STATUS_NO_LANDING
 
 
@@ -229,10 +229,10 @@ def test_the_limits_themselves_are_allowed_whatever_the_round_off(elev):
     v = (100.0 * math.cos(e), 0.0, 100.0 * math.sin(e))
     w = tuple(10_000 * 2 * math.pi / 60 * np.array([0.0, math.cos(e), math.sin(e)]))
     p = FlightParams(aero=get_aero_model("stepanek1988"))
-    assert fly((-11.885, 0.0, 1.0), v, w, p).landing is not None
+    assert fly_dense((-11.885, 0.0, 1.0), v, w, p).landing is not None
     assert fly_batch(np.array([[-11.885, 0.0, 1.0, *v, *w]]), p)["status"][0] == STATUS_OK
     with pytest.raises(InputError, match="outside the allowed range"):
-        fly((-11.885, 0.0, 1.0), (100.001, 0.0, 0.0), (0.0, 0.0, 0.0), p)
+        fly_dense((-11.885, 0.0, 1.0), (100.001, 0.0, 0.0), (0.0, 0.0, 0.0), p)
 
 
 @pytest.mark.parametrize("dz", [0.0, 7e-18, 1e-13, 1e-9])
@@ -243,6 +243,6 @@ def test_a_launch_on_the_ground_to_round_off_finds_its_real_landing(dz):
     v = (math.cos(e), 0.0, math.sin(e))
     p = FlightParams(aero=get_aero_model("stepanek1988"))
     z = p.ball.radius + dz
-    tr = fly((-11.885, 0.0, z), v, (0.0, 0.0, 0.0), p)
+    tr = fly_dense((-11.885, 0.0, z), v, (0.0, 0.0, 0.0), p)
     tb = fly_batch(np.array([[-11.885, 0.0, z, *v, 0.0, 0.0, 0.0]]), p)
     assert tr.landing.t > 3e-3 and tb["land_t"][0] == pytest.approx(tr.landing.t, rel=1e-6)

@@ -8,7 +8,7 @@ import pytest
 from tennislab.core.aero import get_aero_model
 from tennislab.core.atmosphere import Atmosphere
 from tennislab.core.ball import Ball
-from tennislab.core.flight import FlightParams, fly, fly_batch, initial_state
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense, initial_state
 
 BALL = Ball(mass=0.057, radius=0.0335)
 
@@ -31,7 +31,7 @@ def test_vacuum_parabola_exact(v):
     t_land = (vz + math.sqrt(vz * vz + 2 * g * (x0[2] - r))) / g
     exp_x = x0[0] + v[0] * t_land
     exp_y = x0[1] + v[1] * t_land
-    tr = fly(x0, v, (0, 0, 0), p)
+    tr = fly_dense(x0, v, (0, 0, 0), p)
     assert tr.landing.t == pytest.approx(t_land, abs=1e-12)
     assert tr.landing.x == pytest.approx(exp_x, abs=1e-9)
     assert tr.landing.y == pytest.approx(exp_y, abs=1e-9)
@@ -53,7 +53,7 @@ def test_vertical_fall_quadratic_drag_tanh():
     # z(t) = z0 - vt^2/g ln cosh(g t / vt);  v(t) = -vt tanh(g t / vt)
     t_land = vt / g * math.acosh(math.exp((z0 - r) * g / vt**2))
     v_land = -vt * math.tanh(g * t_land / vt)
-    tr = fly((0.0, 0.0, z0), (0.0, 0.0, 0.0), (0, 0, 0), p)
+    tr = fly_dense((0.0, 0.0, z0), (0.0, 0.0, 0.0), (0, 0, 0), p)
     assert tr.landing.t == pytest.approx(t_land, rel=1e-9)
     assert tr.landing.velocity[2] == pytest.approx(v_land, rel=1e-8)
     tb = fly_batch(initial_state((0.0, 0.0, z0), (0, 0, 0)), p)
@@ -78,7 +78,7 @@ def test_horizontal_drag_only_seed001_eqs_4_5():
     )
     kk = 0.5 * cd * rho * BALL.area
     m, v0 = BALL.mass, 40.0
-    tr = fly((-10.0, 0.0, 1.0), (v0, 0.0, 0.0), (0, 0, 0), p)
+    tr = fly_dense((-10.0, 0.0, 1.0), (v0, 0.0, 0.0), (0, 0, 0), p)
     assert tr.landing is None
     for t in (0.1, 0.5, 1.0, 1.9):
         st = tr.sol(t)
@@ -105,7 +105,7 @@ def test_pure_magnus_circle():
     R = 1.0 / (k * cl)
     v0 = 30.0
     # spin along +z, velocity along +x: omega x v = +y, so the centre is at (x0, y0 + R)
-    tr = fly((-5.0, 0.0, 1.0), (v0, 0.0, 0.0), (0.0, 0.0, 100.0), p)
+    tr = fly_dense((-5.0, 0.0, 1.0), (v0, 0.0, 0.0), (0.0, 0.0, 100.0), p)
     ts = np.linspace(0, 3.0, 50)
     st = tr.sol(ts)
     dist = np.hypot(st[0] + 5.0, st[1] - R)
@@ -125,7 +125,7 @@ def test_flight_starting_on_the_ground_lands_after_its_hop(vz):
     r, g = BALL.radius, 9.81
     x0, v = np.array([-5.0, 0.2, r]), np.array([15.0, 1.0, vz])
     t_land = 2 * vz / g
-    tr = fly(x0, v, (0, 0, 0), p)
+    tr = fly_dense(x0, v, (0, 0, 0), p)
     tb = fly_batch(initial_state(x0, v), p)
     assert tr.landing.t == pytest.approx(t_land, rel=1e-9)
     assert tb["status"][0] == 0
@@ -137,6 +137,6 @@ def test_flight_starting_on_the_ground_lands_after_its_hop(vz):
 def test_flight_starting_on_the_ground_not_going_up_lands_at_once(vz):
     p = params(rho=0.0)
     x0, v = np.array([-5.0, 0.0, BALL.radius]), np.array([10.0, 0.0, vz])
-    assert fly(x0, v, (0, 0, 0), p).landing.t == pytest.approx(0.0, abs=1e-12)
+    assert fly_dense(x0, v, (0, 0, 0), p).landing.t == pytest.approx(0.0, abs=1e-12)
     tb = fly_batch(initial_state(x0, v), p)
     assert tb["status"][0] == 0 and tb["land_t"][0] == 0.0 and tb["land_x"][0] == -5.0

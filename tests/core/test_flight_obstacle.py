@@ -19,7 +19,7 @@ from tennislab.core.events import (
     STATUS_OK,
     event_array,
 )
-from tennislab.core.flight import FlightParams, fly, fly_batch, initial_state
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense, initial_state
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
@@ -46,7 +46,7 @@ def test_default_is_pass_through_and_the_option_round_trips():
 def test_ball_into_the_net_stops_at_the_net(x0, vx, y0):
     s = _state((x0, y0, 1.0), (vx, 0.0, 1.0), (0.0, 30.0, 0.0))
     side = math.copysign(1.0, x0)
-    tr = fly(s[:3], s[3:6], s[6:], STOP)
+    tr = fly_dense(s[:3], s[3:6], s[6:], STOP)
     tb = fly_batch(s, STOP)
     c = tr.net_contact
     assert tr.landing is None and c is not None
@@ -61,7 +61,7 @@ def test_ball_into_the_net_stops_at_the_net(x0, vx, y0):
     assert tb["net_hit_vx"][0] == pytest.approx(c.velocity[0], abs=1e-5)
     assert tb["net_t"][0] == tb["net_hit_t"][0] and tb["net_z"][0] == tb["net_hit_z"][0]
     # without the obstacle the same ball flies through (the crossing says "net") and lands
-    assert fly(s[:3], s[3:6], s[6:], PASS).landing is not None
+    assert fly_dense(s[:3], s[3:6], s[6:], PASS).landing is not None
     assert fly_batch(s, PASS)["status"][0] == STATUS_OK
 
 
@@ -69,7 +69,7 @@ def test_ball_clearing_the_net_is_unchanged():
     s = _state((-11.885, 0.5, 1.0), (30.0, 0.0, 5.0), (0.0, 150.0, 0.0))
     a, b = fly_batch(s, PASS).data, fly_batch(s, STOP).data
     assert np.array_equal(a, b, equal_nan=True)  # same steps, same events: bit for bit
-    ta, tb = fly(s[:3], s[3:6], s[6:], PASS), fly(s[:3], s[3:6], s[6:], STOP)
+    ta, tb = fly_dense(s[:3], s[3:6], s[6:], PASS), fly_dense(s[:3], s[3:6], s[6:], STOP)
     assert ta.landing.t == tb.landing.t and np.array_equal(ta.landing.position, tb.landing.position)
     assert tb.net_contact is None and tb.net.result == "over"
 
@@ -80,7 +80,7 @@ def test_ball_on_the_tape_stops_at_the_crossing(dz):
     than r above it touches the tape: it stops at the crossing (the pass-through net says ``net``)."""
     h = COURT.net_height(0.0)
     s = _state((-0.5, 0.0, h + dz * R), (20.0, 0.0, 9.81 * 0.025 / 2))  # level at the net, 0.025 s later
-    tr = fly(s[:3], s[3:6], s[6:], STOP)
+    tr = fly_dense(s[:3], s[3:6], s[6:], STOP)
     tb = fly_batch(s, STOP)
     c = tr.net_contact
     assert c is not None and c.part == "tape" and tr.landing is None
@@ -88,16 +88,16 @@ def test_ball_on_the_tape_stops_at_the_crossing(dz):
     assert tr.net.result == "net" and -R < tr.net.clearance < 0
     assert tb["status"][0] == STATUS_NET and tb["net_hit_x"][0] == pytest.approx(0.0, abs=1e-9)
     assert tb["net_hit_z"][0] == pytest.approx(c.z, abs=1e-6)
-    ok = fly(s[:3], s[3:6], s[6:], PASS)
+    ok = fly_dense(s[:3], s[3:6], s[6:], PASS)
     assert ok.landing is not None and ok.net.result == "net"  # without the obstacle: flies on, flagged net
     above = _state((-0.5, 0.0, h + 1.2 * R), s[3:6])
-    assert fly(above[:3], above[3:6], above[6:], STOP).net_contact is None  # clears the tape
+    assert fly_dense(above[:3], above[3:6], above[6:], STOP).net_contact is None  # clears the tape
 
 
 def test_beyond_the_posts_there_is_no_net():
     y = COURT.y_post + 0.5
     s = _state((-11.0, y, 0.5), (25.0, 0.0, 2.0))
-    tr = fly(s[:3], s[3:6], s[6:], STOP)
+    tr = fly_dense(s[:3], s[3:6], s[6:], STOP)
     assert tr.net_contact is None and tr.landing is not None and tr.net.result == "over"
     assert fly_batch(s, STOP)["status"][0] == STATUS_OK
 
@@ -105,9 +105,9 @@ def test_beyond_the_posts_there_is_no_net():
 def test_ball_starting_inside_the_net_is_refused():
     s = _state((-0.01, 0.0, 0.5), (10.0, 0.0, 0.0))
     with pytest.raises(InputError, match="^position: .*overlaps the net"):
-        fly(s[:3], s[3:6], s[6:], STOP)
+        fly_dense(s[:3], s[3:6], s[6:], STOP)
     assert fly_batch(s, STOP)["status"][0] == STATUS_BAD_START
-    assert fly(s[:3], s[3:6], s[6:], PASS).landing is not None  # without the obstacle: allowed
+    assert fly_dense(s[:3], s[3:6], s[6:], PASS).landing is not None  # without the obstacle: allowed
 
 
 def test_obstacle_columns_are_documented_and_nan_without_contact():
@@ -140,7 +140,7 @@ def test_obstacle_property_batch_equals_scipy(speed, elev, head, z0, y0, spin_rp
     w = np.zeros(3) if np.linalg.norm(a) < 1e-6 else a / np.linalg.norm(a) * spin_rpm * RPM
     s = _state((-sgn * 11.885, y0, z0), v, w)
     tb, tp = fly_batch(s, STOP), fly_batch(s, PASS)
-    tr = fly(s[:3], s[3:6], s[6:], STOP)
+    tr = fly_dense(s[:3], s[3:6], s[6:], STOP)
     if tb["status"][0] == STATUS_NET:
         c = tr.net_contact
         assert c is not None and tr.landing is None
@@ -172,5 +172,5 @@ def test_ball_landing_just_before_the_net_touches_the_mesh():
     s = _state((-11.885, 0.0, 1.84375), v)
     tp, tb = fly_batch(s, PASS), fly_batch(s, STOP)
     assert tp.net_result[0] == "none" and -R < tp["land_x"][0] < 0
-    c = fly(s[:3], s[3:6], s[6:], STOP).net_contact
+    c = fly_dense(s[:3], s[3:6], s[6:], STOP).net_contact
     assert tb["status"][0] == STATUS_NET and c is not None and c.part == "mesh" and c.z < COURT.net_height(c.y)

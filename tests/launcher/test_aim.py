@@ -8,7 +8,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tennislab.core.flight import fly
+from tennislab.core.flight import fly_dense
 from tennislab.errors import InputError
 from tennislab.launcher import AimResult
 from tennislab.launcher import aim as aim_workflow
@@ -26,7 +26,7 @@ def _fly_exact(sol, spec=DEFAULT_SPEC):
     y0 = launch_states(
         spec, a.height_m, a.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, a.spin_rpm, a.spin_axis_deg
     )[0]
-    return fly(y0[0:3], y0[3:6], y0[6:9], PARAMS)
+    return fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)
 
 
 CASES = [

@@ -4,14 +4,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.plot.serve import plot_optimum
 
 
 def test_optimum_view_holds_a_high_and_a_long_flight():
     p = FlightParams.from_options(preset="seed000")
-    lob = fly((-11.885, 0.0, 2.8), (25.0, 0.0, 14.0), (0.0, 0.0, 0.0), p)  # apex far above 3.5 m
-    long = fly((-11.885, 0.0, 2.8), (60.0, 0.0, 2.0), (0.0, 0.0, 0.0), p)  # lands beyond the far baseline
+    lob = fly_dense((-11.885, 0.0, 2.8), (25.0, 0.0, 14.0), (0.0, 0.0, 0.0), p)  # apex far above 3.5 m
+    long = fly_dense((-11.885, 0.0, 2.8), (60.0, 0.0, 2.0), (0.0, 0.0, 0.0), p)  # lands beyond the far baseline
     ax = plot_optimum("test", [lob, long], ["lob", "long"]).axes[0]
     for tr in (lob, long):
         for line in ax.get_lines():

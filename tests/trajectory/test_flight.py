@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tennislab.core.flight import FlightParams
-from tennislab.core.flight import fly as core_fly
+from tennislab.core.flight import fly_dense as core_fly
 from tennislab.errors import InputError
 from tennislab.trajectory import MAX_SPEED_MS, MAX_SPIN_RPM, fly, launch_vectors
 from tennislab.units import KMH, RPM

@@ -3,7 +3,7 @@
 The primitives every workflow composes (docs/architecture.md shows which uses which):
 
 * flight (:mod:`~tennislab.core.flight`): :class:`FlightParams` (every physics setting, with
-  :meth:`~FlightParams.to_dict` / :meth:`~FlightParams.from_dict`), :func:`fly` (one flight, SciPy dense
+  :meth:`~FlightParams.to_dict` / :meth:`~FlightParams.from_dict`), :func:`fly_dense` (one flight, SciPy dense
   output: the accuracy reference), :func:`fly_batch` (N flights, the compiled kernel of
   :mod:`~tennislab.core.integrators`: an event table), the net rule (:data:`NET_MODES`, :func:`with_net`)
   and the guard rails (:data:`MAX_SPEED_MS`, :data:`MAX_SPIN_RPM`, :data:`MAX_DISTANCE_M`); the one
@@ -15,7 +15,8 @@ The primitives every workflow composes (docs/architecture.md shows which uses wh
 * the bounce: :func:`bounce` / :func:`bounce_batch` on a :class:`Surface` (:func:`get_surface`), a flight
   through bounces (:func:`fly_bounces`) and the ball's mark (:func:`ball_mark`);
 * the racket-ball impact (:mod:`~tennislab.core.impact`, Haake et al. 2003 ball models in
-  :mod:`~tennislab.core.haake2003`): :func:`impact_batch`.
+  :mod:`~tennislab.core.haake2003`): :func:`impact_single` (one impact, its history on request) and
+  :func:`impact_batch`.
 
 :mod:`~tennislab.core._jit` holds the Numba options of every kernel.
 """
@@ -48,12 +49,19 @@ if TYPE_CHECKING:
         FlightParams,
         FlightTable,
         Trajectory,
-        fly,
         fly_batch,
+        fly_dense,
         with_net,
     )
     from tennislab.core.haake2003 import BallImpactModel, ball_model_names, get_ball_model
-    from tennislab.core.impact import FRICTION_MODELS, TANGENTIAL_DAMPING, ImpactParams, ImpactResult, impact_batch
+    from tennislab.core.impact import (
+        FRICTION_MODELS,
+        TANGENTIAL_DAMPING,
+        ImpactParams,
+        ImpactResult,
+        impact_batch,
+        impact_single,
+    )
     from tennislab.core.launch import (
         SPIN_AXES_DEG,
         describe_spin,
@@ -107,13 +115,14 @@ __all__ = [
     "callable_model",
     "describe_spin",
     "describe_velocity",
-    "fly",
     "fly_batch",
+    "fly_dense",
     "fly_bounces",
     "get_aero_model",
     "get_ball_model",
     "get_surface",
     "impact_batch",
+    "impact_single",
     "launch_spin",
     "launch_velocity",
     "register_aero",

@@ -3,7 +3,7 @@
 An :class:`Event` says which state component reaches which value in which
 direction, whether that ends the flight, and which state components are
 recorded when it happens.  Both integration paths read the same descriptions:
-the SciPy path (:func:`tennislab.core.flight.fly`) turns them into
+the SciPy path (:func:`tennislab.core.flight.fly_dense`) turns them into
 ``solve_ivp`` event functions, the compiled kernel
 (:mod:`tennislab.core.integrators`) receives them as rows of a small array
 (:func:`event_array`) and locates every one of them with the same loop, by

@@ -1,6 +1,6 @@
 """Ball flight: one right-hand side, one description of the events, two integration paths.
 
-* :func:`fly` - one trajectory with SciPy ``solve_ivp`` (DOP853 at rtol 1e-10
+* :func:`fly_dense` - one trajectory with SciPy ``solve_ivp`` (DOP853 at rtol 1e-10
   by default) and dense output, for plots; at its default tolerance it is the
   accuracy reference the tests use.
 * :func:`fly_batch` - N initial states integrated in parallel by the compiled
@@ -14,7 +14,7 @@ at height r), first net-plane crossing, apex and, with
 
 Guard rails (issue 16): a launch faster than :data:`MAX_SPEED_MS`, spinning faster
 than :data:`MAX_SPIN_RPM`, outside :data:`MAX_DISTANCE_M` or below the ground is
-refused (:func:`fly`: :class:`~tennislab.errors.InputError` naming the
+refused (:func:`fly_dense`: :class:`~tennislab.errors.InputError` naming the
 parameter and the allowed range; :func:`fly_batch`: the row's status code,
 docs/flight.md); every integration is bounded (:data:`MAX_RHS_EVALS` evaluations
 of the right-hand side for SciPy, :data:`MAX_STEPS` step attempts, rejected ones
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -82,7 +83,7 @@ _LIMIT_SLACK = 1.0 + 1e-12
 MAX_DISTANCE_M = 1000.0
 #: Most step attempts (accepted and rejected) of one compiled trajectory; a mixed shot takes ~8-30
 MAX_STEPS = 100_000
-#: Most evaluations of the right-hand side in one :func:`fly` (a flight takes ~1,000-3,000 at rtol 1e-10)
+#: Most evaluations of the right-hand side in one :func:`fly_dense` (a flight takes ~1,000-3,000 at rtol 1e-10)
 MAX_RHS_EVALS = 200_000
 
 #: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
@@ -355,7 +356,7 @@ def with_net(params: FlightParams | None, net: str = DEFAULT_NET) -> FlightParam
 
 
 class EvaluationLimit(RuntimeError):
-    """Raised by :meth:`FlightParams.rhs` past its evaluation budget (caught by :func:`fly`)."""
+    """Raised by :meth:`FlightParams.rhs` past its evaluation budget (caught by :func:`fly_dense`)."""
 
 
 def initial_state(position, velocity, spin=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -492,7 +493,7 @@ def _net_crossing(t: float | None, yev, params: FlightParams) -> NetCrossing:
     return NetCrossing(float(t), float(yev[1]), float(yev[2]), float(hn), float(clr), "net" if clr < 0 else "over")
 
 
-def fly(
+def fly_dense(
     position,
     velocity,
     spin=(0.0, 0.0, 0.0),
@@ -667,7 +668,7 @@ def fly_batch(
     Compiled with Numba (``parallel=True`` uses all cores via ``prange``).  The
     default tolerance (rtol = atol = the aero model's ``batch_tol``: 2e-7, or
     2e-8 for the capped lift of ``choppin2018``) keeps landing points within
-    0.01 mm of the reference :func:`fly` at rtol 1e-10 for serves, groundstrokes
+    0.01 mm of the reference :func:`fly_dense` at rtol 1e-10 for serves, groundstrokes
     and lobs with up to 6000 rpm about any axis, for every built-in aero model
     (docs/flight.md; benchmarks/bench_flight_accuracy.py; tests/core/test_flight_accuracy.py).
 
@@ -696,3 +697,16 @@ def fly_batch(
         kern, aero = (batch_kernel_fp if parallel else serial_kernel_fp), params.aero.kernel
     kern(s, aero, params.aero.params, params.consts(rtol, atol), event_array(params.events()), out)
     return FlightTable(out, params.ball.radius)
+
+
+def __getattr__(name: str):
+    """``fly``: the old name of :func:`fly_dense`, kept working with a :class:`DeprecationWarning`
+    (tennislab.trajectory.fly is the flight workflow: two public functions of one name must not do different things)."""
+    if name == "fly":
+        warnings.warn(
+            "tennislab.core.flight.fly is now fly_dense (tennislab.trajectory.fly is the flight workflow)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return fly_dense
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

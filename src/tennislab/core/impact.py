@@ -79,6 +79,7 @@ so omega > 0 is topspin (spin vector +y).  Launch angle gamma = atan2(v_z, v_x)
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numba as nb
@@ -589,7 +590,7 @@ class ImpactResult:
 HIST_COLUMNS = ("t", "x1", "x2", "x3", "v1", "v2", "e", "w1", "w2", "w3", "F_N", "F_t")
 
 
-def impact(
+def impact_single(
     speed: float,
     alpha: float,
     params: ImpactParams | None = None,
@@ -731,3 +732,16 @@ def launch_angle(v_n, v_t, beta):
     """Launch angle gamma [rad] above the horizontal (negative: downward)."""
     vx, vz = to_court(v_n, v_t, beta)
     return np.arctan2(vz, vx)
+
+
+def __getattr__(name: str):
+    """``impact``: the old name of :func:`impact_single`, kept working with a :class:`DeprecationWarning`
+    (tennislab.serve.impact is the impact workflow: two public functions of one name must not do different things)."""
+    if name == "impact":
+        warnings.warn(
+            "tennislab.core.impact.impact is now impact_single (tennislab.serve.impact is the impact workflow)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return impact_single
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,6 +1,6 @@
 """Flight with bounces: flight segments chained through the bounce model.
 
-Each segment is a :func:`~tennislab.core.flight.fly` flight to its landing
+Each segment is a :func:`~tennislab.core.flight.fly_dense` flight to its landing
 (ball centre at z = r).  At a landing the bounce model
 (:mod:`tennislab.core.bounce`) gives the outgoing velocity and spin, and the
 mark model (:mod:`tennislab.core.mark`) the contact: the ball stays on the
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tennislab.core.bounce import MODES, bounce, bounce_batch
-from tennislab.core.flight import FlightParams, Trajectory, fly, fly_batch
+from tennislab.core.flight import FlightParams, Trajectory, fly_batch, fly_dense
 from tennislab.core.mark import BallMark, MarkParams, ball_mark, contact_displacement
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range
@@ -107,7 +107,7 @@ def fly_bounces(
     n = int(check_range("bounces", bounces, 0, 100))
     s = get_surface(surface)
     segs, bnc = [], []
-    tr = fly(position, velocity, spin, params, rtol=rtol, atol=atol)
+    tr = fly_dense(position, velocity, spin, params, rtol=rtol, atol=atol)
     segs.append(tr)
     for _ in range(n):
         if tr.landing is None:
@@ -117,7 +117,7 @@ def fly_bounces(
         if b.velocity_out[2] < MIN_VZ:
             break
         p0 = (b.x + b.mark.displacement[0], b.y + b.mark.displacement[1], params.ball.radius)
-        tr = fly(p0, b.velocity_out, b.spin_out, params, rtol=rtol, atol=atol, t0=b.t + mark_params.contact_time)
+        tr = fly_dense(p0, b.velocity_out, b.spin_out, params, rtol=rtol, atol=atol, t0=b.t + mark_params.contact_time)
         segs.append(tr)
     return Rally(segs, bnc)
 

@@ -1,7 +1,7 @@
 """Forward model and inverse aiming of the launcher (Wojcicki, Pucilowski & Kulesza 2010).
 
 Forward: :class:`~.machine.Settings` -> launch state (:func:`~.machine.launch_states`)
--> flight (:func:`tennislab.core.flight.fly` / ``fly_batch``; default aero
+-> flight (:func:`tennislab.core.flight.fly_dense` / ``fly_batch``; default aero
 ``launcher2015``, the paper's eqs 1-7) -> first ground contact, net clearance,
 trajectory.
 
@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import tennislab.launcher._search as _search
-from tennislab.core.flight import FlightParams, fly, fly_batch
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 from tennislab.core.launch import spin_axis_angle
 from tennislab.errors import InputError, check_vector
 from tennislab.launcher.machine import (
@@ -70,11 +70,11 @@ def launcher_params(**options) -> FlightParams:
 
 
 def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None, **fly_kw):
-    """Forward model for one shot with the reference integrator :func:`tennislab.core.flight.fly`."""
+    """Forward model for one shot with the reference integrator :func:`tennislab.core.flight.fly_dense`."""
     params = params or launcher_params()
     spec.validate(settings)
     s = settings_states(spec, settings)[0]
-    return fly(s[0:3], s[3:6], s[6:9], params, **fly_kw)
+    return fly_dense(s[0:3], s[3:6], s[6:9], params, **fly_kw)
 
 
 def fly_settings_batch(

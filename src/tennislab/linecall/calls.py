@@ -40,7 +40,7 @@ import numpy as np
 
 import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce
-from tennislab.core.flight import DEFAULT_NET, FlightParams, fly, with_net
+from tennislab.core.flight import DEFAULT_NET, FlightParams, fly_dense, with_net
 from tennislab.core.launch import describe_velocity, direction, spin_basis
 from tennislab.core.mark import BallMark, MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
@@ -519,7 +519,7 @@ def call_state(
     position = check_vector("position", position)
     velocity = check_vector("velocity", velocity)
     spin = check_vector("spin", spin)
-    tr = fly(position, velocity, spin, params)
+    tr = fly_dense(position, velocity, spin, params)
     dp = closed_form_from_physics(position, velocity, spin, params) if method == "closed-form" else None
     if tr.net_contact is not None:
         return _net_call(tr, params, surf, method)

@@ -267,7 +267,7 @@ def closed_form_study(
     Returns one row per shot: range of the numerical flight [m], error [m] and
     relative error.
     """
-    from tennislab.core.flight import FlightParams, fly
+    from tennislab.core.flight import FlightParams, fly_dense
 
     params = params or FlightParams()
     rows = []
@@ -276,7 +276,7 @@ def closed_form_study(
             for w in spins:
                 vel = (v * math.cos(math.radians(a)), 0.0, v * math.sin(math.radians(a)))
                 pos = (-11.885, 0.0, height)
-                tr = fly(pos, vel, (0.0, 0.0, w), params)
+                tr = fly_dense(pos, vel, (0.0, 0.0, w), params)
                 if tr.landing is None:
                     continue
                 try:

@@ -35,7 +35,7 @@ C_L -> s_L C_L (the fit's handles on an aero model that is not exactly the ball'
 integration is :func:`tennislab.core.integrators.sweep_positions` (classical RK4 with a fixed
 step, 16 ms in the fit, so that the residuals are smooth functions of the parameters; cubic
 Hermite positions between steps; tests/linecall/test_linecall.py checks against
-:func:`tennislab.core.flight.fly`).
+:func:`tennislab.core.flight.fly_dense`).
 """
 
 from __future__ import annotations

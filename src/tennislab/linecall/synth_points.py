@@ -9,9 +9,9 @@ axis (topspin, sidespin, spin along the path), a contact time of 4.0 ms (the fit
 dropouts, a gap after each hit (the racket hides the ball) and a gross outlier or two.  Synthetic truth
 proves the code, not the physics.
 
-Shots are flown by the reference integrator (:func:`tennislab.core.flight.fly`, DOP853) and chained
+Shots are flown by the reference integrator (:func:`tennislab.core.flight.fly_dense`, DOP853) and chained
 through the bounce model (:func:`tennislab.core.rally.bounce_at`).  The net is an obstacle here: a ball
-whose centre reaches the net plane below the tape + r touches it (:func:`tennislab.core.flight.fly`'s
+whose centre reaches the net plane below the tape + r touches it (:func:`tennislab.core.flight.fly_dense`'s
 net crossing); a glancing touch (clearance > -0.6 r) is a net cord that goes over with 45-80 % of its
 speed along the court and 20-80 % of its vertical speed plus a kick of -0.5 to 1.5 m/s, a deeper one
 is stopped and drops on the hitter's side with a tenth of its speed.
@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from tennislab.core.flight import FlightParams, fly, fly_batch
+from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 from tennislab.core.launch import describe_velocity, direction, launch_velocity, spin_basis
 from tennislab.core.mark import MarkParams
 from tennislab.core.rally import bounce_at
@@ -114,7 +114,7 @@ def simulate_shot(
     d = 1.0 if vel[0] >= 0 else -1.0
     stop = math.inf if t_stop is None else t_stop
     for _ in range(max_bounces + 2):
-        tr = fly(pos, vel, w, params, t0=t, rtol=1e-10)
+        tr = fly_dense(pos, vel, w, params, t0=t, rtol=1e-10)
         t_land = tr.landing.t if tr.landing is not None else t + params.t_max
         if st.net is None and not st.bounces and tr.net.result == "net" and tr.net.t < t_land:
             tn = tr.net.t
@@ -222,7 +222,7 @@ def aim_clear(p0, speed, spin, tgt, params, clearance):
     if clearance is not None:
         return v, w
     for _ in range(6):
-        tr = fly(p0, v, w, params, rtol=1e-7, atol=1e-9)
+        tr = fly_dense(p0, v, w, params, rtol=1e-7, atol=1e-9)
         if not np.isfinite(tr.net.clearance) or tr.net.clearance >= MIN_CLEARANCE:
             break
         speed -= 3.0

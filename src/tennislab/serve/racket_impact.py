@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 from tennislab.core.impact import HIST_COLUMNS, ImpactParams, ImpactResult, to_court
-from tennislab.core.impact import impact as _impact
+from tennislab.core.impact import impact_single as _impact
 from tennislab.errors import InputError, check_range
 from tennislab.results import Table, jsonable
 from tennislab.serve.setup import integration_caveats, seed_impact_params

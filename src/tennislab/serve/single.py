@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tennislab.core.flight import FlightParams, Trajectory, fly
+from tennislab.core.flight import FlightParams, Trajectory, fly_dense
 from tennislab.core.impact import REGIMES, ImpactParams
 from tennislab.errors import InputError, check_range
 from tennislab.results import DEFAULT_STEP_S, TRAJECTORY_COLUMNS, Table, jsonable, trajectory_rows
@@ -220,7 +220,7 @@ def simulate(
             "integrator": method,
             "dt_s": float(dt),
         },
-        trajectory=fly(state[0:3], vel, spin, flight) if trajectory else None,
+        trajectory=fly_dense(state[0:3], vel, spin, flight) if trajectory else None,
     )
 
 

@@ -10,7 +10,7 @@ vector); the speed may be given in km/h or mph instead (``speed_kmh``, ``speed_m
 
 Guard rails (stated once, in :mod:`tennislab.core.flight`, and re-exported here): a launch outside
 what a tennis ball can do is refused with the allowed range (:data:`MAX_SPEED_MS`, :data:`MAX_SPIN_RPM`,
-:data:`MAX_DISTANCE_M`; a ball centre below its radius is refused by :func:`tennislab.core.flight.fly`),
+:data:`MAX_DISTANCE_M`; a ball centre below its radius is refused by :func:`tennislab.core.flight.fly_dense`),
 and a flight whose numbers are not finite is an error, never an answer.
 """
 

@@ -21,7 +21,7 @@ from tennislab.core.flight import (
     Trajectory,
     with_net,
 )
-from tennislab.core.flight import fly as _fly
+from tennislab.core.flight import fly_dense as _fly
 from tennislab.core.launch import describe_spin, describe_velocity, launch_spin, launch_velocity, spin_axis_angle
 from tennislab.core.rally import Rally, fly_bounces
 from tennislab.core.surfaces import get_surface
