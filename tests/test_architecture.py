@@ -357,3 +357,22 @@ def test_the_old_names_of_the_primitives_still_work(module, old, new):
     mod = importlib.import_module(f"tennislab.{module}")
     with pytest.warns(DeprecationWarning, match=f"is now {new}"):
         assert getattr(mod, old) is getattr(mod, new)
+
+
+def test_one_name_for_the_json_of_an_object():
+    """``to_dict()`` everywhere: no package exports a ``*_dict`` converter, no exported class has its own
+    ``as_dict`` (the old name lives only in ``results.OldAsDict``, with a DeprecationWarning)."""
+    import importlib
+
+    from tennislab.results import OldAsDict
+
+    bad = []
+    for pkg in PACKAGES:
+        module = importlib.import_module(f"tennislab.{pkg}")
+        for name in module.__all__:
+            obj = getattr(module, name)
+            if name.endswith("_dict"):
+                bad.append(f"tennislab.{pkg}.{name}")
+            if isinstance(obj, type) and "as_dict" in vars(obj) and obj is not OldAsDict:
+                bad.append(f"tennislab.{pkg}.{name}.as_dict")
+    assert not bad, bad

@@ -339,3 +339,12 @@ def test_call_rally_takes_a_path_as_well_as_read_points():
         call_rally("nope.json")
     with pytest.raises(InputError, match="^points: expected a point file, a folder of them or read points"):
         call_rally([{"samples": []}])
+
+
+def test_as_dict_is_the_old_name_of_to_dict():
+    """One name per concept: ``to_dict()`` everywhere; ``as_dict()`` still works, with a warning."""
+    from tennislab.launcher import Settings
+
+    s = Settings(speed_kmh=80.0, spin_rpm=1000.0, spin_axis_deg=0.0, elevation_deg=10.0, heading_deg=0.0, height_m=1.0)
+    with pytest.warns(DeprecationWarning, match=r"Settings.as_dict\(\) is now to_dict\(\)"):
+        assert s.as_dict() == s.to_dict()

@@ -26,7 +26,7 @@ import numpy as np
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
-__all__ = ["Result", "Table", "jsonable", "trajectory_rows"]
+__all__ = ["OldAsDict", "Result", "Table", "jsonable", "trajectory_rows"]
 
 
 def jsonable(obj: Any) -> Any:
@@ -66,6 +66,17 @@ def _clean(obj: Any, depth: int) -> Any:
 #: the unit suffixes of a table's columns (docs/conventions.md, "Tables"): a column without one is
 #: dimensionless (a count, a ratio, a probability) or a label
 UNIT_SUFFIXES = ("_m", "_mm", "_m2", "_s", "_ms", "_kmh", "_mph", "_rpm", "_rad_s", "_deg", "_kg", "_n", "_mpa", "_pct")
+
+
+class OldAsDict:
+    """``as_dict()``: the old name of ``to_dict()`` (one name per concept), kept working with a
+    :class:`DeprecationWarning` for the classes that had it."""
+
+    def as_dict(self) -> dict:
+        import warnings
+
+        warnings.warn(f"{type(self).__name__}.as_dict() is now to_dict()", DeprecationWarning, stacklevel=2)
+        return self.to_dict()  # type: ignore[attr-defined]
 
 
 class Result:

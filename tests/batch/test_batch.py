@@ -84,7 +84,7 @@ def _clear_calls():
 def test_fly_chunks_bit_identical_to_one_batch():
     s = serve_states(3000)
     params = FlightParams()
-    ref = fly_batch(s, params).as_dict()
+    ref = fly_batch(s, params).to_dict()
     for cs in (1000, 777, 3000):
         out = map_chunks(functools.partial(fly_chunk, params=params), {"states": s}, chunk_size=cs, progress=False)
         for k in ("land_x", "land_y", "land_t", "net_z", "apex_z", "status"):

@@ -34,7 +34,7 @@ def fly_chunk(
     """
     tol = {k: v for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
     table = fly_batch(chunk_states(chunk), params, parallel=parallel, **tol)
-    d = table.as_dict()
+    d = table.to_dict()
     if columns is not None:
         d = {k: d[k] for k in columns}
     return {k: np.ascontiguousarray(v) for k, v in d.items()}

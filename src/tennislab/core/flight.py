@@ -66,6 +66,7 @@ from tennislab.core.integrators import (
     serial_kernel_fp,
 )
 from tennislab.errors import InputError, check_range, check_vector
+from tennislab.results import OldAsDict
 from tennislab.units import RPM
 
 # The guard rails of every flight (the one statement; tennislab.trajectory re-exports them):
@@ -611,7 +612,7 @@ def _trajectory(ts, ys, sol, occ: dict, params: FlightParams) -> Trajectory:
 
 
 @dataclass(frozen=True)
-class FlightTable:
+class FlightTable(OldAsDict):
     """Event table of a batch: one row per initial state, columns :data:`events.COLUMNS`.
 
     ``table["land_x"]`` gives a column; :attr:`clearance`, :attr:`net_result` and
@@ -651,7 +652,7 @@ class FlightTable:
     def ok(self) -> np.ndarray:
         return self["status"] == STATUS_OK
 
-    def as_dict(self) -> dict[str, np.ndarray]:
+    def to_dict(self) -> dict[str, np.ndarray]:
         return {c: self.data[:, i] for i, c in enumerate(COLUMNS)}
 
 

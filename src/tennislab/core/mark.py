@@ -39,6 +39,7 @@ from tennislab.core._jit import JIT
 from tennislab.core.ball import Ball
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import check_range
+from tennislab.results import OldAsDict
 
 
 @dataclass(frozen=True)
@@ -60,7 +61,7 @@ class MarkParams:
 
 
 @dataclass(frozen=True)
-class BallMark:
+class BallMark(OldAsDict):
     """A ball mark on the ground.
 
     Attributes
@@ -87,7 +88,7 @@ class BallMark:
     displacement: np.ndarray
     discs: np.ndarray
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "length": self.length,
             "width": self.width,

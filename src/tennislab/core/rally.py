@@ -24,12 +24,13 @@ from tennislab.core.flight import FlightParams, Trajectory, fly_batch, fly_dense
 from tennislab.core.mark import BallMark, MarkParams, ball_mark, contact_displacement
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range
+from tennislab.results import OldAsDict
 
 MIN_VZ = 0.05  #: [m/s] below this vertical take-off speed the ball is considered rolling
 
 
 @dataclass(frozen=True)
-class Bounce:
+class Bounce(OldAsDict):
     """One bounce: first-contact point (x, y) [m] and time t [s], velocities [m/s], spins [rad/s]."""
 
     x: float
@@ -42,7 +43,7 @@ class Bounce:
     mode: str
     mark: BallMark
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "x": self.x,
             "y": self.y,
@@ -52,7 +53,7 @@ class Bounce:
             "spin_in": self.spin_in,
             "spin_out": self.spin_out,
             "mode": self.mode,
-            "mark": self.mark.as_dict(),
+            "mark": self.mark.to_dict(),
         }
 
 

@@ -161,7 +161,7 @@ def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: Fl
     return {
         "solution": sol.solution,
         "target": {"x": sol.target[0], "y": sol.target[1]},
-        "settings": st.as_dict(),
+        "settings": st.to_dict(),
         "rollers": {"rpm1": w1, "rpm2": w2},
         "landing": {"x": sol.landing[0], "y": sol.landing[1]},
         "miss_mm": sol.miss_mm,
@@ -172,7 +172,7 @@ def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: Fl
         "flight_time_s": sol.flight_time_s,
         "apex_z_m": sol.apex_z_m,
         "landing_speed_kmh": sol.landing_speed_ms / KMH,
-        "asked": {k: v for k, v in asked.as_dict().items() if k not in ("elevation_deg", "heading_deg")},
+        "asked": {k: v for k, v in asked.to_dict().items() if k not in ("elevation_deg", "heading_deg")},
         "net_limited": sol.net_limited,
         "deviation": sol.deviation(),
         "machine": machine_dict(spec, sol.position),
@@ -223,8 +223,8 @@ class AimResult(Result):
         """The JSON of ``tennislab launcher aim`` (:func:`solution_dict` plus the request and the other branch)."""
         out = solution_dict(self.solution, self.spec, self.params)
         out["trajectory"] = self.preferences.trajectory
-        out["tolerances"] = self.tolerances.as_dict()
-        out["preferences"] = self.preferences.as_dict()
+        out["tolerances"] = self.tolerances.to_dict()
+        out["preferences"] = self.preferences.to_dict()
         name = "high" if self.solution.solution == "low" else "low"
         if self.other is not None:
             o = self.other

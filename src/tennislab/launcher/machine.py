@@ -44,6 +44,7 @@ import numpy as np
 
 from tennislab.core import launch
 from tennislab.errors import InputError, check_finite, check_range, check_vector
+from tennislab.results import OldAsDict
 from tennislab.units import DEG, KMH, RPM
 
 #: The paper behind the launcher (seed 002), as help texts and outputs name it.
@@ -95,7 +96,7 @@ class Range:
 
 
 @dataclass(frozen=True)
-class Settings:
+class Settings(OldAsDict):
     """One shot's machine settings, in the machine's (edge) units.
 
     Attributes
@@ -115,7 +116,7 @@ class Settings:
     spin_rpm: float = 0.0
     spin_axis_deg: float = 0.0
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {f.name: float(getattr(self, f.name)) for f in fields(self)}
 
 

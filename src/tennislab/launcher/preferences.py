@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tennislab.errors import InputError, check_range
+from tennislab.results import OldAsDict
 
 #: Trajectory preferences by name.
 TRAJECTORIES = ("low", "high", "any")
@@ -33,7 +34,7 @@ BRANCH_LOW, BRANCH_HIGH = 0, 1
 
 
 @dataclass(frozen=True)
-class Preferences:
+class Preferences(OldAsDict):
     """Trajectory preferences (module docstring); every bound optional (None = no bound)."""
 
     trajectory: str = "low"
@@ -125,7 +126,7 @@ class Preferences:
             parts.append(f"flight <= {self.max_flight_time_s:g} s")
         return ", ".join(parts)
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "trajectory": self.trajectory,
             "max_apex_m": self.max_apex_m,
@@ -142,7 +143,7 @@ DEFAULT_SPIN_AXIS_TOLERANCE_DEG = 10.0
 
 
 @dataclass(frozen=True)
-class Tolerances:
+class Tolerances(OldAsDict):
     """How far ``aim`` may move speed [km/h] and spin [rpm] from what was asked (module docstring)."""
 
     speed_kmh: float = 3.0
@@ -171,7 +172,7 @@ class Tolerances:
             )
         return ok
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"speed_kmh": self.speed_kmh, "spin_rpm": self.spin_rpm, "spin_axis_deg": self.spin_axis_deg}
 
 

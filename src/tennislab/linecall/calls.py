@@ -530,7 +530,7 @@ def call_state(
     if dp is not None:
         pos = np.array([dp.x, dp.y])
         t_land = dp.t
-        extra["closed_form"] = dp.as_dict()
+        extra["closed_form"] = dp.to_dict()
         extra["numeric"] = {"x": land.x, "y": land.y, "t": land.t}
         extra["closed_form_error_mm"] = float(np.hypot(dp.x - land.x, dp.y - land.y) * 1000)
     else:

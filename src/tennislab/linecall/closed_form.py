@@ -52,10 +52,11 @@ import numpy as np
 from scipy.special import sici
 
 from tennislab.errors import InputError, check_range, check_vector
+from tennislab.results import OldAsDict
 
 
 @dataclass(frozen=True)
-class DropPoint:
+class DropPoint(OldAsDict):
     """Closed-form drop point: (x, y) [m], flight time t [s], and the model's intermediates."""
 
     x: float
@@ -66,7 +67,7 @@ class DropPoint:
     z_apex: float
     model: str
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "x": self.x,
             "y": self.y,
@@ -244,11 +245,11 @@ def seed001_example() -> dict:
     vac_T = (vel[2] + math.sqrt(vel[2] ** 2 + 2 * ex["g"] * ex["h"])) / ex["g"]
     return {
         "published": ex["published"],
-        "corrected": fixed.as_dict(),
-        "seed_equations": printed.as_dict(),
+        "corrected": fixed.to_dict(),
+        "seed_equations": printed.to_dict(),
         "vacuum_range": ex["v0x"] * vac_T,
-        "spin_seed": spin_seed.as_dict(),
-        "spin_with_drag": spin_drag.as_dict(),
+        "spin_seed": spin_seed.to_dict(),
+        "spin_with_drag": spin_drag.to_dict(),
     }
 
 

@@ -239,7 +239,7 @@ class FlightResult(Table):
 
 
 def _bounce_dict(b) -> dict:
-    d = b.as_dict()
+    d = b.to_dict()
     d["mark"] = {
         "length": b.mark.length,
         "width": b.mark.width,
