@@ -45,6 +45,7 @@ SLOW_PATHS = (
     "tests/report/test_report.py",
     "tests/test_docs.py::test_docs_example",
     "tests/test_docs.py::test_quoted_numbers",
+    "tests/test_docs.py::test_generated_spans",
     "tests/test_frontends.py",
     "tests/batch/test_dask.py",
 )

@@ -31,7 +31,9 @@ How a fenced block is treated:
 Numbers in the prose: a span ``<!-- quotes: COMMAND -->...<!-- /quotes -->`` (invisible on the rendered
 page) says that the numbers in it are printed by ``COMMAND`` (``tennislab ...``, or ``python ...`` run from
 a copy of the clone). Each number of the span (outside backticks) must equal, at the precision it is
-written with and sign aside, a number the command prints. A command too slow for the test suite (a
+written with and sign aside, a number the command prints. A span ``<!-- output: COMMAND -->`` (a line
+of its own) ... ``<!-- /output -->`` is exactly what the command prints (a table a script prints), line by
+line with ``…`` as above, and is rewritten by ``--update``. A command too slow for the test suite (a
 benchmark) is quoted from its record, ``docs/records/NAME.txt`` (first line ``$ COMMAND``, then its
 output), which ``--update --records`` re-runs.
 
@@ -443,6 +445,43 @@ def _run_fresh(command: str) -> str:
     return out + err
 
 
+# ------------------------------------------------------------------ generated spans
+_GENERATED = re.compile(r"<!--\s*output:\s*(.*?)\s*-->\n(.*?)<!--\s*/output\s*-->", re.S)
+
+
+def generated(path: Path) -> list[Quote]:
+    """The ``<!-- output: COMMAND -->`` ... ``<!-- /output -->`` spans of a page: text that is exactly what
+    the command prints (a table a script prints, say), rewritten by ``make docs``."""
+    text = path.read_text(encoding="utf-8")
+    return [
+        Quote(path, text.count("\n", 0, m.start()) + 1, " ".join(m.group(1).split()), m.group(2))
+        for m in _GENERATED.finditer(text)
+    ]
+
+
+def generated_matches(g: Quote) -> bool:
+    return shown_matches(tuple(_lines(g.text)), quoted_output(g.command))
+
+
+def update_generated(path: Path) -> int:
+    """Rewrite the generated spans of a page that no longer match; returns how many."""
+    text = path.read_text(encoding="utf-8")
+    changed = 0
+
+    def _new(m: re.Match) -> str:
+        nonlocal changed
+        g = Quote(path, 0, " ".join(m.group(1).split()), m.group(2))
+        if generated_matches(g):
+            return m.group(0)
+        changed += 1
+        return (
+            m.group(0)[: m.start(2) - m.start(0)] + "\n".join(_lines(quoted_output(g.command))) + "\n<!-- /output -->"
+        )
+
+    path.write_text(_GENERATED.sub(_new, text), encoding="utf-8")
+    return changed
+
+
 def stale_numbers(q: Quote) -> list[str]:
     """The numbers of a quote that the command does not print."""
     printed_numbers = [n.value for n in numbers(quoted_output(q.command).replace("`", ""))]
@@ -491,6 +530,7 @@ def _kind(b: Block) -> str | None:
 ALL = [b for path in DOCS for b in blocks(path)]
 RUNNABLE = [b for b in ALL if _kind(b)]
 QUOTES = [q for path in DOCS for q in quotes(path)]
+GENERATED = [g for path in DOCS for g in generated(path)]
 
 
 def _params():
@@ -595,6 +635,27 @@ def test_quoted_numbers(quote: Quote):
     stale = stale_numbers(quote)
     assert not stale, (
         f"{quote.id}: {stale} are not printed by `{quote.command}`; it prints:\n{quoted_output(quote.command)}"
+    )
+
+
+@pytest.mark.parametrize("span", GENERATED, ids=[g.id for g in GENERATED])
+def test_generated_spans(span: Quote):
+    assert generated_matches(span), (
+        f"{span.id}: the page shows\n{span.text}\n-- `{span.command}` prints --\n{quoted_output(span.command)}\n"
+        "(regenerate the docs' outputs with `make docs`)"
+    )
+
+
+def test_generated_spans_are_found_and_rewritten(tmp_path):
+    from tennislab import __version__
+
+    page = tmp_path / "p.md"
+    page.write_text("a\n<!-- output: tennislab --version -->\ntennislab 0.0.1\n<!-- /output -->\nb\n")
+    (g,) = generated(page)
+    assert g.command == "tennislab --version" and not generated_matches(g)
+    assert update_generated(page) == 1 and update_generated(page) == 0
+    assert (
+        page.read_text() == f"a\n<!-- output: tennislab --version -->\ntennislab {__version__}\n<!-- /output -->\nb\n"
     )
 
 
@@ -817,7 +878,7 @@ def main(argv: list[str]) -> int:
         update_records()
     if args.update:
         for path in pages:
-            n = update_page(path, twice=not args.once)
+            n = update_page(path, twice=not args.once) + update_generated(path)
             print(f"{path.relative_to(ROOT)}: {n} output(s) rewritten", file=sys.stderr)
     stale = 0
     for path in pages:
