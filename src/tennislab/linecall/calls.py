@@ -54,7 +54,8 @@ from tennislab.linecall.detect import (
     noise_from_differences,
     travel_direction,
 )
-from tennislab.linecall.fit import NOISE_FLOOR, TrackFit, fit_track
+from tennislab.linecall.fit import AUTO_GAP, MODEL_SIGMA, NOISE_FLOOR, TrackFit, fit_track
+from tennislab.linecall.local_fit import refine_bounce
 from tennislab.linecall.net import NetCheck, check_net
 from tennislab.results import Table, jsonable
 from tennislab.units import RPM
@@ -340,6 +341,15 @@ def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:
     }
 
 
+def _local_params(p_whole: np.ndarray, p_local: np.ndarray) -> np.ndarray:
+    """The whole-flight parameters with the bounce (point, time, velocity in) of the local fit; the
+    spin and the aero scales stay the whole flight's (a short window hardly sees them)."""
+    p = p_whole.copy()
+    for k in (M.P_XB, M.P_YB, M.P_TB, *M.indices(M.P_VIN)):
+        p[k] = p_local[k]
+    return p
+
+
 def _options(window, contact_sigma):
     w = check_vector("window", window, 2)
     if not (0 < w[0] <= 100 and 0 <= w[1] <= 100):
@@ -459,6 +469,17 @@ def call_track(
     reasons = quality_reasons(fit, ts, noise) + extra_reasons
     mark = None
     decision = None
+    loc = None
+    if not any(r.startswith("fit diverged") for r in reasons):
+        pre_t = ts[ts < fit.t_bounce]  # every sample, the whole fit's outliers too: the window judges them afresh
+        near = pre_t.size >= 6 and fit.t_bounce - pre_t.max() <= AUTO_GAP
+        loc = refine_bounce(fit, ts, xs, noise, post=fit.has_post and not near)
+    if loc is not None:
+        fit = replace(
+            fit,
+            p=_local_params(fit.p, loc.p),
+            bounce_cov=loc.bounce_cov + MODEL_SIGMA**2 * np.eye(2),
+        )
     if not any(r.startswith("fit diverged") for r in reasons) and np.all(np.isfinite(fit.velocity_out)):
         mark = ball_mark(fit.bounce_xy, fit.velocity_in, fit.velocity_out, fit.spin_in, surf, params.ball, mark_params)
         decision = call_mark(
