@@ -113,9 +113,10 @@ def register(sub) -> None:
         "--window",
         type=float,
         nargs=2,
-        default=(0.6, 0.3),
+        default=(30.0, 0.3),
         metavar=("BEFORE", "AFTER"),
-        help="fit only points this long before/after the bounce [s] (default 0.6 0.3)",
+        help="fit only points this long before/after the bounce [s] (default 30 0.3: the whole flight "
+        "from the hit; the bounce itself is placed by local refits near it)",
     )
     p.add_argument("--workers", type=int, default=1, help="--rally: processes calling points in parallel (default 1)")
     add_progress_flag(p)

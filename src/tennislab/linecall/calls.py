@@ -45,6 +45,7 @@ from tennislab.core.launch import describe_velocity, direction, spin_basis
 from tennislab.core.mark import BallMark, MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
+from tennislab.linecall import local_fit
 from tennislab.linecall.cameras import cameras_from_records, triangulate_detections
 from tennislab.linecall.closed_form import closed_form_from_physics
 from tennislab.linecall.decide import N_SAMPLES, call_mark
@@ -52,10 +53,19 @@ from tennislab.linecall.detect import (
     bounce_estimate,
     find_bounces,
     noise_from_differences,
+    off_grid,
     travel_direction,
 )
-from tennislab.linecall.fit import AUTO_GAP, MODEL_SIGMA, NOISE_FLOOR, TrackFit, fit_track
-from tennislab.linecall.local_fit import refine_bounce
+from tennislab.linecall.fit import (
+    AUTO_GAP,
+    MAX_REJECT_FRACTION,
+    MODEL_SIGMA,
+    NOISE_FLOOR,
+    WHOLE_FLIGHT,
+    TrackFit,
+    fit_track,
+)
+from tennislab.linecall.local_fit import LocalFit, refine_bounce
 from tennislab.linecall.net import NetCheck, check_net
 from tennislab.results import Table, jsonable
 from tennislab.units import RPM
@@ -66,9 +76,20 @@ MISFIT_SIGMA = 5.0  #: residual RMS per axis above this many noise sigmas is a m
 MISFIT_MIN = 0.02  #: [m] ...and above this 3-D RMS
 MAX_EXTRAPOLATION = 0.15  #: [s] a bounce further than this after the last sample before it is a guess
 REVIEW_P = (0.05, 0.95)  #: p_in strictly between these: ``review``
+LOCAL_MISFIT_MIN = 5e-3  #: [m] a local residual (3-D RMS) below this is never a misfit
+STAGE_WINDOW = (0.6, 0.3)  #: [s] the window a long flight's fit starts on before it takes the whole flight
+RUNS_Z = -3.0  #: runs-test z below which the residual signs near the bounce are systematic
+#: physical ranges of the fitted aero scales (C_D and C_L of real balls lie within a factor ~2 of any
+#: published model's; a scale outside says the fit absorbed something that is not aerodynamics)
+DRAG_SCALE_RANGE = (0.4, 2.5)
+LIFT_SCALE_RANGE = (0.0, 3.0)
 MIN_TRACK_POINTS = 4  #: fewest samples of a track called
 SECOND_BOUNCE_GAP = 0.02  #: [s] the fit ends this long before the second bounce's lowest sample
-CALLS = ("in", "out", "net", "let", "review")
+#: every answer: ``volley`` (hit again before it landed) and ``dead`` (after the point was over) are
+#: :func:`~tennislab.linecall.rally.call_rally`'s, for shots with no line to call
+CALLS = ("in", "out", "net", "let", "review", "volley", "dead")
+#: the reason of a first contact on the hitter's own side of the net
+OWN_SIDE = "lands before the net: first contact on the hitter's own side"
 
 
 @dataclass(frozen=True)
@@ -103,6 +124,7 @@ class TrackCall(Table):
     mark_result: BallMark | None = field(default=None, repr=False, compare=False)
     track: tuple | None = field(default=None, repr=False, compare=False)
     time_offset: float = field(default=0.0, repr=False, compare=False)
+    notes: tuple[str, ...] = ()  #: why a confident call is what it is, when it needs saying (``reason``)
 
     @property
     def p_in(self) -> float | None:
@@ -153,7 +175,7 @@ class TrackCall(Table):
         out["lines"] = d.get("lines", {})
         out["provisional_call"] = self.provisional_call
         out["review_reasons"] = list(self.review_reasons)
-        out["reason"] = "; ".join(self.review_reasons) or None
+        out["reason"] = "; ".join(self.review_reasons or self.notes) or None
         out["fit"] = self.fit
         out["spin"] = self.spin
         out["net"] = self.net
@@ -259,8 +281,18 @@ def review_call(
     )
 
 
-def quality_reasons(fit: TrackFit, t, noise: float) -> list[str]:
-    """Why a fit must not give a confident call (empty: none)."""
+def quality_reasons(fit: TrackFit, t, noise: float, local: LocalFit | None = None) -> list[str]:
+    """Why a fit must not give a confident call (empty: none).
+
+    ``fit`` is the whole-flight fit, ``local`` the refit that placed the bounce
+    (:func:`~tennislab.linecall.local_fit.refine_bounce`).  A model cannot follow a long real flight
+    exactly (a tracker's 2.4 s lob stored as one cubic leaves 80 mm), so the whole flight is judged
+    only for what no bounce estimate survives (a diverged fit, aero scales outside
+    :data:`DRAG_SCALE_RANGE` / :data:`LIFT_SCALE_RANGE`, most points rejected; without a local refit
+    also a residual above :data:`MISFIT_MIN` and :data:`MISFIT_SIGMA` noise sigmas); the samples
+    near the bounce must be followed to within the noise: a local residual above
+    :data:`MISFIT_SIGMA` sigmas and :data:`LOCAL_MISFIT_MIN`, or residual signs in long runs
+    (runs test z below :data:`RUNS_Z`, with a residual above twice the noise), is a misfit."""
     reasons = []
     p = fit.p
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(fit.cov)) and np.isfinite(fit.rms)):
@@ -269,17 +301,38 @@ def quality_reasons(fit: TrackFit, t, noise: float) -> list[str]:
     v0 = float(np.linalg.norm(fit.p_start[M.P_VIN]))
     if v > MAX_SPEED or abs(v - v0) > SPEED_TOL[0] * v0 + SPEED_TOL[1]:
         reasons.append(f"fit diverged: incoming speed {v:.1f} m/s where the data say {v0:.1f} m/s")
-    pre_t = t[fit.segment == M.SEG_PRE]
+    pre_t = t[fit.segment == M.SEG_PRE] if local is None else t[local.rows][t[local.rows] < fit.t_bounce]
     if pre_t.size and fit.t_bounce - pre_t.max() > MAX_EXTRAPOLATION:
         reasons.append(f"bounce extrapolated {fit.t_bounce - pre_t.max():.2f} s beyond the last sample before it")
     if pre_t.size and fit.t_bounce < pre_t.min():
         reasons.append("fit diverged: the bounce lies before the track")
     ref = max(noise, NOISE_FLOOR) if np.isfinite(noise) else max(fit.noise, NOISE_FLOOR)
     lim = max(MISFIT_SIGMA * math.sqrt(3.0) * ref, MISFIT_MIN)
-    if fit.rms > lim:
+    if fit.rms > lim and local is None:
         reasons.append(f"model misfit: residual rms {fit.rms * 1e3:.1f} mm against a noise of {ref * 1e3:.1f} mm")
+    for name, val, (lo, hi) in (
+        ("drag", fit.drag_scale, DRAG_SCALE_RANGE),
+        ("lift", fit.lift_scale, LIFT_SCALE_RANGE),
+    ):
+        if not lo <= val <= hi:
+            reasons.append(f"model misfit: non-physical {name} scale {val:.2f} (physical: {lo:g} to {hi:g})")
     if fit.rejection_capped:
         reasons.append("most points rejected: more than a quarter of the points look like outliers")
+    if local is not None:
+        lref = max(noise, local_fit.NOISE_MIN) if np.isfinite(noise) else ref
+        llim = max(MISFIT_SIGMA * math.sqrt(3.0) * lref, LOCAL_MISFIT_MIN)
+        if local.rms > llim:
+            reasons.append(
+                f"model misfit near the bounce: residual rms {local.rms * 1e3:.1f} mm over the last "
+                f"{local.window:.2f} s against a noise of {lref * 1e3:.1f} mm"
+            )
+        elif local.runs_z < RUNS_Z and local.rms > 2.0 * math.sqrt(3.0) * lref:
+            reasons.append(
+                f"systematic residuals near the bounce: runs test z = {local.runs_z:.1f} "
+                f"over the last {local.window:.2f} s"
+            )
+        if local.n_outliers > MAX_REJECT_FRACTION * max(local.rows.size + local.n_outliers, 1):
+            reasons.append("most points rejected near the bounce: more than a quarter look like outliers")
     return reasons
 
 
@@ -341,6 +394,13 @@ def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:
     }
 
 
+def _crosses_net(t, xyz, direction: float) -> bool | None:
+    """Whether the samples ever reach the far side of the net plane (None: no samples)."""
+    if t.size == 0:
+        return None
+    return bool(np.any(xyz[:, 0] * direction > 0.0)) and bool(np.any(xyz[:, 0] * direction < 0.0))
+
+
 def _local_params(p_whole: np.ndarray, p_local: np.ndarray) -> np.ndarray:
     """The whole-flight parameters with the bounce (point, time, velocity in) of the local fit; the
     spin and the aero scales stay the whole flight's (a short window hardly sees them)."""
@@ -371,7 +431,7 @@ def call_track(
     lift: str = "prior",
     fit_drag: bool = False,
     contact_sigma: float = 0.0,
-    window=(0.6, 0.3),
+    window=WHOLE_FLIGHT,
     post: str = "auto",
     serve: bool = False,
     net_check: bool = True,
@@ -405,6 +465,10 @@ def call_track(
             raise InputError(msg)
         return review_call([msg], params, surf, n_points=int(t.size), track=(t, xyz), time_offset=t_ref)
     n_all = t.size
+    drop = off_grid(t)
+    if np.any(drop) and np.count_nonzero(~drop) >= MIN_TRACK_POINTS:
+        t, xyz = t[~drop], xyz[~drop]
+        sigma = None if sigma is None else sigma[~drop]
     noise = float(np.median(sigma)) if sigma is not None else noise_from_differences(t, xyz)
     direction = travel_direction(t, xyz)
     net: NetCheck | None = check_net(t, xyz, params, direction) if net_check else None
@@ -447,21 +511,21 @@ def call_track(
             ts, xs = t[sel], xyz[sel]
     sig_sel = None if sigma is None else sigma[sel]
     try:
-        fit = fit_track(
-            ts,
-            xs,
-            sig_sel,
-            params,
-            surf,
+        kw = dict(
             drag=drag,
             lift=lift,
             fit_drag=fit_drag,
-            window=tuple(w),
             contact_prior=cs / 1000.0,
             post=post,
             t_hint=t_hint,
             mark_params=mark_params,
         )
+        start = None
+        if w[0] > STAGE_WINDOW[0] and ts.size and ts[-1] - ts[0] > STAGE_WINDOW[0] + w[1]:
+            # a long flight: fit the end first, then the whole flight from there (a start guessed
+            # from the last 0.25 s and flown back over a second can miss the flight's shape)
+            start = fit_track(ts, xs, sig_sel, params, surf, window=(STAGE_WINDOW[0], w[1]), **kw).p
+        fit = fit_track(ts, xs, sig_sel, params, surf, window=tuple(w), start=start, **kw)
     except InputError as exc:
         if strict:
             raise
@@ -474,6 +538,8 @@ def call_track(
         pre_t = ts[ts < fit.t_bounce]  # every sample, the whole fit's outliers too: the window judges them afresh
         near = pre_t.size >= 6 and fit.t_bounce - pre_t.max() <= AUTO_GAP
         loc = refine_bounce(fit, ts, xs, noise, post=fit.has_post and not near)
+        if loc is not None:
+            reasons = quality_reasons(fit, ts, noise, loc) + extra_reasons
     if loc is not None:
         fit = replace(
             fit,
@@ -491,8 +557,13 @@ def call_track(
     if decision is not None and REVIEW_P[0] < decision["p_in"] < REVIEW_P[1]:
         reasons.append(f"too close to call: p_in = {decision['p_in']:.2f}")
     call = "review" if reasons else str(provisional)
+    notes: tuple[str, ...] = ()
     if not reasons and serve and net is not None and net.contact and provisional == "in":
         call = "let"
+    if fit.bounce_xy[0] * direction < 0.0 and _crosses_net(ts, xs, direction) is False:
+        # the first contact is on the side the ball comes from: out whatever its mark touches
+        call, provisional, reasons, notes = "out", "out", [], (OWN_SIDE,)
+        decision = {**(decision or {}), "call": "out", "p_in": 0.0}
     elapsed = time.perf_counter() - t0_clock
     spin = spin_components(fit.spin_in, fit.velocity_in, fit.param_cov([6, 7, 8]), tracker_spin_rpm)
     return TrackCall(
@@ -500,6 +571,7 @@ def call_track(
         call=call,
         provisional_call=provisional,
         review_reasons=tuple(reasons),
+        notes=notes,
         decision=decision,
         bounce=_bounce_dict(fit, t_ref),
         mark=None if mark is None else mark_dict(mark),

@@ -251,3 +251,33 @@ def travel_direction(t, xyz) -> float:
     if m == 0.0:
         m = float(x[-1] - x[0])
     return 1.0 if m >= 0 else -1.0
+
+
+GRID_TOL = 0.025  #: a sample further than this fraction of the spacing from the grid is off it (0.5 ms at 50 Hz)
+GRID_SHARE = 0.8  #: a track is on a grid when at least this share of its samples are
+
+
+def off_grid(t) -> np.ndarray:
+    """Samples off a track's regular sample grid, when it has one (else none).
+
+    Trackers add samples at the times they estimate for events (the hit, the net crossing, the
+    bounce, the apex), with times rounded to the millisecond: at 20-50 m/s the rounding alone is
+    10-25 mm of path (README of the 50 Hz match data), so such a sample is not a measurement of the
+    flight.  A track is on a grid when at least :data:`GRID_SHARE` of its samples lie within
+    :data:`GRID_TOL` of the spacing of a regular grid; raw detections with jittered times are not,
+    and keep every sample."""
+    t = np.asarray(t, dtype=float)
+    out = np.zeros(t.size, dtype=bool)
+    if t.size < 8:
+        return out
+    dt = float(np.median(np.diff(t)))
+    if not dt > 0:
+        return out
+    frac = (t - t[0]) / dt
+    frac = frac - np.round(frac)
+    ref = float(np.median(frac))
+    dev = np.abs(((frac - ref + 0.5) % 1.0) - 0.5)
+    off = dev > GRID_TOL
+    if np.count_nonzero(~off) < GRID_SHARE * t.size:
+        return out
+    return off

@@ -29,10 +29,11 @@ Procedure:
    Jacobian and compiled normal equations (no multi-threaded BLAS call).  Weak priors: sigma
    :data:`SPIN_PRIOR` on each spin component (the spin along the velocity is seen only through the
    turning of the velocity), the aero-scale priors above.
-3. Outlier rejection that cannot cascade: at most :data:`MAX_ROUNDS` rounds; each round rejects, from
-   *all* usable points afresh, those whose 3-D residual exceeds :data:`OUTLIER_SIGMA` times a scale
-   judged against the model's own misfit (1.4826 MAD of every usable point's residual components,
-   the rejected ones included) and never below :data:`NOISE_FLOOR` (or the given sigma); at most
+3. Outlier rejection that cannot cascade and never mistakes a smooth misfit for outliers: at most
+   :data:`MAX_ROUNDS` rounds; each round rejects, from *all* usable points afresh, those whose 3-D
+   residual, less its running median (:func:`_detrend`: what no smooth misfit explains), exceeds
+   :data:`OUTLIER_SIGMA` times a scale (1.4826 MAD of every usable point's detrended residual
+   components, the rejected ones included), never below :data:`NOISE_FLOOR` (or the given sigma); at most
    :data:`MAX_REJECT_FRACTION` of the points (the worst) are rejected.  Removing points therefore
    never shrinks the scale they are judged by (before: each round re-estimated the noise from the
    survivors and rejected at 4 sigma again, 32 points -> 13 -> 6 -> 3).
@@ -88,6 +89,10 @@ FREE_STEPS = np.array([1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1e-
 ROBUST_SCALE = 2.0  #: soft-L1 scale of the first round [sigma]
 COST_TOL = 1e-3  #: stop when an iteration lowers the cost (chi^2) by less than this
 MAX_ITER = 60  #: Levenberg-Marquardt iterations per round
+#: [s] default (before, after) window of the fit around the bounce: the whole flight from the hit,
+#: 0.3 s after (the spin and the drag scale are seen over the whole flight; where the ball lands is
+#: then placed by the local refits of :mod:`tennislab.linecall.local_fit`)
+WHOLE_FLIGHT = (30.0, 0.3)
 
 
 @dataclass(frozen=True)
@@ -476,6 +481,22 @@ def _robust_scale(r3: np.ndarray) -> float:
     return float(1.4826 * np.median(np.abs(comp - np.median(comp))))
 
 
+def _detrend(r3: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """The residuals less their running median (5 samples, per axis, within each segment): what is
+    left is what no smooth misfit explains.  A model that cannot follow a long flight leaves a
+    smooth, systematic residual of several mm; judged against it (or against its spread) the
+    samples where it is largest, near the ends and the bounce, would be rejected as outliers."""
+    out = np.full_like(r3, np.nan)
+    for lab in (M.SEG_PRE, M.SEG_POST):
+        idx = np.nonzero(seg == lab)[0]
+        if idx.size == 0:
+            continue
+        for c in range(3):
+            col = r3[idx, c]
+            out[idx, c] = col - _running_median(col)
+    return out
+
+
 def _reject(norm: np.ndarray, usable: np.ndarray) -> tuple[np.ndarray, bool]:
     """Outliers among ``usable`` points: normalised residual above :data:`OUTLIER_SIGMA`, the worst
     :data:`MAX_REJECT_FRACTION` at most.  Returns (mask, capped)."""
@@ -502,11 +523,12 @@ def fit_track(
     mark_params: MarkParams = MarkParams(),
     step: float = 16e-3,
     max_rounds: int = MAX_ROUNDS,
-    window: tuple | None = (0.6, 0.3),
+    window: tuple | None = WHOLE_FLIGHT,
     contact_prior: float = 0.0,
     t_hint: float | None = None,
     spin_prior: float = SPIN_PRIOR,
     post: str = "auto",
+    start: np.ndarray | None = None,
 ) -> TrackFit:
     """Fit the flight model through the bounce to a track (see the module docstring).
 
@@ -519,7 +541,8 @@ def fit_track(
     offset of the contact travel from the contact model (0: trust the contact model);
     window : (before, after) [s] around the first bounce estimate: only points in it are fitted
     (None: all); t_hint : time of the first bounce seen in the data [s] (the split point);
-    spin_prior : sigma [rad/s] of the zero-mean prior on each spin component.
+    spin_prior : sigma [rad/s] of the zero-mean prior on each spin component; start: a parameter
+    vector (NPARAM,) to start from (a fit over a shorter window) instead of the quadratic guess.
     Points outside the window get segment -1 and residual NaN.
     """
     params = params or FlightParams()
@@ -533,6 +556,11 @@ def fit_track(
     n = t.size
     tc = mark_params.contact_time
     p, has_post = initial_guess(t, xyz, params, s, tc, t_hint)
+    if start is not None and np.all(np.isfinite(start)):
+        p = np.array(start, dtype=float)
+        has_post = has_post and p[M.P_VOUT][2] > 0
+        if not has_post:
+            p[M.P_VOUT] = _bounce_out(p[M.P_VIN], p[M.P_WIN], s, params)
     post_points = has_post
     if post == "auto":
         pre_t = t[t < p[M.P_TB]]
@@ -629,7 +657,8 @@ def fit_track(
         M.model_positions(p, t, nat, kern, ap, consts, pos_all, True, True)
         r3 = pos_all - xyz
         usable = nat != M.SEG_OFF
-        scale = _robust_scale(r3[usable]) if usable.any() else float("nan")
+        d3 = _detrend(r3, nat)
+        scale = _robust_scale(d3[usable]) if usable.any() else float("nan")
         if not np.isfinite(scale):
             break
         floor = NOISE_FLOOR if given is None else max(NOISE_FLOOR, float(np.median(given)))
@@ -638,7 +667,7 @@ def fit_track(
             sig = np.full(n, max(scale, 1e-4))
             w = 1.0 / sig
         judge = noise if est_sigma else np.maximum(sig, noise)
-        norm = np.where(usable, np.linalg.norm(np.nan_to_num(r3, nan=1e3), axis=1) / judge, 0.0)
+        norm = np.where(usable, np.linalg.norm(np.nan_to_num(d3, nan=1e3), axis=1) / judge, 0.0)
         new_out, capped = _reject(norm, usable)
         new_seg = _segments(t, p[M.P_TB], tc, has_post, new_out)
         if rnd > 0 and np.array_equal(new_seg, seg):

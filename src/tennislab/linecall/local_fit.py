@@ -227,7 +227,9 @@ def _runs(q, fit: TrackFit, tt, xx, consts, post: bool) -> float:
     tb, tc = q[M.P_TB], fit.mark_params.contact_time
     seg = np.where(tt < tb, M.SEG_PRE, np.where(tt > tb + tc, M.SEG_POST if post else M.SEG_OFF, M.SEG_OFF))
     pos = np.full((tt.size, 3), np.nan)
-    M.model_positions(q, tt, seg.astype(np.int64), fit.params.aero.kernel, fit.params.aero.params, consts, pos, True, post)
+    M.model_positions(
+        q, tt, seg.astype(np.int64), fit.params.aero.kernel, fit.params.aero.params, consts, pos, True, post
+    )
     d = pos - xx
     ok = np.all(np.isfinite(d), axis=1)
     return min((runs_z(d[ok, c]) for c in range(3)), default=0.0)

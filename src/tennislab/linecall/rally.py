@@ -6,8 +6,8 @@ the tracker's shot times, else at the hits found in the track (:func:`~tennislab
 Each shot is called by :func:`~tennislab.linecall.calls.call_track` (net check, first bounce, robust
 fit, mark, decision, quality gate; never refused: a shot that cannot be fitted is ``review`` with the
 reason) against the area it must land in (a shot hit again before it comes near the ground, a volley:
-no bounce found and at most one sample, an outlier, below 0.3 m, has nothing to call: ``review`` with
-that reason):
+no bounce found and at most one sample, an outlier, below 0.3 m, has nothing to call: ``volley``; a ball
+after the point is over has nothing to call either: ``dead``, see :func:`call_point`):
 
 * a serve (the tracker's ``stroke`` says so, or, without shot records, the first hit of a point struck
   from behind the service line): the service box diagonally opposite the server, the server's half and
@@ -42,12 +42,15 @@ from tennislab.errors import InputError, check_range
 from tennislab.io.hawkeye import Point, ShotInfo, read_points
 from tennislab.linecall.calls import CALLS, call_track, review_call
 from tennislab.linecall.detect import BOUNCE_Z, find_bounces, find_hits, travel_direction
+from tennislab.linecall.fit import WHOLE_FLIGHT
 from tennislab.results import Table, jsonable
 
 SERVICE_LINE = 6.4  #: [m] the first hit of a point from behind this (|x|) is its serve (without shot records)
 MATCH_TOL = 0.15  #: [s] a tracker's shot belongs to the hit within this time
 TOSS_SPEED = 3.0  #: [m/s] samples before the first hit moving slower than this along the court: the toss
 VOLLEY = "no bounce: the ball was hit again before it landed (volley); nothing to call"
+DEAD_SPEED = 6.0  #: [m/s] a "shot" slower than this off the hit is the ball dribbling or rolling, not play
+DEAD_AFTER = "the point was over: {why}; nothing to call"
 
 
 @dataclass(frozen=True)
@@ -219,20 +222,57 @@ def _agreement(res: dict, rec: ShotInfo | None, tb) -> dict:
     return out
 
 
+def _launch_speed(t: np.ndarray, xyz: np.ndarray) -> float:
+    """Speed off the hit [m/s]: the mean velocity over the first three samples (NaN for fewer)."""
+    if t.size < 3 or t[2] <= t[0]:
+        return float("nan")
+    return float(np.linalg.norm(xyz[2] - xyz[0]) / (t[2] - t[0]))
+
+
+def _answer(call: str, reason: str, params, surface, n: int) -> dict:
+    """A shot with no line to call (``volley``, ``dead``): the answer and its reason."""
+    d = review_call([reason], params, surface, n_points=n).to_dict()
+    d.update(call=call, provisional_call=None, review_reasons=[], reason=reason)
+    return d
+
+
+def _over(res: dict) -> str | None:
+    """Why the point is over after this shot (None: play goes on)."""
+    if res["call"] in ("out", "net"):
+        return f"the shot before was {res['call']}"
+    if res["call"] == "let":
+        return "the serve before was a let"
+    if res["call"] == "in" and res.get("bounces"):
+        return "the shot before bounced twice"
+    return None
+
+
 def call_point(point: Point, *, params: FlightParams | None = None, doubles: bool = False, **kwargs) -> list[dict]:
-    """Every shot of one point called (dicts: :class:`TrackCall` keys + the shot's keys)."""
+    """Every shot of one point called (dicts: :class:`TrackCall` keys + the shot's keys).
+
+    Besides in / out / net / let / review, a shot hit again before it landed is ``volley`` and a
+    ball after the point is over (after an out, a net ball, a let or a ball that bounced twice, or a
+    "shot" slower than :data:`DEAD_SPEED`: the ball dribbling or rolling) is ``dead``: neither has a
+    line to call."""
     params = params or FlightParams()
     point = in_seconds(point)
     doubles = doubles or four_players(point.match)
+    surface = kwargs.get("surface", "hard")
     out = []
+    over: str | None = None
     segs = split_point(point, doubles)
     for k, seg in enumerate(segs):
         t, xyz = point.t[seg.start : seg.stop], point.xyz[seg.start : seg.stop]
         rec = seg.shot
         low = int(np.count_nonzero(xyz[:, 2] < BOUNCE_Z)) if t.size else 0
         volley = k + 1 < len(segs) and t.size > 0 and low < 2 and not find_bounces(t, xyz)
-        if volley:
-            res = review_call([VOLLEY], params, kwargs.get("surface", "hard"), n_points=int(t.size)).to_dict()
+        slow = _launch_speed(t, xyz) < DEAD_SPEED
+        if over is not None or slow:
+            why = over or f"the ball left the hit at under {DEAD_SPEED:g} m/s (dribbling or rolling)"
+            res = _answer("dead", DEAD_AFTER.format(why=why), params, surface, int(t.size))
+            over = over or why
+        elif volley:
+            res = _answer("volley", VOLLEY, params, surface, int(t.size))
         else:
             res = call_track(
                 t,
@@ -244,6 +284,7 @@ def call_point(point: Point, *, params: FlightParams | None = None, doubles: boo
                 tracker_spin_rpm=None if rec is None else rec.spin_rpm,
                 **kwargs,
             ).to_dict()
+            over = _over(res)
         res["target"] = seg.target
         t_end = point.t[seg.stop] if seg.stop < point.t.size else math.inf
         tb = _tracker_bounce(point, float(t[0]), float(t_end), rec)
@@ -347,7 +388,7 @@ def call_rally(
     lift: str = "prior",
     fit_drag: bool = False,
     contact_sigma: float = 0.0,
-    window=(0.6, 0.3),
+    window=WHOLE_FLIGHT,
     workers: int = 1,
     progress="auto",
 ) -> RallyCall:
