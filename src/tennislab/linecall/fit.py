@@ -58,6 +58,7 @@ from tennislab.core.flight import FlightParams
 from tennislab.core.mark import MarkParams
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError
+from tennislab.linecall._lm import lm_bounce
 from tennislab.linecall.detect import find_bounces
 
 SPIN_PRIOR = 500.0  #: [rad/s] sigma of the weak zero-mean prior on each spin component
@@ -466,6 +467,18 @@ def levenberg_marquardt(
     return x, cost, nev, converged
 
 
+def lm_model(p, free, t, xyz, w, seg, kern, ap, consts, prior: Prior, robust: bool, max_iter: int = MAX_ITER):
+    """:func:`levenberg_marquardt` on the bounce model of :mod:`tennislab.linecall.model`, compiled
+    (:func:`tennislab.linecall._lm.lm_bounce`), starting from ``p[free]``.  Returns (x, cost, model
+    evaluations, converged)."""
+    x, cost, nev, conv = lm_bounce(
+        np.ascontiguousarray(p, dtype=np.float64), free, STEPS, t, xyz, np.ascontiguousarray(w, dtype=np.float64),
+        seg, kern, ap, consts, prior.index, prior.mean, prior.sigma, bool(robust), ROBUST_SCALE, int(max_iter),
+        COST_TOL,
+    )  # fmt: skip
+    return x, float(cost), int(nev), bool(conv)
+
+
 def _check_mode(name: str, mode: str) -> str:
     if mode not in AERO_MODES:
         raise InputError(f"{name}: unknown mode {mode!r}; allowed: {', '.join(AERO_MODES)}")
@@ -587,7 +600,7 @@ def fit_track(
     given = None if est_sigma else np.asarray(sigma, dtype=np.float64)
     sig = np.full(n, 3e-3) if given is None else given.copy()
     consts = M.make_consts(params, s, tc, step)
-    kern, ap = params.aero.kernel, params.aero.params
+    kern, ap = M.kernel_arg(params), params.aero.params
     outlier = np.zeros(n, dtype=bool)
     free_list = (
         [M.P_XB, M.P_YB, M.P_TB, *M.indices(M.P_VIN), *M.indices(M.P_WIN)]
@@ -616,16 +629,8 @@ def fit_track(
 
     def solve(x0, seg, w, robust):
         q = p.copy()
-
-        def resid(xv, res, posb):
-            q[free] = xv
-            M.residuals(q, t, xyz, w, seg, kern, ap, consts, res, posb)
-
-        def jac(xv, res, J):
-            q[free] = xv
-            M.jacobian(q, free, STEPS, t, xyz, w, seg, kern, ap, consts, res, J)
-
-        return levenberg_marquardt(x0, n, resid, jac, prior, robust)
+        q[free] = x0
+        return lm_model(q, free, t, xyz, w, seg, kern, ap, consts, prior, robust)
 
     seg = _segments(t, p[M.P_TB], tc, has_post, outlier)
     w = 1.0 / sig

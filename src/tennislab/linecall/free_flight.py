@@ -52,7 +52,7 @@ class FreeFit:
         out = np.full((t.size, 3), np.nan)
         buf = np.full((t.size, 3), np.nan)
         M.free_positions(
-            self.q, self.t0, np.ascontiguousarray(t[order]), self.params.aero.kernel, self.params.aero.params,
+            self.q, self.t0, np.ascontiguousarray(t[order]), M.kernel_arg(self.params), self.params.aero.params,
             self.consts, buf,
         )  # fmt: skip
         out[order] = buf
@@ -90,7 +90,7 @@ def fit_free_flight(
         table[M.F_DRAG] = (1.0, DRAG_PRIOR)
     prior = Prior.build(free_list, table)
     consts = M.make_consts(params, get_surface("hard"), 4.5e-3, step)
-    kern, ap = params.aero.kernel, params.aero.params
+    kern, ap = M.kernel_arg(params), params.aero.params
     w = np.full(n, 1.0 / 3e-3)
     noise = float("nan")
     out = np.zeros(n, dtype=bool)

@@ -10,9 +10,11 @@ samples within a window W before the bounce (and, when the approach is not sampl
 bounce, the samples within W after the contact), for a sequence of growing windows
 :data:`WINDOWS`, and takes the widest window whose bounce agrees with every narrower one within
 their uncertainties: the intersection-of-confidence-intervals rule (Goldenshluger & Nemirovski
-1997; Katkovnik 1999).  A smooth, dense track keeps a short window (the model's bias dominates); a
-noisy one a long one (the noise dominates).  The spin and the drag scale start from the
-whole-flight fit and stay near it (Gaussian priors :data:`LOCAL_SPIN_PRIOR`,
+1997; Katkovnik 1999); a window whose fit drops more than :data:`MAX_WINDOW_REJECT` of its
+samples also ends the widening (the model no longer follows it).  A smooth, dense track keeps a
+short window (the model's bias dominates); a noisy one a long one (the noise dominates).  The
+spin and the drag scale start from the whole-flight fit and stay near it (Gaussian priors
+:data:`LOCAL_SPIN_PRIOR`,
 :data:`LOCAL_DRAG_PRIOR`): a short window sees too little curvature to place them.
 
 Outliers in a window are judged against the noise (never against the far part of the flight's
@@ -37,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import tennislab.linecall.model as M
-from tennislab.linecall.fit import STEPS, Prior, TrackFit, levenberg_marquardt
+from tennislab.linecall.fit import STEPS, Prior, TrackFit, lm_model
 
 #: [s] windows before the bounce tried, narrowest first
 WINDOWS = (0.08, 0.12, 0.18, 0.27, 0.4, 0.6)
@@ -48,6 +50,7 @@ MIN_WINDOW_POINTS = 4
 LOCAL_SPIN_PRIOR = 150.0  #: [rad/s] sigma of each spin component around the whole-flight fit's
 LOCAL_DRAG_PRIOR = 0.1  #: sigma of the drag scale around the whole-flight fit's
 NOISE_MIN = 2e-4  #: [m] smallest per-axis noise a window's weights assume (1 mm rounding alone: 0.29 mm)
+MAX_WINDOW_REJECT = 0.25  #: a window whose fit drops more than this share of its samples ends the widening
 OUTLIER_SIGMA = 4.0  #: a sample further than this many noise sigmas (3-D) from the local fit is dropped...
 OUTLIER_FLOOR = 3e-3  #: [m] ...and further than this (a short window's own model error stays below ~1 mm)
 
@@ -102,7 +105,7 @@ def _window_fit(fit: TrackFit, t, xyz, consts, rows: np.ndarray, post: bool, noi
     """One local fit over ``rows`` (pre-bounce, plus post-bounce when ``post``); returns (p, cov of the
     free parameters, residual norms, used rows, n outliers) or None when it fails."""
     params = fit.params
-    kern, ap = params.aero.kernel, params.aero.params
+    kern, ap = M.kernel_arg(params), params.aero.params
     p = fit.p.copy()
     tt, xx = t[rows], xyz[rows]
     n = tt.size
@@ -118,19 +121,11 @@ def _window_fit(fit: TrackFit, t, xyz, consts, rows: np.ndarray, post: bool, noi
     prior = Prior.build(free_list, table)
     w = np.full(n, 1.0 / max(noise, NOISE_MIN))
     q = p.copy()
-
-    def resid(xv, res, pos):
-        q[free] = xv
-        M.residuals(q, tt, xx, w, seg, kern, ap, consts, res, pos)
-
-    def jac(xv, res, J):
-        q[free] = xv
-        M.jacobian(q, free, STEPS, tt, xx, w, seg, kern, ap, consts, res, J)
-
-    x, _, _, _ = levenberg_marquardt(p[free], n, resid, jac, prior, robust=True)
+    x, _, _, _ = lm_model(p, free, tt, xx, w, seg, kern, ap, consts, prior, robust=True)
     if not np.all(np.isfinite(x)):
         return None
-    x, _, _, _ = levenberg_marquardt(x, n, resid, jac, prior, robust=False)  # converge on the plain cost
+    q[free] = x
+    x, _, _, _ = lm_model(q, free, tt, xx, w, seg, kern, ap, consts, prior, robust=False)  # the plain cost
     if not np.all(np.isfinite(x)):
         return None
     q[free] = x
@@ -141,7 +136,8 @@ def _window_fit(fit: TrackFit, t, xyz, consts, rows: np.ndarray, post: bool, noi
     n_out = int(np.count_nonzero(bad))
     if n_out and np.count_nonzero((seg == M.SEG_PRE) & ~bad) >= MIN_WINDOW_POINTS:
         seg = np.where(bad, M.SEG_OFF, seg).astype(np.int64)
-        x, _, _, _ = levenberg_marquardt(x, n, resid, jac, prior, robust=False)
+        q[free] = x
+        x, _, _, _ = lm_model(q, free, tt, xx, w, seg, kern, ap, consts, prior, robust=False)
         if not np.all(np.isfinite(x)):
             return None
         q[free] = x
@@ -198,8 +194,9 @@ def refine_bounce(fit: TrackFit, t, xyz, noise: float, *, post: bool = False) ->
         bc = cov[:2, :2]  # the noise alone: bias shows up as disagreement between windows
         sig = math.sqrt(max(float(np.max(np.linalg.eigvalsh(bc))), 0.0)) if np.all(np.isfinite(bc)) else math.inf
         tried.append((win, float(b[0]), float(b[1]), sig, int(used_rows.size)))
-        agrees = all(np.linalg.norm(b - b2) <= ICI_GAMMA * (sig + s2) for b2, s2 in ((pb, ps) for pb, ps in prev))
-        if prev and not agrees:
+        agrees = all(np.linalg.norm(b - b2) <= ICI_GAMMA * (sig + s2) for b2, s2 in prev)
+        rejecting = n_out > MAX_WINDOW_REJECT * rows.size  # the model no longer follows this window
+        if prev and (not agrees or rejecting):
             break
         spread = max((float(np.linalg.norm(b - pb)) for pb, _ in prev), default=0.0)
         prev.append((b, sig))  # type: ignore[arg-type]
@@ -228,7 +225,7 @@ def _runs(q, fit: TrackFit, tt, xx, consts, post: bool) -> float:
     seg = np.where(tt < tb, M.SEG_PRE, np.where(tt > tb + tc, M.SEG_POST if post else M.SEG_OFF, M.SEG_OFF))
     pos = np.full((tt.size, 3), np.nan)
     M.model_positions(
-        q, tt, seg.astype(np.int64), fit.params.aero.kernel, fit.params.aero.params, consts, pos, True, post
+        q, tt, seg.astype(np.int64), M.kernel_arg(fit.params), fit.params.aero.params, consts, pos, True, post
     )
     d = pos - xx
     ok = np.all(np.isfinite(d), axis=1)

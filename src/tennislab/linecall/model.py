@@ -44,9 +44,8 @@ import math
 
 import numba as nb
 import numpy as np
-from numba import types
 
-from tennislab.core.aero import AERO_FUNCTION_TYPE
+from tennislab.core.aero import inline_tag
 from tennislab.core.integrators import sweep_positions
 from tennislab.core.mark import contact_displacement
 
@@ -85,24 +84,17 @@ NCONST = 13
 
 SEG_PRE, SEG_POST, SEG_OFF = 0, 1, -1
 
-# Explicit signatures (aero kernels passed as first-class functions) so one compiled,
-# cached version serves every aero model, as in tennislab.core.integrators.
-_F = types.float64
-_V = _F[::1]
-_M = _F[:, ::1]
-_I = types.int64[::1]
-_B = types.boolean
-_AF = AERO_FUNCTION_TYPE
-_SWEEP_SIG = types.void(_V, _F, _V, _I, types.int64, _F, _AF, _V, _V, _F, _F, _M)
-_MODEL_SIG = types.void(_V, _V, _I, _AF, _V, _V, _M, _B, _B)
-_RES_SIG = types.void(_V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
-_JAC_SIG = types.void(_V, _I, _V, _V, _M, _V, _I, _AF, _V, _V, _V, _M)
-_FREE_SIG = types.void(_V, _F, _V, _AF, _V, _V, _M)
-_FREE_RES_SIG = types.void(_V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
-_FREE_JAC_SIG = types.void(_V, _I, _V, _F, _V, _M, _V, _AF, _V, _V, _V, _M)
+
+def kernel_arg(params):
+    """The aero model of ``params`` as the compiled functions below take it: its inline tag for
+    tennislab's own models (a caller specialised on the model, formula inlined, cheap to pass
+    from Python), else the kernel as a first-class function
+    (:func:`tennislab.core.aero.inline_tag`)."""
+    tag = inline_tag(params.aero.kernel)
+    return params.aero.kernel if tag is None else tag
 
 
-@nb.njit(_SWEEP_SIG, cache=True)
+@nb.njit(cache=True)
 def _sweep(y0, t0, t, idx, n, direction, aero, ap, consts, dscale, lscale, out):
     """:func:`tennislab.core.integrators.sweep_positions` with the model's constants, the step
     ``consts[C_H]`` in ``direction`` (+1/-1) and the drag and lift scales applied to k."""
@@ -168,7 +160,7 @@ def post_start(p, consts, y0):
     return p[2] + consts[C_TC]
 
 
-@nb.njit(_MODEL_SIG, cache=True)
+@nb.njit(cache=True)
 def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
     """Positions (N, 3) at times t for segment labels seg (0 pre, 1 post, -1 none)."""
     n = t.shape[0]
@@ -204,7 +196,7 @@ def model_positions(p, t, seg, aero, ap, consts, out, do_pre, do_post):
         _sweep(y0, t0, t, idx, npost, 1.0, aero, ap, consts, p[P_DRAG] * p[P_DRAG_POST], p[P_LIFT], out)
 
 
-@nb.njit(_RES_SIG, cache=True)
+@nb.njit(cache=True)
 def residuals(p, t, xyz, w, seg, aero, ap, consts, res, pos):
     """Weighted residuals (3N,) = w (model - data); zero for seg == -1."""
     model_positions(p, t, seg, aero, ap, consts, pos, True, True)
@@ -217,7 +209,7 @@ def residuals(p, t, xyz, w, seg, aero, ap, consts, res, pos):
                 res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
 
 
-@nb.njit(_JAC_SIG, cache=True)
+@nb.njit(cache=True)
 def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
     """Forward-difference Jacobian (3N, len(free)) of :func:`residuals` around ``base``."""
     n = t.shape[0]
@@ -245,7 +237,7 @@ def jacobian(p, free, steps, t, xyz, w, seg, aero, ap, consts, base, jac):
             jac[m, jj] = (res[m] - base[m]) / steps[j]
 
 
-@nb.njit(_FREE_SIG, cache=True)
+@nb.njit(cache=True)
 def free_positions(q, t0, t, aero, ap, consts, out):
     """Free-flight positions (N, 3) at sorted times t from the state q[0:9] at t0 and scales q[9:11]."""
     n = t.shape[0]
@@ -266,7 +258,7 @@ def free_positions(q, t0, t, aero, ap, consts, out):
         _sweep(y0, t0, t, idx, n - nb_, 1.0, aero, ap, consts, q[F_DRAG], q[F_LIFT], out)
 
 
-@nb.njit(_FREE_RES_SIG, cache=True)
+@nb.njit(cache=True)
 def free_residuals(q, t0, t, xyz, w, aero, ap, consts, res, pos):
     """Weighted residuals (3N,) of the free-flight model."""
     free_positions(q, t0, t, aero, ap, consts, pos)
@@ -275,7 +267,7 @@ def free_residuals(q, t0, t, xyz, w, aero, ap, consts, res, pos):
             res[3 * i + c] = w[i] * (pos[i, c] - xyz[i, c])
 
 
-@nb.njit(_FREE_JAC_SIG, cache=True)
+@nb.njit(cache=True)
 def free_jacobian(q, free, steps, t0, t, xyz, w, aero, ap, consts, base, jac):
     """Forward-difference Jacobian (3N, len(free)) of :func:`free_residuals` around ``base``."""
     n = t.shape[0]
@@ -333,7 +325,7 @@ def positions(p, t, seg, params, surface, contact_time: float, step: float = 2e-
         p,
         t,
         np.ascontiguousarray(seg, dtype=np.int64),
-        params.aero.kernel,
+        kernel_arg(params),
         params.aero.params,
         make_consts(params, surface, contact_time, step),
         out,
