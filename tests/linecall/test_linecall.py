@@ -157,7 +157,7 @@ def test_cli_track_json_contract(capsys, serve_csv, tmp_path):
     d = json.loads(out)
     for k in ("x", "y", "t", "sigma_mm"):
         assert isinstance(d["bounce"][k], float)
-    assert abs(d["bounce"]["x"] - tr.bounce.x) < 0.005
+    assert abs(d["bounce"]["x"] - tr.bounce.x) < 0.008  # one track, sigma 3 mm (accuracy: bench_linecall.py)
     assert 0 < d["mark"]["length"] < 0.2 and 0 < d["mark"]["width"] < 0.07
     assert d["call"] in ("in", "out") and 0 <= d["p_in"] <= 1 and isinstance(d["distance_mm"], float)
     assert d["fit"]["rms_mm"] > 0 and d["fit"]["outliers"] >= 0

@@ -94,6 +94,7 @@ MAX_ITER = 60  #: Levenberg-Marquardt iterations per round
 #: 0.3 s after (the spin and the drag scale are seen over the whole flight; where the ball lands is
 #: then placed by the local refits of :mod:`tennislab.linecall.local_fit`)
 WHOLE_FLIGHT = (30.0, 0.3)
+STAGE_WINDOW = 0.6  #: [s] a fit over a longer window starts from a fit of this long before the bounce
 
 
 @dataclass(frozen=True)
@@ -506,8 +507,21 @@ def _detrend(r3: np.ndarray, seg: np.ndarray) -> np.ndarray:
             continue
         for c in range(3):
             col = r3[idx, c]
-            out[idx, c] = col - _running_median(col)
+            out[idx, c] = col - _running_median_inside(col)
     return out
+
+
+def _running_median_inside(z: np.ndarray, w: int = 5) -> np.ndarray:
+    """Running median over ``w`` samples that stays inside the sequence: at its ends the window is
+    the first or last ``w`` samples (padding the ends with their own value would make an outlier
+    at the end its own median, and the end of the approach is where the bounce is)."""
+    n = z.size
+    if n < w:
+        return np.full(n, np.median(z)) if n else z.copy()
+    win = np.lib.stride_tricks.sliding_window_view(z, w)
+    med = np.median(win, axis=1)
+    start = np.clip(np.arange(n) - w // 2, 0, n - w)
+    return med[start]
 
 
 def _reject(norm: np.ndarray, usable: np.ndarray) -> tuple[np.ndarray, bool]:
@@ -569,6 +583,12 @@ def fit_track(
     n = t.size
     tc = mark_params.contact_time
     p, has_post = initial_guess(t, xyz, params, s, tc, t_hint)
+    if start is None and window is not None and window[0] > STAGE_WINDOW and p[M.P_TB] - t[0] > STAGE_WINDOW:
+        # a long flight: fit its end first and start the whole flight from there (a start guessed
+        # from the last 0.25 s and flown back over a second can miss the flight's shape)
+        kw = dict(drag=drag, lift=lift, fit_drag=fit_drag, mark_params=mark_params, step=step, max_rounds=max_rounds)
+        kw.update(contact_prior=contact_prior, t_hint=t_hint, spin_prior=spin_prior, post=post)
+        start = fit_track(t, xyz, sigma, params, surface, window=(STAGE_WINDOW, window[1]), **kw).p
     if start is not None and np.all(np.isfinite(start)):
         p = np.array(start, dtype=float)
         has_post = has_post and p[M.P_VOUT][2] > 0
@@ -672,7 +692,11 @@ def fit_track(
             sig = np.full(n, max(scale, 1e-4))
             w = 1.0 / sig
         judge = noise if est_sigma else np.maximum(sig, noise)
-        norm = np.where(usable, np.linalg.norm(np.nan_to_num(d3, nan=1e3), axis=1) / judge, 0.0)
+        # an outlier is far from the model *and* from the smooth part of the misfit (a model that
+        # cannot follow a long flight leaves a smooth residual; a bad sample stands out of it)
+        raw = np.linalg.norm(np.nan_to_num(r3, nan=1e3), axis=1) / np.maximum(judge, _robust_scale(r3[usable]))
+        det = np.linalg.norm(np.nan_to_num(d3, nan=1e3), axis=1) / judge
+        norm = np.where(usable, np.minimum(raw, det), 0.0)
         new_out, capped = _reject(norm, usable)
         new_seg = _segments(t, p[M.P_TB], tc, has_post, new_out)
         if rnd > 0 and np.array_equal(new_seg, seg):

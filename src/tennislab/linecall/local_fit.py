@@ -17,9 +17,10 @@ spin and the drag scale start from the whole-flight fit and stay near it (Gaussi
 :data:`LOCAL_SPIN_PRIOR`,
 :data:`LOCAL_DRAG_PRIOR`): a short window sees too little curvature to place them.
 
-Outliers in a window are judged against the noise (never against the far part of the flight's
-misfit), so the samples nearest the bounce are never dropped because the rest of the flight does
-not fit.
+Outliers: the whole-flight fit's gross ones (beyond :data:`GROSS_SIGMA` noise sigmas and
+:data:`GROSS_MIN`) stay out; in a window the rest are judged against the noise (never against
+the far part of the flight's misfit), so the samples nearest the bounce are never dropped
+because the rest of the flight does not fit.
 
 References
 ----------
@@ -42,15 +43,18 @@ import tennislab.linecall.model as M
 from tennislab.linecall.fit import STEPS, Prior, TrackFit, lm_model
 
 #: [s] windows before the bounce tried, narrowest first
-WINDOWS = (0.08, 0.12, 0.18, 0.27, 0.4, 0.6)
-#: two windows agree when their bounces are within this many (combined) sigmas
-ICI_GAMMA = 1.0
+WINDOWS = (0.08, 0.12, 0.18, 0.27, 0.4, 0.6, 0.9, 1.4)
+#: two windows agree when their bounces differ by less than this many sigmas of the difference...
+ICI_GAMMA = 3.0
+ICI_FLOOR = 0.5e-3  #: [m] ...plus this (round-off of the fits, far below any line call's concern)
 #: fewest samples before the bounce in a window
 MIN_WINDOW_POINTS = 4
 LOCAL_SPIN_PRIOR = 150.0  #: [rad/s] sigma of each spin component around the whole-flight fit's
 LOCAL_DRAG_PRIOR = 0.1  #: sigma of the drag scale around the whole-flight fit's
 NOISE_MIN = 2e-4  #: [m] smallest per-axis noise a window's weights assume (1 mm rounding alone: 0.29 mm)
 MAX_WINDOW_REJECT = 0.25  #: a window whose fit drops more than this share of its samples ends the widening
+GROSS_SIGMA = 10.0  #: a whole-flight outlier further than this many noise sigmas from its fit...
+GROSS_MIN = 0.02  #: [m] ...and than this is kept out of every window
 OUTLIER_SIGMA = 4.0  #: a sample further than this many noise sigmas (3-D) from the local fit is dropped...
 OUTLIER_FLOOR = 3e-3  #: [m] ...and further than this (a short window's own model error stays below ~1 mm)
 
@@ -155,11 +159,13 @@ def _window_fit(fit: TrackFit, t, xyz, consts, rows: np.ndarray, post: bool, noi
     used = seg != M.SEG_OFF
     dof = max(3 * int(np.count_nonzero(used)) - (free.size - prior.index.size), 1)
     chi2 = float(np.sum(res**2)) / dof
+    state = np.array([j for j, f in enumerate(free_list) if f not in table])  # not the spin, not the drag
     try:
         cov = np.linalg.inv(A)
+        cond = np.linalg.inv(A[np.ix_(state, state)])[:2, :2]  # the bounce given the aero: the noise alone
     except np.linalg.LinAlgError:
         return None
-    return q, cov, max(1.0, chi2), np.where(used, r, np.nan), rows[used], n_out
+    return q, cov, cond, max(1.0, chi2), np.where(used, r, np.nan), rows[used], n_out
 
 
 def refine_bounce(fit: TrackFit, t, xyz, noise: float, *, post: bool = False) -> LocalFit | None:
@@ -178,23 +184,33 @@ def refine_bounce(fit: TrackFit, t, xyz, noise: float, *, post: bool = False) ->
     chosen = None
     prev: list[tuple[np.ndarray, np.ndarray]] = []
     n_pre_last = -1
+    # the whole-flight fit's gross outliers stay out (its others are judged afresh in each window)
+    ok = np.ones(t.size, dtype=bool)
+    if fit.outlier.size == t.size:
+        gross = fit.outlier & (np.nan_to_num(fit.residual, nan=np.inf) > max(GROSS_SIGMA * noise, GROSS_MIN))
+        ok &= ~gross
     for win in WINDOWS:
-        pre = np.nonzero((t >= tb - win) & (t < tb))[0]
+        pre = np.nonzero((t >= tb - win) & (t < tb) & ok)[0]
         if pre.size < MIN_WINDOW_POINTS or pre.size == n_pre_last:
             continue
         n_pre_last = pre.size
         rows = pre
         if post:
-            rows = np.concatenate([pre, np.nonzero((t > tb + tc) & (t <= tb + tc + win))[0]])
+            rows = np.concatenate([pre, np.nonzero((t > tb + tc) & (t <= tb + tc + win) & ok)[0]])
         got = _window_fit(fit, t, xyz, consts, rows, post, noise)
         if got is None:
             continue
-        q, cov, infl, r, used_rows, n_out = got
+        q, cov, cond, infl, r, used_rows, n_out = got
         b = q[M.P_XY].copy()
-        bc = cov[:2, :2]  # the noise alone: bias shows up as disagreement between windows
-        sig = math.sqrt(max(float(np.max(np.linalg.eigvalsh(bc))), 0.0)) if np.all(np.isfinite(bc)) else math.inf
+        bc = cov[:2, :2]
+        # the windows are compared on the noise alone (given the aero): a bias, of the aero or of the
+        # model, shows up as disagreement between windows instead of hiding in a wide interval
+        sig = math.sqrt(max(float(np.max(np.linalg.eigvalsh(cond))), 0.0)) if np.all(np.isfinite(cond)) else math.inf
         tried.append((win, float(b[0]), float(b[1]), sig, int(used_rows.size)))
-        agrees = all(np.linalg.norm(b - b2) <= ICI_GAMMA * (sig + s2) for b2, s2 in prev)
+        # nested windows share samples: the difference of two estimates has variance ~ s2^2 - sig^2
+        agrees = all(
+            np.linalg.norm(b - b2) <= ICI_GAMMA * math.sqrt(abs(s2 * s2 - sig * sig)) + ICI_FLOOR for b2, s2 in prev
+        )
         rejecting = n_out > MAX_WINDOW_REJECT * rows.size  # the model no longer follows this window
         if prev and (not agrees or rejecting):
             break
