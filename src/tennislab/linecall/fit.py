@@ -586,9 +586,11 @@ def fit_track(
     if start is None and window is not None and window[0] > STAGE_WINDOW and p[M.P_TB] - t[0] > STAGE_WINDOW:
         # a long flight: fit its end first and start the whole flight from there (a start guessed
         # from the last 0.25 s and flown back over a second can miss the flight's shape)
-        kw = dict(drag=drag, lift=lift, fit_drag=fit_drag, mark_params=mark_params, step=step, max_rounds=max_rounds)
-        kw.update(contact_prior=contact_prior, t_hint=t_hint, spin_prior=spin_prior, post=post)
-        start = fit_track(t, xyz, sigma, params, surface, window=(STAGE_WINDOW, window[1]), **kw).p
+        start = fit_track(
+            t, xyz, sigma, params, surface, drag=drag, lift=lift, fit_drag=fit_drag, mark_params=mark_params,
+            step=step, max_rounds=max_rounds, window=(STAGE_WINDOW, window[1]), contact_prior=contact_prior,
+            t_hint=t_hint, spin_prior=spin_prior, post=post,
+        ).p  # fmt: skip
     if start is not None and np.all(np.isfinite(start)):
         p = np.array(start, dtype=float)
         has_post = has_post and p[M.P_VOUT][2] > 0
