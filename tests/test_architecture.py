@@ -376,3 +376,46 @@ def test_one_name_for_the_json_of_an_object():
             if isinstance(obj, type) and "as_dict" in vars(obj) and obj is not OldAsDict:
                 bad.append(f"tennislab.{pkg}.{name}.as_dict")
     assert not bad, bad
+
+
+#: modules that state a model or a formula: each cites its sources in a numpydoc ``References`` section
+MODEL_MODULES = (
+    "core.aero",
+    "core.atmosphere",
+    "core.ball",
+    "core.bounce",
+    "core.court",
+    "core.dynamics",
+    "core.haake2003",
+    "core.impact",
+    "core.impact_3d",
+    "core.integrators",
+    "core.mark",
+    "core.surfaces",
+    "linecall.closed_form",
+    "launcher.rollers",
+    "launcher.power",
+    "launcher.materials",
+    "calibrate.family",
+)
+
+
+def _has_references(doc: str | None) -> bool:
+    lines = [ln.strip() for ln in (doc or "").splitlines()]
+    return any(a == "References" and b.startswith("----") for a, b in zip(lines, lines[1:]))
+
+
+@pytest.mark.parametrize("module", MODEL_MODULES)
+def test_every_model_cites_its_sources(module):
+    """numpydoc with References for every model and formula (after pvlib's temperature.py)."""
+    assert _has_references(ast.get_docstring(ast.parse(MODS[module].read_text(encoding="utf-8")))), module
+
+
+def test_every_registered_aero_model_cites_its_sources():
+    import inspect
+
+    from tennislab.core import aero
+
+    for name in aero.aero_model_names():
+        factory = inspect.unwrap(aero._REGISTRY[name])
+        assert _has_references(factory.__doc__), f"aero model {name!r}: no References in {factory.__name__}'s docstring"

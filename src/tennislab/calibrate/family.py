@@ -19,6 +19,16 @@ Family (the spin ratio S = r w / v, r the ball radius, w = |omega|, v the air sp
 interpolated on a geometric grid of ratio 1.08, an error below 0.1 % of C_L).  The calibration
 fits the model through this very table, so the table written is the model fitted.  Outside the
 grid the table clamps (speed above 90 m/s, spin above 10,000 rpm).
+
+References
+----------
+.. [1] Cross & Lindsey (2014), Sports Eng. 17:89
+.. [2] Choppin et al. (2018), Proceedings 2:265
+.. [3] Stepanek (1988), Am. J. Phys. 56:138
+.. [4] Cross (2020), Sports Eng. 23:9
+.. [5] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), eq 3
+.. [6] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), eq 3
 """
 
 from __future__ import annotations

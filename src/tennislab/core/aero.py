@@ -36,6 +36,16 @@ Registered models (``get_aero_model(name, **params)``):
                    docs/validation.md.
 ``table``          C_D, C_L bilinearly interpolated over a grid of speed and
                    spin (e.g. wind-tunnel data), clamped at the grid's edges.
+
+References
+----------
+.. [1] Stepanek (1988), Am. J. Phys. 56:138
+.. [2] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), eqs 3-4
+.. [3] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), eqs 1 and 3
+.. [4] Cross & Lindsey (2014), Sports Eng. 17:89
+.. [5] Cross (2020), Sports Eng. 23:9
+.. [6] Choppin et al. (2018), Proceedings 2:265
 """
 
 from __future__ import annotations
@@ -324,7 +334,22 @@ def _params(*vals) -> np.ndarray:
 
 @register_aero("constant")
 def constant(cd: float = 0.55, cl: float = 0.0) -> AeroModel:
-    """Constant C_D and C_L [-]."""
+    """Constant C_D and C_L [-] (user-given constants, e.g. a wind-tunnel point).
+
+    Parameters
+    ----------
+    cd : drag coefficient C_D [-], 0-2
+    cl : lift coefficient C_L [-], -2-2
+
+    Returns
+    -------
+    AeroModel ``constant``
+
+    References
+    ----------
+    .. [1] Cross & Lindsey (2014), Sports Eng. 17:89: C_D of tennis balls in flight is nearly constant
+       (0.507 +- 0.024 at 15-30 m/s), the case this model represents.
+    """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -2.0, 2.0)
     return AeroModel("constant", _constant_kernel, _params(cd, cl), "user-given constants")
@@ -334,8 +359,23 @@ def constant(cd: float = 0.55, cl: float = 0.0) -> AeroModel:
 def stepanek1988(cd0: float = 0.55, cd: float | None = None, cl: float | None = None) -> AeroModel:
     """Stepanek (1988) C_D(S), C_L(S) as written in seed 000 eqs 3-4.
 
-    ``cd`` (if given) replaces the base drag C_D0 = 0.55; ``cl`` is not used by
-    this model and is refused.
+    C_D = C_D0 + 1/(22.5 + 4.2 (v/(r w))^2.5)^0.4 and C_L = 1/(2 + v/(r w)), with the spin ratio
+    S = r w / v; fitted at 13-27 m/s and 800-3250 rpm (module docstring).
+
+    Parameters
+    ----------
+    cd0 : base drag C_D0 [-] (0.55)
+    cd : replaces ``cd0`` when given [-], 0-2
+    cl : not used by this model (C_L comes from the spin); refused
+
+    Returns
+    -------
+    AeroModel ``stepanek1988``
+
+    References
+    ----------
+    .. [1] Stepanek (1988), Am. J. Phys. 56:138.
+    .. [2] Grosen, Kousted & Treichel (2021), Aalborg University (seed 000), eqs 3-4.
     """
     if cl is not None:
         raise InputError('cl: the stepanek1988 model computes C_L from spin; use aero="constant" to set it')
@@ -354,6 +394,22 @@ def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = math.inf) ->
 
     The seed's lift grows without bound with spin; ``cl_max`` optionally caps C_L
     (a cap makes the right-hand side non-smooth; default: no cap, as published).
+
+    Parameters
+    ----------
+    cd : drag coefficient c_d [-], 0-2 (0.55: the low end of Alam et al. 2007's 0.55-0.85, quoted by the seed)
+    cl : lift slope c_l [-], -5-5 (0.6, Cross 2020)
+    cl_max : cap of C_L [-] (inf: none)
+
+    Returns
+    -------
+    AeroModel ``launcher2015`` (alias ``wojcicki2010``)
+
+    References
+    ----------
+    .. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), eqs 1 and 3.
+    .. [2] Alam et al. (2007), as quoted by seed 002 (c_d 0.55-0.85).
+    .. [3] Cross (2020), Sports Eng. 23:9 (C_L = 0.6 S).
     """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
@@ -368,7 +424,23 @@ def launcher2015(cd: float = 0.55, cl: float = 0.6, cl_max: float = math.inf) ->
 
 @register_aero("cross2014")
 def cross2014(cd: float = 0.507, cl: float = 0.6, cl_max: float = math.inf) -> AeroModel:
-    """In-flight C_D = 0.507 (Cross & Lindsey 2014); C_L = 0.6 S (Cross 2020)."""
+    """In-flight C_D = 0.507 (Cross & Lindsey 2014); C_L = 0.6 S (Cross 2020).
+
+    Parameters
+    ----------
+    cd : drag coefficient [-], 0-2 (0.507)
+    cl : lift slope [-], -5-5 (0.6): C_L = cl S, S = r w / v
+    cl_max : cap of C_L [-] (inf: none)
+
+    Returns
+    -------
+    AeroModel ``cross2014``
+
+    References
+    ----------
+    .. [1] Cross & Lindsey (2014), Sports Eng. 17:89 (launcher, 15-30 m/s, up to 2500 rpm).
+    .. [2] Cross (2020), Sports Eng. 23:9.
+    """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
     return AeroModel(
@@ -393,6 +465,23 @@ def choppin2018(cd: float = 0.60, cl: float = 0.6, cl_max: float = 0.5) -> AeroM
     bounce with a held-out median miss of 0.225 m and -1.3 cm length bias (spin axis fitted per serve
     type), as good as ``stepanek1988`` there, whose drag at rally spin ratios (0.69-0.75) is above
     what real match flights show.  The default model (:data:`DEFAULT_AERO`).
+
+    Parameters
+    ----------
+    cd : drag coefficient [-], 0-2 (0.60)
+    cl : lift slope [-], -5-5 (0.6): C_L = cl S, S = r w / v
+    cl_max : cap of C_L [-] (0.5, Stepanek's limit)
+
+    Returns
+    -------
+    AeroModel ``choppin2018``
+
+    References
+    ----------
+    .. [1] Choppin et al. (2018), Proceedings 2:265 (effective C_D of 9,224 Hawk-Eye serves).
+    .. [2] Cross & Lindsey (2014), Sports Eng. 17:89.
+    .. [3] Cross (2020), Sports Eng. 23:9.
+    .. [4] Stepanek (1988), Am. J. Phys. 56:138 (C_L tends to 1/2).
     """
     cd = check_range("cd", cd, 0.0, 2.0)
     cl = check_range("cl", cl, -5.0, 5.0)
@@ -427,6 +516,20 @@ def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
     Values are range-checked (:data:`TABLE_CD_RANGE`, :data:`TABLE_CL_RANGE`,
     :data:`TABLE_SPEED_RANGE`, :data:`TABLE_SPIN_RANGE`): a C_L of 10^6 would
     make the flight a stiff problem no integrator finishes, not a study.
+
+    Parameters
+    ----------
+    speed : grid of air speeds [m/s] (n), increasing
+    spin : grid of spin rates [rad/s] (m), increasing
+    cd, cl : C_D and C_L [-] on the grid (n x m)
+
+    Returns
+    -------
+    AeroModel ``table`` (bilinear interpolation, clamped at the grid's edges)
+
+    References
+    ----------
+    .. [1] the calibrated family of :mod:`tennislab.calibrate.family` writes such tables (docs/validation.md).
     """
     if speed is None or spin is None or cd is None or cl is None:
         raise InputError("aero_table: the table model needs speed, spin, cd and cl arrays (a CSV via --aero-table)")

@@ -15,6 +15,15 @@ Defaults: 20 deg C, sea level (101325 Pa), 50 % relative humidity, giving
 rho = 1.199 kg/m^3; standard gravity 9.80665 m/s^2 (CGPM 1901).  The seeds'
 values (rho = 1.22, g = 9.82; seed 000 section 2.3) are reproduced by passing
 them: ``Atmosphere(density=1.22, gravity=9.82)``.
+
+References
+----------
+.. [1] Picard, Davis, Glaser & Fujii (2008), Metrologia 45:149 (CIPM-2007 air density)
+.. [2] Buck (1981), J. Appl. Meteorol. 20:1527, eq 8 (saturation vapour pressure)
+.. [3] ICAO (1993), Manual of the ICAO Standard Atmosphere (barometric formula)
+.. [4] CGPM (1901), 3rd General Conference on Weights and Measures (standard gravity)
+.. [5] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), sec. 2.3
 """
 
 from __future__ import annotations
@@ -56,6 +65,17 @@ def air_density(
     pressure_pa : station pressure [Pa]; if None, from ``altitude_m`` (ISA)
     altitude_m : altitude above sea level [m], -500..5000 (used only without pressure)
     relative_humidity : 0..1 [-]
+
+    Returns
+    -------
+    rho : (p_d M_d + p_v M_v) / (R T) [kg/m^3], p_v = RH p_sat(T) (module docstring)
+
+    References
+    ----------
+    .. [1] Picard, Davis, Glaser & Fujii (2008), Metrologia 45:149 (the CIPM-2007 formula, without the
+       compressibility factor).
+    .. [2] Buck (1981), J. Appl. Meteorol. 20:1527, eq 8.
+    .. [3] ICAO (1993), Manual of the ICAO Standard Atmosphere.
     """
     t = check_range("temperature_c", temperature_c, -40.0, 60.0, "degC")
     rh = check_range("relative_humidity", relative_humidity, 0.0, 1.0)

@@ -6,6 +6,14 @@ Defaults are the middle of the ITF ranges for a type-2 (medium pace) ball
 thin-walled sphere, I = 2/3 m r^2, as the seeds use (seed 000 eq 15; seed 002);
 Cross (2020) measured a real ball with a ~3 mm wall nearer 0.55 m r^2: pass
 ``inertia_factor=0.55`` to use it.
+
+References
+----------
+.. [1] ITF, Rules of Tennis, rule 1 and Appendix I
+.. [2] Cross (2020), Sports Eng. 23:9 (moment of inertia of a real ball)
+.. [3] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), eq 15
+.. [4] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002)
 """
 
 from __future__ import annotations

@@ -25,6 +25,13 @@ e_x.  ``e`` is constant (real balls' e falls with impact speed).
 :func:`court_pace_rating` simulates the ITF court-pace test on a surface with
 this model (the surfaces and the CPR formula live in
 :mod:`tennislab.core.surfaces`, which knows nothing of the bounce).
+
+References
+----------
+.. [1] Brody (1984), Phys. Teach. 22:494
+.. [2] Cross (2002), Am. J. Phys. 70:1093
+.. [3] Cross (2005), Am. J. Phys. 73:914
+.. [4] ITF CS 01/02, court pace rating (ITF Technical Booklet 2015)
 """
 
 from __future__ import annotations

@@ -17,6 +17,10 @@ the strap and a post the cord is modelled as a straight line: the strap pulls a
 taut cord down at one point, so each half is a near-straight segment (a cord
 sagging under its own weight only would be a catenary; the difference is a few
 millimetres for a cord at 1 kN tension).  Outside the posts there is no net.
+
+References
+----------
+.. [1] ITF, Rules of Tennis, rule 1 and Appendix I
 """
 
 from __future__ import annotations

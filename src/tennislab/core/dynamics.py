@@ -16,6 +16,13 @@ omega x v; its eq 3 writes v x omega, a sign slip noted in docs/seeds.md).
 s_D and s_L are scales of the aero model's coefficients (1 for a flight as
 modelled; the line-calling track fit frees them per shot), passed in as
 kd = k s_D and kl = k s_L.
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), eqs 1-2 (drag, lift)
+.. [2] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), eqs 1, 3, 5-7
+.. [3] Cross & Lindsey (2014), Sports Eng. 17:89 (spin loss in flight)
 """
 
 from __future__ import annotations

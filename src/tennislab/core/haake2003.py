@@ -85,6 +85,14 @@ data (v > 30 m/s: every professional serve's normal impact speed) the fit is an
 extrapolation.  ``constant`` holds both fixed (the sensitivity case); the
 effect of +-15 % in T_c and +-0.05 in COR on the seed's Table 1 is in
 docs/serve.md ("Sensitivity to the ball data").
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), sec. 2.2, eqs 5-6
+.. [2] Goodwill & Haake (2001), Proc. IMechE C 215:1331
+.. [3] Haake, Carre & Goodwill (2003), J. Sports Sci. 21:839
+.. [4] ITF, Rules of Tennis, rule 1 and Appendix I (the drop test)
 """
 
 from __future__ import annotations

@@ -74,6 +74,14 @@ down by the *face angle* beta, n = (cos b, 0, -sin b), t = (sin b, 0, cos b)
 so omega > 0 is topspin (spin vector +y).  Launch angle gamma = atan2(v_z, v_x)
 = -beta + atan2(v_t, v_n): a flat serve (alpha ~ 0) leaves at gamma ~ -beta
 (below the horizontal), a higher alpha raises it.
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), sec. 2.2, eqs 5-20 and its
+    worksheet
+.. [2] Brody (1984), Phys. Teach. 22:494 (slide or roll)
+.. [3] Goodwill et al. (2005), as quoted by seed 000 (oblique COR 4 % higher)
 """
 
 from __future__ import annotations

@@ -21,6 +21,11 @@ phi = 0 brushes straight up the back of the ball (topspin), phi = -90 deg
 brushes toward the server's right (-y; a right-hander's slice, spin about +z,
 curving left), phi in between (e.g. -45 deg, "7 to 1 o'clock") a kick serve
 (topspin and sidespin).
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000) (the 2-D model it extends)
 """
 
 from __future__ import annotations

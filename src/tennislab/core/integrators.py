@@ -8,6 +8,12 @@ standard step-size controller (Hairer, Norsett & Wanner, Solving ODEs I,
 section II.4).  Events are found by safeguarded Newton iteration on the
 interpolant, to ~1e-14 in the step fraction, never at a step end.  The right-hand side is
 :func:`tennislab.core.dynamics.derivative`, the same one the SciPy path uses.
+
+References
+----------
+.. [1] Dormand & Prince (1980), J. Comput. Appl. Math. 6:19
+.. [2] Shampine (1986), Math. Comp. 46:135
+.. [3] Hairer, Norsett & Wanner (1993), Solving Ordinary Differential Equations I, 2nd ed., sec. II.1 and II.4
 """
 
 from __future__ import annotations
@@ -524,8 +530,9 @@ def rk4_step(y, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, out):
     """One classical Runge-Kutta 4 step of size ``h`` [s] (negative: backward) from ``y`` into ``out``.
 
     The fixed-step member of the family, for integrations whose results must vary smoothly with
-    their inputs (:func:`sweep_positions`, which the line-calling track fit and the track
-    calibration call).  Arguments after ``h`` are those of
+    their inputs: :func:`sweep_positions` steps it for the line-calling track fit
+    (:mod:`tennislab.linecall.model`), and the track calibration (:mod:`tennislab.calibrate.tracks`)
+    steps it itself.  Arguments after ``h`` are those of
     :func:`tennislab.core.dynamics.derivative`; ``work`` is a (5, 9) scratch array.
 
     References

@@ -38,6 +38,16 @@ These are parameter sets, not measurements of a particular court: pass your
 own (``Surface("mycourt", e=..., mu=...)`` or ``register_surface``) when a
 court has been tested.  ``e`` is held constant; real balls' e falls with
 impact speed (Haake, Carre & Goodwill 2003).
+
+References
+----------
+.. [1] ITF CS 01/02, court pace rating (ITF Technical Booklet 2015)
+.. [2] Brody (1984), Phys. Teach. 22:494
+.. [3] Cross (2002), Am. J. Phys. 70:1093
+.. [4] Cross (2003), Sports Eng. 6:93
+.. [5] Cross (2010), Sports Technol. 3:112
+.. [6] Carre, Johnson & Haake (2002), The Engineering of Sport 4:200
+.. [7] Haake, Carre & Goodwill (2003), J. Sports Sci. 21:839
 """
 
 from __future__ import annotations

@@ -32,6 +32,12 @@ Friction (seed 002 section 5.2, eq 10): mu = tan(eta) for a friction angle eta
 on an inclined plane (Table 3).  The seed adopts mu = 2.05 (roller segment,
 35 mm contact length, eta = 64 deg).  Table 3's other coefficients are tan(eta) to
 the printed rounding except the plane's 39 deg row: tan 39 deg = 0.81, printed 0.80.
+
+References
+----------
+.. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), sec. 5, eqs 10 and 13,
+    Tables 1-3
+.. [2] ITF, Rules of Tennis, rule 1 and Appendix I (deformation limits)
 """
 
 from __future__ import annotations

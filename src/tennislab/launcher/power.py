@@ -49,6 +49,10 @@ I_r = 2 (P t_r - E_ball/2) / omega^2 = 0.0099 kg m^2, i.e. m_r = 2.0 kg for
 r_r = 0.1 m; independently, a solid polyurethane wheel (density ~1200 kg/m^3)
 of 0.2 m diameter and 50 mm width has 1.9 kg.  Default 2.0 kg (a seed-implied
 value, stated as such); t_r scales linearly with m_r (docs/launcher.md).
+
+References
+----------
+.. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), sec. 7, eqs 18-31
 """
 
 from __future__ import annotations

@@ -37,6 +37,11 @@ ball centre from first contact to the nip, L = (r_r + r) sin(lambda) (4.7 cm),
 because eqs 14-15 use the deformed radius r_l, i.e. the ball must roll without
 slip by the time it reaches the nip: F_w = m V^2 / (2 L).  This is a modelling
 choice (documented in docs/launcher.md), not a seed value.
+
+References
+----------
+.. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), sec. 4 and 6, eqs 8-17
+.. [2] Wusatowski (1960), as quoted by seed 002 (pull-in)
 """
 
 from __future__ import annotations

@@ -40,6 +40,10 @@ Errors found in the seed (details and numbers in docs/linecall.md):
 
 The model lands the ball where its centre reaches ``z_land`` (the seed uses the
 ground, 0; tennislab's flight engine uses the ball radius r).
+
+References
+----------
+.. [1] Deng (2014), BioTechnology: An Indian Journal 10(8):2650 (seed 001)
 """
 
 from __future__ import annotations
