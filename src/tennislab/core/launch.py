@@ -74,12 +74,66 @@ def launch_velocity(speed, elevation, heading) -> np.ndarray:
     return np.asarray(speed, dtype=float)[..., None] * direction(elevation, heading)
 
 
+def spin_vector(elevation, heading, topspin=0.0, sidespin=0.0, along=0.0) -> np.ndarray:
+    """The spin vector (..., 3) [rad/s] of a launch, from its components in the launch frame.
+
+    omega = topspin h + sidespin u + along d (module docstring: h horizontal to the left of the
+    flight, u = d x h, d the direction of motion), every component in rad/s; all arguments
+    broadcast together.  The one builder of a launch's spin vector: every spin description
+    (rate and axis angle, axis fractions, components in rpm) is turned into these components at
+    its edge (:func:`axis_components`) and then built here.
+    """
+    return _spin_in(frame(elevation, heading), topspin, sidespin, along)
+
+
+def _spin_in(axes, topspin, sidespin, along) -> np.ndarray:
+    d, h, u = axes
+    comps = [np.asarray(c, dtype=float)[..., None] for c in (topspin, sidespin, along)]
+    return comps[0] * h + comps[1] * u + comps[2] * d
+
+
+def frame(elevation, heading) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The launch frame (d, h, u), each (..., 3): direction of motion, topspin axis, up axis (module docstring)."""
+    a, b = np.broadcast_arrays(np.asarray(elevation, dtype=float), np.asarray(heading, dtype=float))
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+    d = np.stack((ca * cb, ca * sb, sa), axis=-1)
+    h = np.stack((-sb, cb, np.zeros_like(cb)), axis=-1)
+    u = np.stack((-sa * cb, -sa * sb, ca), axis=-1)
+    return d, h, u
+
+
+def axis_components(spin_rate, axis_angle) -> tuple[np.ndarray, np.ndarray]:
+    """(topspin, sidespin) components [rad/s] of a spin rate [rad/s] about the axis angle g [rad]: w (cos g, sin g)."""
+    w = np.asarray(spin_rate, dtype=float)
+    g = np.asarray(axis_angle, dtype=float)
+    return w * np.cos(g), w * np.sin(g)
+
+
 def launch_spin(spin_rate, elevation, heading, axis_angle) -> np.ndarray:
     """Spin vector (..., 3) [rad/s] from spin rate |omega| [rad/s] and axis angle g [rad] about the flight."""
-    h, u = spin_basis(elevation, heading)
-    g = np.asarray(axis_angle, dtype=float)[..., None]
-    w = np.asarray(spin_rate, dtype=float)[..., None]
-    return w * (np.cos(g) * h + np.sin(g) * u)
+    return spin_vector(elevation, heading, *axis_components(spin_rate, axis_angle))
+
+
+def launch_states(position, speed, elevation, heading, topspin=0.0, sidespin=0.0, along=0.0) -> np.ndarray:
+    """Initial flight states (N, 9) [m, m/s, rad/s] of launches (the one launch-state builder).
+
+    ``position`` (3,) or (N, 3) [m]; ``speed`` [m/s], ``elevation`` and ``heading`` [rad] and the
+    spin components in the launch frame [rad/s] (:func:`spin_vector`) scalars or (N,) arrays,
+    broadcast together to N rows of (x, y, z, vx, vy, vz, wx, wy, wz) for
+    :func:`tennislab.core.flight.fly_batch`.  No range check (a hot path): the flight marks rows
+    outside the physical range.
+    """
+    p = np.asarray(position, dtype=float)
+    rows = p.reshape(-1, 3).shape[0] if p.ndim == 2 else 1
+    args = [np.asarray(x, dtype=float).reshape(-1) for x in (speed, elevation, heading, topspin, sidespin, along)]
+    n = np.broadcast_shapes((rows,), *(x.shape for x in args))[0]
+    v, a, b, top, side, along_ = (np.broadcast_to(x, (n,)) for x in args)
+    out = np.empty((n, 9))
+    out[:, 0:3] = p
+    axes = frame(a, b)
+    out[:, 3:6] = v[:, None] * axes[0]
+    out[:, 6:9] = _spin_in(axes, top, side, along_)
+    return out
 
 
 def describe_velocity(velocity) -> tuple[float, float, float]:

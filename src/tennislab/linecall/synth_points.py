@@ -28,10 +28,11 @@ from typing import Any
 
 import numpy as np
 
-from tennislab.core.flight import FlightParams, fly_batch, fly_dense
-from tennislab.core.launch import describe_velocity, direction, launch_velocity, spin_basis
+from tennislab.core.flight import FlightParams, fly_dense
+from tennislab.core.launch import describe_spin, launch_velocity, spin_vector
 from tennislab.core.mark import MarkParams
 from tennislab.core.rally import bounce_at
+from tennislab.core.shoot import shoot
 from tennislab.core.surfaces import get_surface
 from tennislab.linecall.decide import call_mark
 from tennislab.units import RPM
@@ -84,12 +85,6 @@ class ShotTruth:
                 f = ((t[m] - t0) / max(t1 - t0, 1e-12))[:, None]
                 out[m] = (1 - f) * a + f * b
         return out
-
-
-def _spin_vector(v, top_rpm: float, side_rpm: float, gyro_rpm: float) -> np.ndarray:
-    _, a, b = describe_velocity(v)
-    h, u = spin_basis(a, b)
-    return (top_rpm * h + side_rpm * u + gyro_rpm * direction(a, b)) * RPM
 
 
 def simulate_shot(
@@ -158,58 +153,32 @@ def simulate_shot(
     return st
 
 
+#: Elevations scanned for a synthetic shot's low branch [rad] (-20 to 35 deg: every rally shot and serve)
+SCAN_ELEVATIONS = np.radians(np.arange(-20.0, 35.5, 1.0))
+
+
 def aim(position, speed: float, spin_rpm, target_xy, params: FlightParams, *, clearance: float | None = None):
     """(velocity, spin) of a shot from ``position`` at ``speed`` [m/s] with spin components
     (topspin, sidespin, along-path) [rpm] that lands at ``target_xy`` [m] (or, with ``clearance`` [m],
-    crosses the net plane with that clearance over the tape, heading for ``target_xy``).
+    crosses the net plane with that clearance over the tape on the straight line to ``target_xy``).
 
-    Elevation by scanning the compiled batch flight (:func:`tennislab.core.flight.fly_batch`) over a
-    grid and then a finer grid around the crossing; heading corrected twice for the sideways curve.
+    The aiming primitive :func:`tennislab.core.shoot.shoot` (low branch, or ``at="net"``); a shot
+    that cannot reach its target keeps the scan's nearest elevation (the longest or shortest flight).
     """
     p0 = np.asarray(position, float)
-    tx, ty = target_xy
-    dist = math.hypot(tx - p0[0], ty - p0[1])
-    heading = math.atan2(ty - p0[1], tx - p0[0])
-
-    def scan(els, hd):
-        v = launch_velocity(speed, els, hd)
-        w = np.array([_spin_vector(vi, *spin_rpm) for vi in v])
-        states = np.column_stack([np.tile(p0, (els.size, 1)), v, w])
-        tab = fly_batch(states, params, parallel=False)
-        if clearance is not None:
-            miss = tab.clearance - clearance
-        else:
-            miss = np.hypot(tab["land_x"] - p0[0], tab["land_y"] - p0[1]) - dist
-        return np.where(tab.ok & np.isfinite(miss), miss, np.nan), tab
-
-    el = 0.0
-    for _ in range(3):
-        grid = np.radians(np.linspace(-20.0, 35.0, 56))
-        miss, _ = scan(grid, heading)
-        el = _root(grid, miss)
-        fine = np.linspace(el - np.radians(1.0), el + np.radians(1.0), 41)
-        miss, tab = scan(fine, heading)
-        el = _root(fine, miss)
-        if clearance is not None:
-            break
-        k = int(np.nanargmin(np.abs(miss))) if np.any(np.isfinite(miss)) else 0
-        lat = math.atan2(tab["land_y"][k] - p0[1], tab["land_x"][k] - p0[0]) - math.atan2(ty - p0[1], tx - p0[0])
-        heading -= lat
-        if abs(lat) < 1e-5:
-            break
-    v = launch_velocity(speed, el, heading)
-    return v, _spin_vector(v, *spin_rpm)
-
-
-def _root(grid, miss) -> float:
-    """The grid value where ``miss`` crosses zero first (linear interpolation), else its smallest |miss|."""
-    for i in range(grid.size - 1):
-        a, b = miss[i], miss[i + 1]
-        if np.isfinite(a) and np.isfinite(b) and a * b <= 0 and a != b:
-            return float(grid[i] - a * (grid[i + 1] - grid[i]) / (b - a))
-    if not np.any(np.isfinite(miss)):
-        return 0.0
-    return float(grid[int(np.nanargmin(np.abs(miss)))])
+    tx, ty = map(float, target_xy)
+    comps = np.asarray(spin_rpm, float) * RPM
+    if clearance is None:
+        s = shoot(p0, speed, (tx, ty), params, spin=comps, branch="low", grid=SCAN_ELEVATIONS)
+    else:
+        y_net = p0[1] + (ty - p0[1]) * (0.0 - p0[0]) / (tx - p0[0])
+        z_net = float(params.court.net_height(y_net)) + params.ball.radius + clearance
+        s = shoot(p0, speed, (y_net, z_net), params, spin=comps, at="net")
+    el, hd = float(s.elevation[0]), float(s.heading[0])
+    if not s.converged[0] and s.scan is not None:
+        el = float(s.scan.nearest[0])
+    v = launch_velocity(speed, el, hd)
+    return v, spin_vector(el, hd, *comps)
 
 
 MIN_CLEARANCE = 0.05  #: [m] a shot meant to clear the net is slowed until it clears it by this much
@@ -420,9 +389,8 @@ def sample_point(
 
 
 def _spin_parts(st: ShotTruth) -> np.ndarray:
-    _, a, b = describe_velocity(st.velocity)
-    h, u = spin_basis(a, b)
-    return np.array([st.spin @ h, st.spin @ u, st.spin @ direction(a, b)]) / RPM
+    d = describe_spin(st.spin, st.velocity)
+    return np.array([d["topspin"], d["sidespin"], d["along_path"]]) / RPM
 
 
 def synthetic_match(
