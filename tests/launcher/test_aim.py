@@ -21,10 +21,12 @@ EXACT = dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0, spin_axis_tolerance_de
 
 
 def _fly_exact(sol, spec=DEFAULT_SPEC):
-    """The continuous solution: the asked speed, spin and axis at the exact elevation and heading."""
+    """The continuous solution: the asked speed, spin and axis at the exact elevation and heading (and the
+    chosen height: the asked one, or the one the search chose)."""
     a = sol.asked
     y0 = launch_states(
-        spec, a.height_m, a.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, a.spin_rpm, a.spin_axis_deg
+        spec, sol.settings.height_m, a.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, a.spin_rpm,
+        a.spin_axis_deg,
     )[0]
     return fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)
 
@@ -62,7 +64,7 @@ def test_aim_round_trip_low_and_high(target, kw):
         s, a = sol.settings, sol.asked
         assert abs(s.speed_kmh - a.speed_kmh) <= tol.speed_kmh + 1e-9
         assert tol.allows(s.spin_rpm, s.spin_axis_deg, a.spin_rpm, a.spin_axis_deg)
-        assert s.height_m == a.height_m  # height as given
+        assert s.height_m == a.height_m if "height_m" in kw else sol.height_searched  # as given, or searched
         tq = fly_settings(sol.settings, DEFAULT_SPEC, PARAMS)
         assert math.hypot(tq.landing.x - sol.landing[0], tq.landing.y - sol.landing[1]) < 1e-3
         miss = math.hypot(tq.landing.x - target[0], tq.landing.y - target[1]) * 1e3
@@ -74,7 +76,7 @@ def test_aim_round_trip_low_and_high(target, kw):
 
 
 def test_exact_tolerances_keep_the_rounded_settings_and_pick_the_best_neighbour():
-    sol = aim((9.0, 1.5), 85, 1000, 0, **EXACT).solution
+    sol = aim((9.0, 1.5), 85, 1000, 0, 1.0, **EXACT).solution
     base = dict(height_m=1.0, speed_kmh=85, spin_rpm=1000, spin_axis_deg=0)
     assert {k: getattr(sol.settings, k) for k in base} == base
     best = math.inf
@@ -90,8 +92,8 @@ def test_exact_tolerances_keep_the_rounded_settings_and_pick_the_best_neighbour(
 
 @pytest.mark.parametrize("target,v,w,g", [((9.0, 2.0), 80, 1500, 0), ((7.5, -3.0), 100, 1000, 0), ((10, 1), 65, 0, 0)])
 def test_tolerances_never_land_farther_and_report_the_changes(target, v, w, g):
-    exact = aim(target, v, w, g, **EXACT)
-    loose = aim(target, v, w, g)
+    exact = aim(target, v, w, g, 1.0, **EXACT)
+    loose = aim(target, v, w, g, 1.0)
     assert loose.miss_mm <= exact.miss_mm + 1e-6
     dev = loose.to_dict()["deviation"]
     s = loose.settings
@@ -145,26 +147,31 @@ def test_speed_units_and_named_axes_are_the_same_request():
 
 
 def test_preferences_are_met_or_refused_naming_the_parameter():
-    low = aim((9.0, 2.0), 80, 1500)
+    at = dict(height_m=1.0)
+    low = aim((9.0, 2.0), 80, 1500, **at)
     assert low.solution.solution == "low" and low.solution.apex_z_m < 4
-    high = aim((9.0, 2.0), 80, 1500, trajectory="high")
+    high = aim((9.0, 2.0), 80, 1500, trajectory="high", **at)
     assert high.solution.solution == "high" and high.solution.apex_z_m > 8
-    anyone = aim((9.0, 2.0), 80, 1500, trajectory="any")
+    anyone = aim((9.0, 2.0), 80, 1500, trajectory="any", **at)
     assert anyone.miss_mm == pytest.approx(min(low.miss_mm, high.miss_mm), abs=0.01)
-    capped = aim((9.0, 2.0), 80, 1500, max_apex_m=2.8)
+    capped = aim((9.0, 2.0), 80, 1500, max_apex_m=2.8, **at)
     assert capped.solution.apex_z_m <= 2.8 < low.solution.apex_z_m
     with pytest.raises(InputError, match=r"^max_apex_m: the low flights to \(9, 2\) m peak at"):
-        aim((9.0, 2.0), 80, 1500, max_apex_m=1.5)
+        aim((9.0, 2.0), 80, 1500, max_apex_m=1.5, **at)
     with pytest.raises(InputError, match="^max_apex_m: 0.5 m is below the launch height 1 m"):
-        aim((9.0, 2.0), 80, 1500, max_apex_m=0.5)
+        aim((9.0, 2.0), 80, 1500, max_apex_m=0.5, **at)
     with pytest.raises(InputError, match="^max_flight_time_s: "):
-        aim((9.0, 2.0), 80, 1500, max_flight_time_s=0.5)
-    band = aim((9.0, 2.0), 80, 1500, net_clearance_m=(1.5, 2.5))
+        aim((9.0, 2.0), 80, 1500, max_flight_time_s=0.5, **at)
+    band = aim((9.0, 2.0), 80, 1500, net_clearance_m=(1.5, 2.5), **at)
     assert 1.5 <= band.solution.net_clearance_m <= 2.5
     with pytest.raises(InputError, match="^net_clearance_m: "):
-        aim((9.0, 2.0), 80, 1500, net_clearance_m=(0.1, 0.2))
+        aim((9.0, 2.0), 80, 1500, net_clearance_m=(0.1, 0.2), **at)
     with pytest.raises(InputError, match="^net_clearance_m: MIN 2 m is above MAX 1 m"):
-        aim((9.0, 2.0), 80, 1500, net_clearance_m=(2, 1))
+        aim((9.0, 2.0), 80, 1500, net_clearance_m=(2, 1), **at)
+    # a searched height keeps under the apex bound: a lower launch than 1 m lands within a centimetre
+    low_launch = aim((9.0, 2.0), 80, 1500, max_apex_m=2.6)
+    assert low_launch.solution.apex_z_m <= 2.6 < capped.solution.apex_z_m + 0.3
+    assert low_launch.settings.height_m < 1.0 and low_launch.miss_mm < 10
 
 
 @pytest.mark.parametrize(
@@ -208,7 +215,8 @@ def test_same_half_target_needs_no_net():
             dict(speed_kmh=100),
             "heading: the low solution needs 44.22 deg, outside the allowed range [-40, 40] deg",
         ),
-        ((4.0, 0.0), dict(speed_kmh=129), "into the net at the machine's 1 deg steps"),
+        ((4.0, 0.0), dict(speed_kmh=129, height_m=1.0), "into the net at the machine's 1 deg steps"),
+        ((1.5, 0.5), dict(speed_kmh=100, spin_rpm=1000), "goes into the net at any height"),
         ((-20.0, 0.0), dict(speed_kmh=100), "heading range"),
         ((3.0, 0.0), dict(speed_kmh=200, height_m=1.0), "into the net"),
         ((8.0, 0.0), dict(speed_kmh=250), "speed_kmh: 250 km/h is outside the allowed range [30, 200] km/h"),

@@ -89,13 +89,18 @@ def register(sub) -> None:
         "aim",
         help="machine settings that land a ball on a target",
         description="Inverse aiming: settings on the machine's steps (elevation, heading, speed within "
-        "--speed-tolerance-kmh, spin within --spin-tolerance-rpm; height as given) that land nearest the "
-        "target and meet the trajectory preferences.",
+        "--speed-tolerance-kmh, spin within --spin-tolerance-rpm; height as given, or searched on its 0.1 m "
+        "steps when --height is not given) that land nearest the target and meet the trajectory preferences.",
     )
     a.add_argument("--target", type=float, nargs=2, required=True, metavar=("X", "Y"), help="bounce point on court [m]")
     add_speed(a, required=True, note="(30-200, 1 km/h steps)")
     add_spin_flags(a)
-    a.add_argument("--height", type=float, default=1.0, help="launch height [m] (0.1-3.0, default 1.0)")
+    a.add_argument(
+        "--height",
+        type=float,
+        default=None,
+        help="launch height [m] (0.1-3.0; default: searched on its 0.1 m steps, ties to the height nearest 1 m)",
+    )
     a.add_argument("--solution", choices=("low", "high"), default=None, help="low or high (lob): as --trajectory")
     add_preference_flags(a, trajectory_default=None)
     add_tolerance_flags(a, speed=3.0, spin=100.0)
@@ -171,7 +176,8 @@ def run_aim(args) -> int:
     print(f"{sol.solution} solution for target ({sol.target[0]:g}, {sol.target[1]:g}) m:")
     print(
         f"  elevation {s['elevation_deg']:g} deg, heading {s['heading_deg']:g} deg "
-        f"(exact {sol.exact_elevation_deg:.3f}, {sol.exact_heading_deg:.3f}); height {s['height_m']:g} m, "
+        f"(exact {sol.exact_elevation_deg:.3f}, {sol.exact_heading_deg:.3f}); height {s['height_m']:g} m"
+        f"{' (searched)' if sol.height_searched else ''}, "
         f"speed {s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, "
         f"spin axis {s['spin_axis_deg']:g} deg ({spin_axis_name(s['spin_axis_deg'])})"
     )

@@ -81,15 +81,21 @@ def spin_vector(elevation, heading, topspin=0.0, sidespin=0.0, along=0.0) -> np.
     flight, u = d x h, d the direction of motion), every component in rad/s; all arguments
     broadcast together.  The one builder of a launch's spin vector: every spin description
     (rate and axis angle, axis fractions, components in rpm) is turned into these components at
-    its edge (:func:`axis_components`) and then built here.
+    its edge (:func:`axis_components`) and then built here (:func:`launch_states` too).
     """
-    return _spin_in(frame(elevation, heading), topspin, sidespin, along)
+    a, b, top, side, al = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (elevation, heading, topspin, sidespin, along))
+    )
+    return np.stack(_spin_xyz(np.cos(a), np.sin(a), np.cos(b), np.sin(b), top, side, al), axis=-1)
 
 
-def _spin_in(axes, topspin, sidespin, along) -> np.ndarray:
-    d, h, u = axes
-    comps = [np.asarray(c, dtype=float)[..., None] for c in (topspin, sidespin, along)]
-    return comps[0] * h + comps[1] * u + comps[2] * d
+def _spin_xyz(ca, sa, cb, sb, top, side, along):
+    """(wx, wy, wz) of top h + side u + along d for the launch frame of cos/sin of elevation and heading."""
+    return (
+        -top * sb - side * sa * cb + along * ca * cb,
+        top * cb - side * sa * sb + along * ca * sb,
+        side * ca + along * sa,
+    )
 
 
 def frame(elevation, heading) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -124,15 +130,18 @@ def launch_states(position, speed, elevation, heading, topspin=0.0, sidespin=0.0
     outside the physical range.
     """
     p = np.asarray(position, dtype=float)
-    rows = p.reshape(-1, 3).shape[0] if p.ndim == 2 else 1
-    args = [np.asarray(x, dtype=float).reshape(-1) for x in (speed, elevation, heading, topspin, sidespin, along)]
-    n = np.broadcast_shapes((rows,), *(x.shape for x in args))[0]
-    v, a, b, top, side, along_ = (np.broadcast_to(x, (n,)) for x in args)
+    cols = [np.asarray(x, dtype=float).reshape(-1) for x in (speed, elevation, heading, topspin, sidespin, along)]
+    n = max(p.shape[0] if p.ndim == 2 else 1, *(c.size for c in cols))
+    if any(c.size not in (1, n) for c in cols) or (p.ndim == 2 and p.shape[0] not in (1, n)):
+        raise InputError("launch_states: position, speed, angles and spin do not broadcast to one number of launches")
+    v, a, b, top, side, al = cols
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
     out = np.empty((n, 9))
     out[:, 0:3] = p
-    axes = frame(a, b)
-    out[:, 3:6] = v[:, None] * axes[0]
-    out[:, 6:9] = _spin_in(axes, top, side, along_)
+    out[:, 3] = v * ca * cb
+    out[:, 4] = v * ca * sb
+    out[:, 5] = v * sa
+    out[:, 6], out[:, 7], out[:, 8] = _spin_xyz(ca, sa, cb, sb, top, side, al)
     return out
 
 

@@ -1,28 +1,32 @@
-"""Aiming on the machine's steps: a joint search of the quantised neighbourhood of every setting.
+"""Aiming on the machine's steps: a search over every setting, heights included, built on a few flights.
 
-Given the exact (continuous) elevation a* and heading b* that land a ball of the asked speed v0,
-spin rate w0 and spin axis g0 on the target, the machine can only dial 1 deg, 1 km/h, 1 rpm and
-1 deg steps (Wojcicki, Pucilowski & Kulesza 2010, section 2).  Rounding a* and b* alone misses by
-up to half a step of each times the landing's sensitivity: decimetres.  This module searches
-jointly:
+The machine dials its height in 0.1 m, its speed in 1 km/h, its elevation, heading and spin axis in
+1 deg and its spin rate in 1 rpm steps (Wojcicki, Pucilowski & Kulesza 2010, section 2).  Rounding the
+exact angles alone misses by decimetres; the search below moves every setting within the user's
+tolerances to land nearer, and flies only what can win.
 
-* elevation: the steps floor(a*) - E .. ceil(a*) + E (E = :data:`ELEVATION_EXTRA`), heading: floor(b*)
-  - 1 .. ceil(b*) + 1, speed: every step within the speed tolerance of v0 (and the nearest step);
-* for each such combination, the spin vector omega (two components about the flight, the
-  rate and axis of the machine) that lands the ball on the target, by Newton's method with a
-  finite-difference Jacobian (the Magnus force of the seed's model is linear in omega, so 2-3
-  iterations converge), kept within the spin tolerance |omega - omega_asked| <= tol;
-* then the spin rate and axis steps around that omega (4 x 4) and the rounded asked spin.
+Rows.  One row per launch height searched (the asked one, or every step when the height is free)
+and per branch (low, high).  The reach map (:mod:`.reach`) says where each row's exact elevation
+lies; three elevation steps around it are flown at the asked (rounded) speed and spin, at a heading
+b0 near the exact one, plus three flights that give the landing's sensitivity to the speed and to
+the two spin components.  The three landings bracket the row's exact solution (else the row is
+solved by :func:`tennislab.core.shoot.shoot` from a scan, and flown again).
 
-Every candidate is flown (one :func:`fly_batch` call, ~1 us per flight); the answer is the
-candidate nearest the target that clears the net and meets the trajectory preferences; ties (within
-0.01 mm) go to the smaller change of speed, then of spin.  Height stays as given.
+Headings cost no flight.  Without wind a launch turned by db lands where it landed, turned by db
+about the machine: every heading step of a row is predicted exactly from the flights at b0.
 
-Physics of what it can reach: speed, elevation and the topspin component move the landing along
-the flight; only the heading (rays 1 deg apart: 0.37 m at 21 m) and a sidespin component move it
-across.  A sidespin of s [rad/s] shifts the bounce by about 1/2 k s D t across (k = c_l pi r^3 rho /
-(2 m), D the distance flown, t the flight time); a 100 rpm tolerance covers the half gap between two
-rays only for flights longer than ~2.3 s (docs/launcher.md, "Aiming on the machine's steps").
+Candidates.  For each speed step within the speed tolerance, the elevation steps around that
+speed's exact elevation (predicted from the row's sensitivities) are flown at b0; every heading
+step around the exact heading and, per (elevation, speed, heading), the quantised spins of
+:func:`._spin.variants` give candidates with predicted landings (the spin's effect linear, with the
+row's sensitivity).  The best :data:`TOP` of each branch (and the best of those whose parent flight
+clears the net and meets the preferences) are flown; the best :data:`REFINE` flown candidates are
+refined :data:`ROUNDS` times (their measured miss, the spin variants again, flown).  Everything
+flown is returned; :mod:`.aim` chooses.
+
+Physics of what it can reach: speed, elevation, height and the topspin component move the landing
+along the flight; only the heading (rays 1 deg apart: 0.37 m at 21 m) and a sidespin component move
+it across (docs/launcher.md, "What the machine's steps allow").
 """
 
 from __future__ import annotations
@@ -32,30 +36,77 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tennislab.errors import InputError
-from tennislab.launcher.machine import MachineSpec, Range
-from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm, spin_components, wrap_deg
+from tennislab.core.flight import FlightParams, FlightTable, fly_batch
+from tennislab.core.shoot import shoot
+from tennislab.launcher import _spin
+from tennislab.launcher.machine import MachineSpec, Range, launch_states
+from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm
+from tennislab.launcher.reach import ReachMap
+from tennislab.units import KMH, RPM
 
-#: Extra elevation steps searched beyond floor/ceil of the exact elevation (range coverage).
-ELEVATION_EXTRA = 2
-#: Extra heading steps beyond floor/ceil of the exact heading.
-HEADING_EXTRA = 1
-#: Newton iterations on the spin vector per combination, and the finite-difference step [rpm].
-SPIN_ITERATIONS = 3
-SPIN_FD_RPM = 5.0
-#: Combinations whose Newton spin lands nearest (linearised) whose spin steps are all flown.
-BEST_COMBOS = 24
+#: The height preferred when it is searched (ties of the miss go to the height nearest it) [m]
+REFERENCE_HEIGHT_M = 1.0
+SPEED_FD_KMH = 2.0  #: speed step of the sensitivity flights [km/h]
+SPIN_FD_RPM = 20.0  #: spin-component step of the sensitivity flights [rpm]
+TOP = 32  #: predicted-best candidates flown per branch
+PRUNE = 64  #: (parent flight, heading step) pairs per branch whose quantised spins are predicted
+REFINE = 8  #: flown candidates refined per branch and round
+PER_REFINE = 4  #: new spins flown per refined candidate
+CLEARING = 8  #: parents that clear the net flown as they are, for a branch no candidate of which does
+ROUNDS = 1  #: refinement rounds (the spin is nearly linear: one round rarely moves the answer)
+#: Speeds, extra elevation and heading steps per row: (asked height, free height: per row of 30 heights)
+SPEEDS = {False: 7, True: 3}
+ELEVATION_EXTRA = {False: 2, True: 0}
+HEADING_EXTRA = {False: 1, True: 0}
+
+
+@dataclass(frozen=True)
+class Ask:
+    """What is asked (edge units): target (x, y) [m]; ``speed_kmh``, ``spin_rpm``, ``spin_axis_deg`` as asked
+    (validated, not rounded) and rounded to the steps (``q_*``); heights [m] searched; tolerances."""
+
+    target: tuple[float, float]
+    speed_kmh: float
+    spin_rpm: float
+    spin_axis_deg: float
+    q_speed_kmh: float
+    q_spin_rpm: float
+    q_spin_axis_deg: float
+    heights: np.ndarray
+    height_free: bool
+    tolerances: Tolerances
+
+
+@dataclass(frozen=True)
+class Row:
+    """One row (height, branch) solved at the rounded asked settings: exact elevation ``a`` and heading
+    ``b`` [deg], the heading ``b0`` [deg] its flights were flown at, the elevation of the longest flight
+    ``split`` [deg], d rho / d a ``slope`` [m/deg], and in the frame of the launch direction the
+    landing's sensitivity to the speed ``dv`` (2,) [m per km/h] and to the spin components ``J``
+    (2, 2) [m/rpm]."""
+
+    height: float
+    branch: str
+    a: float
+    b: float
+    b0: float
+    split: float
+    slope: float
+    dv: np.ndarray
+    J: np.ndarray
 
 
 @dataclass(frozen=True)
 class Candidates:
-    """Every candidate flown: settings columns (edge units) and flight results, one row each."""
+    """Every candidate flown: settings columns (edge units), its row and branch, and flight results."""
 
+    height_m: np.ndarray
     elevation_deg: np.ndarray
     heading_deg: np.ndarray
     speed_kmh: np.ndarray
     spin_rpm: np.ndarray
     spin_axis_deg: np.ndarray
+    row: np.ndarray
     land_x: np.ndarray
     land_y: np.ndarray
     miss_m: np.ndarray
@@ -66,203 +117,321 @@ class Candidates:
     landing_speed_ms: np.ndarray
     landed: np.ndarray
 
+    def take(self, mask) -> Candidates:
+        return Candidates(**{k: v[mask] for k, v in self.__dict__.items()})
 
-def speed_steps(rng: Range, asked: float, tol: float) -> np.ndarray:
-    """Machine speed steps within ``tol`` of ``asked`` (and always the nearest step) [km/h]."""
+
+def speed_steps(rng: Range, asked: float, tol: float, count: int | None = None) -> np.ndarray:
+    """Machine speed steps within ``tol`` of ``asked`` (and always the nearest step) [km/h]; with ``count``,
+    the ``count`` nearest the asked speed."""
     lo, hi = max(rng.lo, asked - tol), min(rng.hi, asked + tol)
     k0 = math.ceil((lo - rng.lo) / rng.step - 1e-9)
     k1 = math.floor((hi - rng.lo) / rng.step + 1e-9)
-    vals = rng.lo + np.arange(k0, k1 + 1) * rng.step
-    return np.unique(np.round(np.append(vals, rng.quantise(asked)), 9))
+    vals = np.unique(np.round(np.append(rng.lo + np.arange(k0, k1 + 1) * rng.step, rng.quantise(asked)), 9))
+    if count is not None and vals.size > count:
+        vals = np.sort(vals[np.argsort(np.abs(vals - asked), kind="stable")[:count]])
+    return vals
 
 
-def _project(W: np.ndarray, o0: np.ndarray, tol: float, wmax: float) -> np.ndarray:
-    """Spin vectors (n, 2) [rpm] pulled into the disc |W - o0| <= tol, then to |W| <= wmax."""
-    d = W - o0
-    n = np.hypot(d[:, 0], d[:, 1])
-    W = o0 + d * np.where(n > tol, tol / np.maximum(n, 1e-300), 1.0)[:, None]
-    m = np.hypot(W[:, 0], W[:, 1])
-    return W * np.where(m > wmax, wmax / np.maximum(m, 1e-300), 1.0)[:, None]
+class Shooter:
+    """Flies arrays of settings from the machine (one ``fly_batch`` per call) and counts the flights."""
+
+    def __init__(self, spec: MachineSpec, params: FlightParams):
+        self.spec, self.params, self.flights = spec, params, 0
+
+    def __call__(self, h, v, a, b, w, g) -> FlightTable:
+        st = launch_states(self.spec, h, v, a, b, w, g)
+        self.flights += len(st)
+        return fly_batch(st, self.params, parallel=False)
 
 
-def _landing(tab) -> np.ndarray:
+def _polar(tab: FlightTable, pos, b0) -> np.ndarray:
+    """Landings relative to the machine in the frame of heading b0 [deg] (n, 2) (NaN where none)."""
+    xy = np.column_stack([tab["land_x"] - pos[0], tab["land_y"] - pos[1]])
+    xy[~tab.ok] = np.nan
+    c, s = np.cos(np.radians(b0)), np.sin(np.radians(b0))
+    return np.column_stack([c * xy[:, 0] + s * xy[:, 1], -s * xy[:, 0] + c * xy[:, 1]])
+
+
+def _rotate(ell: np.ndarray, b) -> np.ndarray:
+    """Vectors (..., 2) of the heading-0 frame turned by b [deg]."""
+    c, s = np.cos(np.radians(b)), np.sin(np.radians(b))
+    return np.stack([c * ell[..., 0] - s * ell[..., 1], s * ell[..., 0] + c * ell[..., 1]], axis=-1)
+
+
+def _components(w, g) -> np.ndarray:
+    g = np.radians(g)
+    return np.stack([w * np.cos(g), w * np.sin(g)], axis=-1)
+
+
+def _rate_axis(om) -> tuple[np.ndarray, np.ndarray]:
+    return np.hypot(om[..., 0], om[..., 1]), np.degrees(np.arctan2(om[..., 1], om[..., 0]))
+
+
+def _steps(rng: Range, lo: float, hi: float) -> np.ndarray:
+    """The steps of ``rng`` in [lo, hi]."""
+    k0 = math.ceil((max(lo, rng.lo) - rng.lo) / rng.step - 1e-9)
+    k1 = math.floor((min(hi, rng.hi) - rng.lo) / rng.step + 1e-9)
+    return np.round(rng.lo + np.arange(k0, k1 + 1) * rng.step, 9)
+
+
+def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask: Ask) -> tuple[list[Row], dict]:
+    """Stage 1 (module docstring): every row's exact solution and sensitivities; and the flights at b0
+    by (row index, speed, elevation) -> landing in the launch-direction frame (for reuse)."""
+    P = np.asarray(spec.position, float)
+    T = np.asarray(ask.target, float)
+    D = float(np.hypot(*(T - P)))
+    beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
+    er = spec.elevation
+    om_q = _components(ask.q_spin_rpm, ask.q_spin_axis_deg)
+    found = []  # (height, branch, a_map, phi, split)
+    for branch in ("low", "high"):
+        m = rmap.aim(D, ask.heights, ask.q_speed_kmh, om_q[0], om_q[1], branch)
+        for i, h in enumerate(ask.heights):
+            if np.isfinite(m["elevation_deg"][i]):
+                found.append((float(h), branch, m["elevation_deg"][i], m["phi"][i], m["split_deg"][i]))
+    if not found:
+        return [], {}
+    n = len(found)
+    H = np.array([f[0] for f in found])
+    b0 = beta - np.degrees([f[3] for f in found])
+    ac = np.clip(np.round([f[2] for f in found]), er.lo, er.hi)
+    E = np.clip(ac[:, None] + np.array([-1.0, 0.0, 1.0]), er.lo, er.hi)
+    v_fd = ask.q_speed_kmh + (SPEED_FD_KMH if ask.q_speed_kmh + SPEED_FD_KMH <= spec.speed.hi else -SPEED_FD_KMH)
+    fw, fg = _rate_axis(om_q + np.array([[SPIN_FD_RPM, 0.0], [0.0, SPIN_FD_RPM]]))
+    vq, wq, gq = ask.q_speed_kmh, ask.q_spin_rpm, ask.q_spin_axis_deg
+    tab = shoot5(
+        np.concatenate([np.repeat(H, 3), H, H, H]),
+        np.concatenate([np.full(3 * n, vq), np.full(n, v_fd), np.full(2 * n, vq)]),
+        np.concatenate([E.reshape(-1), ac, ac, ac]),
+        np.concatenate([np.repeat(b0, 3), b0, b0, b0]),
+        np.concatenate([np.full(4 * n, wq), np.full(n, fw[0]), np.full(n, fw[1])]),
+        np.concatenate([np.full(4 * n, gq), np.full(n, fg[0]), np.full(n, fg[1])]),
+    )
+    ell = _polar(tab, P, np.concatenate([np.repeat(b0, 3), b0, b0, b0]))
+    le = ell[: 3 * n].reshape(n, 3, 2)
+    info = _info(tab)[: 3 * n].reshape(n, 3, 4)
+    low = np.array([f[1] == "low" for f in found])
+    a, b, slope = _brackets(E, le, D, beta, low)
+    base = le[:, 1]
+    dv = (ell[3 * n : 4 * n] - base) / (v_fd - vq)
+    J = np.stack([ell[4 * n : 5 * n] - base, ell[5 * n :] - base], axis=2) / SPIN_FD_RPM
+    good = np.isfinite(a) & np.isfinite(dv).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
+    rows, flown = [], {}
+    for i in np.flatnonzero(good):
+        h, branch, _, _, split = found[i]
+        rows.append(Row(h, branch, float(a[i]), float(b[i]), float(b0[i]), float(split), float(slope[i]), dv[i], J[i]))
+        for k in range(3):
+            if np.isfinite(le[i, k, 0]):
+                flown[(len(rows) - 1, vq, float(E[i, k]))] = (le[i, k], info[i, k])
+    for i in np.flatnonzero(~good):
+        row, _ = _solve_row(shoot5, spec, params, ask, found[i][0], found[i][1], float(found[i][4]))
+        if row is not None:
+            rows.append(row)
+    return rows, flown
+
+
+def probe(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, branch: str, rows: list[Row]) -> list:
+    """A branch the map found no row for: scanned for real at a few heights (the map may miss the edge of
+    the reach).  Rows found are appended to ``rows``; returns the (height, ``Shots``) of the failed scans."""
+    hs = ask.heights
+    picks = [hs[np.argmin(np.abs(hs - REFERENCE_HEIGHT_M))], hs.min(), hs.max()] if ask.height_free else [hs[0]]
+    failed = []
+    for h in dict.fromkeys(float(x) for x in picks):
+        row, shots = _solve_row(shoot5, spec, params, ask, h, branch, math.nan)
+        if row is not None:
+            rows.append(row)
+            return []
+        failed.append((h, shots))
+    return failed
+
+
+def _brackets(E, le, D, beta, low):
+    """Per row, the exact elevation [deg] between two of its three flown steps (rho - D changes sign on the
+    branch's side: rising for ``low``), its heading [deg] and d rho / d a [m/deg]; NaN where none."""
+    f = np.hypot(le[..., 0], le[..., 1]) - D
+    n = f.shape[0]
+    a, b, slope = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    for k in (1, 0):  # the first interval that brackets wins
+        f0, f1, e0, e1 = f[:, k], f[:, k + 1], E[:, k], E[:, k + 1]
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(f0) & np.isfinite(f1) & (e1 != e0) & (f0 * f1 <= 0) & ((f1 > f0) == low)
+        t = np.where(ok, f0 / np.where(f0 != f1, f0 - f1, 1.0), 0.0)
+        ell = le[:, k] + t[:, None] * (le[:, k + 1] - le[:, k])
+        a = np.where(ok, e0 + t * (e1 - e0), a)
+        b = np.where(ok, beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0])), b)
+        slope = np.where(ok, (f1 - f0) / np.where(e1 != e0, e1 - e0, 1.0), slope)
+    return a, b, slope
+
+
+def _solve_row(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, h: float, branch: str, split: float):
+    """A row the map did not bracket: :func:`~tennislab.core.shoot.shoot` from a scan, and its sensitivities."""
+    P = np.asarray(spec.position, float)
+    om = _components(ask.q_spin_rpm, ask.q_spin_axis_deg)
+    grid = np.radians(_steps(spec.elevation, spec.elevation.lo, spec.elevation.hi))
+    s = shoot(
+        (P[0], P[1], h),
+        ask.q_speed_kmh * KMH,
+        ask.target,
+        params,
+        spin=(om[0] * RPM, om[1] * RPM, 0.0),
+        branch=branch,
+        grid=grid,
+    )
+    shoot5.flights += s.flights
+    if not s.converged[0] or not spec.heading.lo - 10 <= math.degrees(s.heading[0]) <= spec.heading.hi + 10:
+        return None, s
+    a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
+    vq = ask.q_speed_kmh
+    v_fd = vq + (SPEED_FD_KMH if vq + SPEED_FD_KMH <= spec.speed.hi else -SPEED_FD_KMH)
+    w, g = _rate_axis(om + np.array([[0.0, 0.0], [0.0, 0.0], [SPIN_FD_RPM, 0.0], [0.0, SPIN_FD_RPM]]))
+    ell = _polar(shoot5(h, [vq, v_fd, vq, vq], a, b, w, g), P, b)
+    e = ell[0] / max(np.hypot(*ell[0]), 1e-300)
+    slope = float(e @ _rotate(s.jacobian[0][:, 0][None, :], -b)[0]) * math.radians(1.0)
+    sp = math.degrees(float(s.scan.split[0])) if s.scan is not None else split
+    J = np.column_stack([ell[2] - ell[0], ell[3] - ell[0]]) / SPIN_FD_RPM
+    return Row(h, branch, a, b, b, sp, slope, (ell[1] - ell[0]) / (v_fd - vq), J), s
+
+
+def _info(tab: FlightTable) -> np.ndarray:
+    """Per flight (n, 4): net clearance [m], net status, apex [m], flight time [s] (for the acceptability pools)."""
+    return np.column_stack([tab.clearance, tab["net_status"], tab["apex_z"], tab["land_t"]])
+
+
+def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict) -> dict:
+    """Stage 2: per row, the speed steps and the elevation steps around each speed's exact elevation, flown
+    at the row's b0 with the rounded asked spin (those of stage 1 reused).  Updates and returns ``flown``."""
+    er = spec.elevation
+    P = np.asarray(spec.position, float)
+    beta = math.degrees(math.atan2(ask.target[1] - P[1], ask.target[0] - P[0]))
+    speeds = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[ask.height_free])
+    extra = ELEVATION_EXTRA[ask.height_free]
+    vq = ask.q_speed_kmh
+    ra = np.array([r.a for r in rows])
+    phi = np.radians(beta - np.array([r.b for r in rows]))
+    dv = np.array([r.dv for r in rows])
+    slope = np.array([r.slope for r in rows])
+    split = np.array([r.split for r in rows])
+    low = np.array([r.branch == "low" for r in rows])
+    drho_dv = np.cos(phi) * dv[:, 0] + np.sin(phi) * dv[:, 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a_v = ra[:, None] - np.where(slope != 0, drho_dv / slope, 0.0)[:, None] * (speeds[None, :] - vq)  # (n, m)
+    offs = np.arange(-extra, extra + 2) * er.step
+    A = np.floor((a_v - er.lo) / er.step)[..., None] * er.step + er.lo + offs  # (n, m, k) elevation steps
+    A = np.round(A, 9)
+    inside = (A >= er.lo - 1e-9) & (A <= er.hi + 1e-9)
+    side = np.where(low[:, None, None], A <= split[:, None, None] + 1e-9, A >= split[:, None, None] - 1e-9)
+    keep = inside & side
+    none = ~keep.any(axis=2)  # no step on the branch's side: the nearest step
+    A[..., 0] = np.where(none, np.clip(np.round((a_v - er.lo) / er.step) * er.step + er.lo, er.lo, er.hi), A[..., 0])
+    keep[..., 0] |= none
+    ri, mi, _ = np.nonzero(keep)
+    todo = [key for key in zip(ri.tolist(), speeds[mi].tolist(), A[keep].tolist()) if key not in flown]
+    if todo:
+        ri = np.array([t[0] for t in todo])
+        b0 = np.array([r.b0 for r in rows])[ri]
+        tab = shoot5(
+            np.array([r.height for r in rows])[ri],
+            np.array([t[1] for t in todo]),
+            np.array([t[2] for t in todo]),
+            b0,
+            ask.q_spin_rpm,
+            ask.q_spin_axis_deg,
+        )
+        ell = _polar(tab, P, b0)
+        info = _info(tab)
+        for k in np.flatnonzero(np.isfinite(ell[:, 0])):
+            flown[todo[k]] = (ell[k], info[k])
+    return flown
+
+
+def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarray:
+    """Parents (flights at b0) that clear the net when they must and meet the preferences (an estimate for
+    their candidates: a heading step or a spin change moves these little)."""
+    with np.errstate(invalid="ignore"):
+        ok = prefs.accepts(info[:, 2], info[:, 0], info[:, 3])
+        if need_net:
+            ok &= (info[:, 1] == 1) & (info[:, 0] >= 0)
+    return ok
+
+
+def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_net: bool, prefs: Preferences):
+    """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring).
+
+    Returns a dict of flat arrays: ``row``, ``height``, ``speed``, ``elevation``, ``heading``, ``rate``,
+    ``axis``, ``pred`` [m] and the parent's ``info`` (n, 4)."""
+    hr = spec.heading
+    P = np.asarray(spec.position, float)
+    T = np.asarray(ask.target, float)
+    beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
+    keys = list(flown)
+    ell = np.array([flown[k][0] for k in keys])
+    info = np.array([flown[k][1] for k in keys])
+    ri = np.array([k[0] for k in keys])
+    need = beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0]))  # the heading that puts each on the target's ray
+    extra = HEADING_EXTRA[ask.height_free]
+    offs = np.arange(-extra, extra + 2)
+    base = hr.lo + np.floor((need - hr.lo) / hr.step) * hr.step
+    B = np.round(base[:, None] + offs[None, :] * hr.step, 9)  # (n, m)
+    n, m = B.shape
+    par = np.repeat(np.arange(n), m)
+    B = B.reshape(-1)
+    inside = (B >= hr.lo - 1e-9) & (B <= hr.hi + 1e-9)
+    par, B = par[inside], B[inside]
+    L0 = P + _rotate(ell[par], B)
+    J = np.array([r.J for r in rows])[ri[par]]
+    Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
+    om_b = np.broadcast_to(_components(ask.q_spin_rpm, ask.q_spin_axis_deg), (len(par), 2))
+    asked = (ask.spin_rpm, ask.spin_axis_deg)
+    # prune: a candidate whose landing no allowed spin can bring near the best bound is not worth a variant
+    lb = np.maximum(np.hypot(*(L0 - T).T) - _spin.reach(Jc, om_b, asked, ask.tolerances), 0.0)
+    branch = np.array([rows[i].branch for i in ri[par]])
+    good = _parent_ok(info[par], need_net, prefs)
+    keep = []
+    for name in ("low", "high"):
+        for pool, size in ((branch == name, PRUNE), ((branch == name) & good, PRUNE // 2)):
+            idx = np.flatnonzero(pool)
+            keep.append(idx[np.argsort(lb[idx], kind="stable")[:size]])
+    keep = np.unique(np.concatenate(keep))
+    par, B, L0, Jc, om_b = par[keep], B[keep], L0[keep], Jc[keep], om_b[keep]
+    W, G, miss = _spin.variants(L0, Jc, om_b, T, asked, ask.tolerances, spec.spin, spec.spin_axis)
+    k = W.shape[1]
+    pp = np.repeat(par, k)
+    return {
+        "row": ri[pp],
+        "height": np.array([rows[i].height for i in ri])[pp],
+        "speed": np.array([kk[1] for kk in keys])[pp],
+        "elevation": np.array([kk[2] for kk in keys])[pp],
+        "heading": np.repeat(B, k),
+        "rate": W.reshape(-1),
+        "axis": G.reshape(-1),
+        "pred": miss.reshape(-1),
+        "info": info[pp],
+    }
+
+
+def _settings_key(h, v, a, b, w, g) -> np.ndarray:
+    """One hashable key per setting combination (settings on steps, compared to 1e-6 of their units)."""
+    cols = np.ascontiguousarray(np.round(np.column_stack([h, v, a, b, w, g]) * 1e6).astype(np.int64))
+    return cols.view(np.dtype((np.void, cols.dtype.itemsize * cols.shape[1]))).ravel()
+
+
+def _fly_candidates(shoot5, spec: MachineSpec, ask: Ask, rows_idx, cols) -> Candidates:
+    h, v, a, b, w, g = cols
+    tab = shoot5(h, v, a, b, w, g)
     xy = np.column_stack([tab["land_x"], tab["land_y"]])
     xy[~tab.ok] = np.nan
-    return xy
-
-
-def _trust_step(J: np.ndarray, r: np.ndarray, tol: float) -> np.ndarray:
-    """Per row, the offset d (n, 2) minimising |r + J d| subject to |d| <= tol (2 x 2 trust-region problems).
-
-    Inside the disc it is the Newton step; on its edge (J^T J + lam I) d = -J^T r with the lam >= 0
-    that gives |d| = tol, found by bisection on log(lam) (60 halvings: far below a 1 rpm step).
-    """
-    JtJ = np.einsum("nki,nkj->nij", J, J)
-    g = np.einsum("nki,nk->ni", J, r)
-
-    def solve(lam):
-        a, b, c = JtJ[:, 0, 0] + lam, JtJ[:, 0, 1], JtJ[:, 1, 1] + lam
-        det = a * c - b * b
-        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-        return -np.column_stack([(c * g[:, 0] - b * g[:, 1]) / det, (a * g[:, 1] - b * g[:, 0]) / det])
-
-    d = solve(np.zeros(len(r)))
-    out = ~(np.hypot(d[:, 0], d[:, 1]) <= tol)
-    if out.any():
-        lo = np.full(out.sum(), -12.0)
-        hi = np.full(out.sum(), 12.0)
-        scale = np.maximum(np.trace(JtJ[out], axis1=1, axis2=2), 1e-300)
-        Jo, go = JtJ[out], g[out]
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            lam = scale * 10.0**mid
-            a, b, c = Jo[:, 0, 0] + lam, Jo[:, 0, 1], Jo[:, 1, 1] + lam
-            det = a * c - b * b
-            dd = -np.column_stack([(c * go[:, 0] - b * go[:, 1]) / det, (a * go[:, 1] - b * go[:, 0]) / det])
-            big = np.hypot(dd[:, 0], dd[:, 1]) > tol
-            lo, hi = np.where(big, mid, lo), np.where(big, hi, mid)
-        lam = scale * 10.0**hi
-        a, b, c = Jo[:, 0, 0] + lam, Jo[:, 0, 1], Jo[:, 1, 1] + lam
-        det = a * c - b * b
-        d[out] = -np.column_stack([(c * go[:, 0] - b * go[:, 1]) / det, (a * go[:, 1] - b * go[:, 0]) / det])
-    return d
-
-
-def _spin_newton(shoot, A, B, V, target, o0, tol, wmax) -> tuple[np.ndarray, np.ndarray]:
-    """Per combination (A, B, V), the spin vector (n, 2) [rpm] within tolerance landing nearest the target.
-
-    Gauss-Newton on the two spin components with a finite-difference Jacobian; each step is the
-    exact minimiser of the linearised miss within the tolerance disc (:func:`_trust_step`).
-    """
-    n = A.size
-    W = np.tile(o0, (n, 1))
-    d = SPIN_FD_RPM
-    offs = np.array([[0.0, 0.0], [d, 0.0], [0.0, d]])
-    pred = np.full(n, np.inf)
-    for _ in range(SPIN_ITERATIONS):
-        Wk = (W[:, None, :] + offs[None]).reshape(-1, 2)
-        tab = shoot(
-            np.repeat(A, 3),
-            np.repeat(B, 3),
-            np.repeat(V, 3),
-            np.hypot(Wk[:, 0], Wk[:, 1]),
-            np.degrees(np.arctan2(Wk[:, 1], Wk[:, 0])),
-        )
-        xy = _landing(tab).reshape(n, 3, 2)
-        r = xy[:, 0] - np.asarray(target, float)
-        J = np.stack([(xy[:, 1] - xy[:, 0]) / d, (xy[:, 2] - xy[:, 0]) / d], axis=2)
-        ok = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(r).all(axis=1)
-        pred[:] = np.inf
-        if ok.any():
-            c = W[ok] - o0  # offset from the asked spin; the new offset solves |r - J c + J c'| -> min, |c'| <= tol
-            rp = r[ok] - np.einsum("nij,nj->ni", J[ok], c)
-            cn = _trust_step(J[ok], rp, tol)
-            W[ok] = o0 + cn
-            res = rp + np.einsum("nij,nj->ni", J[ok], cn)
-            pred[ok] = np.hypot(res[:, 0], res[:, 1])
-        W = _project(W, o0, tol, wmax)
-    return W, pred
-
-
-def _spin_box_newton(shoot, A, B, V, target, box) -> tuple[np.ndarray, np.ndarray]:
-    """Per combination, spin (rate [rpm], axis [deg]) within the box ((w_lo, w_hi), (g_lo, g_hi)) landing nearest.
-
-    Gauss-Newton in (rate, axis) with a finite-difference Jacobian, each step clipped to the box.
-    Returns (n, 2) spin vectors [rpm] (components about the flight, as :func:`_spin_newton`) and the
-    linearised miss [m] of each.
-    """
-    n = A.size
-    (w_lo, w_hi), (g_lo, g_hi) = box
-    P = np.tile([0.5 * (w_lo + w_hi), 0.5 * (g_lo + g_hi)], (n, 1))
-    offs = np.array([[0.0, 0.0], [SPIN_FD_RPM, 0.0], [0.0, 0.2]])
-    pred = np.full(n, np.inf)
-    for _ in range(SPIN_ITERATIONS):
-        Pk = (P[:, None, :] + offs[None]).reshape(-1, 2)
-        tab = shoot(np.repeat(A, 3), np.repeat(B, 3), np.repeat(V, 3), Pk[:, 0], Pk[:, 1])
-        xy = _landing(tab).reshape(n, 3, 2)
-        r = xy[:, 0] - np.asarray(target, float)
-        J = np.stack([(xy[:, 1] - xy[:, 0]) / offs[1, 0], (xy[:, 2] - xy[:, 0]) / offs[2, 1]], axis=2)
-        ok = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(r).all(axis=1)
-        Jd = np.where(ok[:, None, None], J, np.eye(2))
-        ok &= np.abs(np.linalg.det(Jd)) > 1e-12
-        P0 = P.copy()
-        if ok.any():
-            P[ok] = P[ok] - np.linalg.solve(Jd[ok], r[ok][..., None])[..., 0]
-        P[:, 0] = np.clip(P[:, 0], w_lo, w_hi)
-        P[:, 1] = np.clip(P[:, 1], g_lo, g_hi)
-        res = r + np.einsum("nij,nj->ni", J, P - P0)
-        pred = np.where(ok, np.hypot(res[:, 0], res[:, 1]), np.inf)
-    return spin_components(P[:, 0], P[:, 1]), pred
-
-
-def search(
-    shoot,
-    spec: MachineSpec,
-    target: tuple[float, float],
-    exact: tuple[float, float],
-    asked: dict,
-    tolerances: Tolerances,
-    elevation_limits: tuple[float, float],
-) -> Candidates:
-    """Fly the quantised neighbourhood of an exact solution (module docstring); every candidate.
-
-    ``shoot(elevation, heading, speed, spin, axis)`` flies arrays of settings (height fixed) and
-    returns a ``FlightTable``; ``asked`` holds ``speed_kmh``, ``spin_rpm``, ``spin_axis_deg`` as
-    asked (validated, not rounded); ``elevation_limits`` (lo, hi) [deg] keeps the elevations on the
-    branch being searched (low: below the elevation of the longest flight, high: above).
-    """
-    er, hr, sr, wr, gr = spec.elevation, spec.heading, spec.speed, spec.spin, spec.spin_axis
-    A0 = er.neighbours(exact[0], ELEVATION_EXTRA)
-    A0 = A0[(A0 >= elevation_limits[0] - 1e-9) & (A0 <= elevation_limits[1] + 1e-9)]
-    if A0.size == 0:
-        A0 = np.array([er.quantise(exact[0])])
-    B0 = hr.neighbours(exact[1], HEADING_EXTRA)
-    V0 = speed_steps(sr, asked["speed_kmh"], tolerances.speed_kmh)
-    A, B, V = (x.ravel() for x in np.meshgrid(A0, B0, V0, indexing="ij"))
-    w0, g0 = float(asked["spin_rpm"]), float(asked["spin_axis_deg"])
-    o0 = spin_components(w0, g0)
-    w0q, g0q = wr.quantise(w0), gr.quantise(g0)
-    tol_w = tolerances.spin_rpm
-    spins = [np.full((A.size, 2), (w0q, g0q))]  # the rounding of the asked spin is always allowed
-    tol_g = tolerances.spin_axis_deg
-    found = []
-    if tol_w > 0:
-        found.append(_spin_newton(shoot, A, B, V, target, o0, tol_w, wr.hi))
-    if tol_g > 0 and w0 > 0:
-        box = ((max(wr.lo, w0 - tol_w), min(wr.hi, w0 + tol_w)), (g0 - tol_g, g0 + tol_g))
-        found.append(_spin_box_newton(shoot, A, B, V, target, box))
-    combos = [(A, B, V)]
-    for W, pred in found:
-        top = np.argsort(pred, kind="stable")[:BEST_COMBOS]  # the combinations the spin brings nearest
-        top = top[np.isfinite(pred[top])]
-        w = np.hypot(W[top, 0], W[top, 1])
-        g = np.degrees(np.arctan2(W[top, 1], W[top, 0]))
-        for dw in (-1, 0, 1, 2):
-            for dg in (-1, 0, 1, 2):
-                wq = np.clip(np.floor(w / wr.step) * wr.step + dw * wr.step, wr.lo, wr.hi)
-                gq = wrap_deg(np.floor(g / gr.step) * gr.step + dg * gr.step)
-                spins.append(np.column_stack([wq, gq]))
-                combos.append((A[top], B[top], V[top]))
-    S = np.concatenate(spins)
-    AA, BB, VV = (np.concatenate(x) for x in zip(*combos))
-    wq, gq = S[:, 0], np.where(S[:, 0] == 0.0, g0q, S[:, 1])  # zero spin: one axis (same flight)
-    keep = tolerances.allows(wq, gq, w0, g0) | ((wq == w0q) & (gq == g0q))
-    keep &= (wq >= wr.lo) & (wq <= wr.hi)
-    rows = np.column_stack([AA, BB, VV, wq, gq])[keep]
-    rows = np.unique(np.round(rows, 9), axis=0)
-    if rows.shape[0] == 0:  # pragma: no cover - the rounded asked spin is always kept
-        raise InputError("target: no candidate settings within the tolerances")
-    tab = shoot(rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], rows[:, 4])
-    xy = _landing(tab)
     return Candidates(
-        elevation_deg=rows[:, 0],
-        heading_deg=rows[:, 1],
-        speed_kmh=rows[:, 2],
-        spin_rpm=rows[:, 3],
-        spin_axis_deg=rows[:, 4],
+        height_m=np.asarray(h, float),
+        elevation_deg=np.asarray(a, float),
+        heading_deg=np.asarray(b, float),
+        speed_kmh=np.asarray(v, float),
+        spin_rpm=np.asarray(w, float),
+        spin_axis_deg=np.asarray(g, float),
+        row=np.asarray(rows_idx, int),
         land_x=xy[:, 0],
         land_y=xy[:, 1],
-        miss_m=np.hypot(xy[:, 0] - target[0], xy[:, 1] - target[1]),
+        miss_m=np.hypot(xy[:, 0] - ask.target[0], xy[:, 1] - ask.target[1]),
         clearance_m=tab.clearance,
         net_status=tab["net_status"].astype(int),
         apex_z_m=tab["apex_z"],
@@ -272,16 +441,135 @@ def search(
     )
 
 
-def choose(c: Candidates, asked: dict, exact: tuple[float, float], mask: np.ndarray) -> int:
-    """Index of the best candidate among ``mask``: smallest miss; ties (0.01 mm) to the smaller changes."""
+def _concat(parts: list[Candidates]) -> Candidates:
+    return Candidates(**{k: np.concatenate([getattr(p, k) for p in parts]) for k in Candidates.__dataclass_fields__})
+
+
+def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_net: bool, prefs: Preferences):
+    """Stages 2 and 3 (module docstring) on the rows of :func:`rows_of`: every candidate flown."""
+    flown = _combos(shoot5, spec, ask, rows, flown)
+    pr = _predicted(spec, ask, rows, flown, need_net, prefs)
+    branch = np.array([rows[i].branch for i in pr["row"]])
+    fin = np.isfinite(pr["pred"])
+    parent_ok = _parent_ok(pr["info"], need_net, prefs)
+    cols = ("height", "speed", "elevation", "heading", "rate", "axis")
+    keys = _settings_key(*(pr[c] for c in cols))
+    chosen = []
+    for name in ("low", "high"):
+        for pool, top in ((fin & (branch == name), TOP), (fin & (branch == name) & parent_ok, TOP // 2)):
+            idx = np.flatnonzero(pool)
+            idx = idx[np.argsort(pr["pred"][idx], kind="stable")]
+            _, first = np.unique(keys[idx], return_index=True)
+            chosen.append(idx[np.sort(first)][:top])
+    pick = np.unique(np.concatenate(chosen))
+    seen = {k.tobytes() for k in keys[pick]}
+    flown_c = [_fly_candidates(shoot5, spec, ask, pr["row"][pick], [pr[c][pick] for c in cols])]
+    extra = _clearing_parents(spec, ask, rows, flown, flown_c[0], need_net, prefs, seen)
+    if extra is not None:
+        flown_c.append(_fly_candidates(shoot5, spec, ask, extra[0], extra[1:]))
+    for _ in range(ROUNDS):
+        new = _refine(spec, ask, rows, _concat(flown_c), need_net, prefs, seen)
+        if new is None:
+            break
+        flown_c.append(_fly_candidates(shoot5, spec, ask, new[0], new[1:]))
+    return _concat(flown_c)
+
+
+def _clearing_parents(spec, ask: Ask, rows, flown: dict, c: Candidates, need_net, prefs, seen: set):
+    """A branch none of whose flown candidates clears the net (or meets the preferences): its parents that do,
+    nearest the target first, with the rounded asked spin at their nearest heading step (so that a refusal
+    can say how far the nearest acceptable step lands)."""
+    _, pref_ok = acceptable(c, need_net, prefs)
+    have = {rows[i].branch for i in c.row[pref_ok]}
+    keys = [k for k in flown if rows[k[0]].branch not in have]
+    if not keys:
+        return None
+    info = np.array([flown[k][1] for k in keys])
+    good = _parent_ok(info, need_net, prefs)
+    if not good.any():
+        return None
+    P = np.asarray(spec.position, float)
+    T = np.asarray(ask.target, float)
+    beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
+    ell = np.array([flown[k][0] for k in keys])[good]
+    ri = np.array([k[0] for k in keys])[good]
+    b = spec.heading.quantise(beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0])))
+    miss = np.hypot(*(P + _rotate(ell, b) - T).T)
+    order = np.argsort(miss, kind="stable")[:CLEARING]
+    h = np.array([rows[i].height for i in ri])
+    v = np.array([k[1] for k in keys])[good]
+    a = np.array([k[2] for k in keys])[good]
+    cols = [h[order], v[order], a[order], np.atleast_1d(b)[order]]
+    w = np.full(order.size, ask.q_spin_rpm)
+    g = np.full(order.size, ask.q_spin_axis_deg)
+    fresh = [k.tobytes() not in seen for k in _settings_key(*cols, w, g)]
+    if not any(fresh):
+        return None
+    f = np.array(fresh)
+    return [ri[order][f]] + [x[f] for x in cols] + [w[f], g[f]]
+
+
+def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_net, prefs, seen: set):
+    """New spins for the best flown candidates of each branch from their measured misses (module docstring)."""
+    net_ok, pref_ok = acceptable(c, need_net, prefs)
+    branch = np.array([rows[i].branch for i in c.row])
+    picks = []
+    for name in ("low", "high"):
+        for mask in (pref_ok, net_ok, c.landed):
+            m = mask & (branch == name)
+            if m.any():
+                break
+        idx = np.flatnonzero(m)
+        picks.append(idx[np.argsort(c.miss_m[idx], kind="stable")][:REFINE])
+    idx = np.concatenate(picks)
+    if idx.size == 0:
+        return None
+    T = np.asarray(ask.target, float)
+    L0 = np.column_stack([c.land_x[idx], c.land_y[idx]])
+    J = np.array([rows[i].J for i in c.row[idx]])
+    B = c.heading_deg[idx]
+    Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
+    om_b = _components(c.spin_rpm[idx], c.spin_axis_deg[idx])
+    W, G, miss = _spin.variants(
+        L0, Jc, om_b, T, (ask.spin_rpm, ask.spin_axis_deg), ask.tolerances, spec.spin, spec.spin_axis
+    )
+    n, k = W.shape
+    rep = np.repeat(idx, k)
+    keys = _settings_key(
+        c.height_m[rep], c.speed_kmh[rep], c.elevation_deg[rep], c.heading_deg[rep], W.ravel(), G.ravel()
+    ).reshape(n, k)
+    order = np.argsort(miss, axis=1, kind="stable")
+    out = []
+    for j in range(n):
+        got = 0
+        for kk in order[j]:
+            if got >= PER_REFINE or not np.isfinite(miss[j, kk]):
+                break
+            key = keys[j, kk].tobytes()
+            if key in seen:
+                continue
+            seen.add(key)
+            out.append((idx[j], W[j, kk], G[j, kk]))
+            got += 1
+    if not out:
+        return None
+    i = np.array([o[0] for o in out])
+    w = np.array([o[1] for o in out])
+    g = np.array([o[2] for o in out])
+    return [c.row[i], c.height_m[i], c.speed_kmh[i], c.elevation_deg[i], c.heading_deg[i], w, g]
+
+
+def choose(c: Candidates, asked: dict, mask: np.ndarray, ref_height: float | None = None) -> int:
+    """Index of the best candidate among ``mask``: smallest miss; ties (0.01 mm) to the smaller change of
+    height (when searched, from ``ref_height``), speed, spin, then angles from the exact solution."""
     idx = np.flatnonzero(mask)
     if idx.size == 0:
         return -1
     miss = np.round(c.miss_m[idx] * 1e5)  # 0.01 mm
+    dh = np.zeros(idx.size) if ref_height is None else np.abs(c.height_m[idx] - ref_height)
     dv = np.abs(c.speed_kmh[idx] - asked["speed_kmh"])
     dw = spin_change_rpm(c.spin_rpm[idx], c.spin_axis_deg[idx], asked["spin_rpm"], asked["spin_axis_deg"])
-    dang = np.abs(c.elevation_deg[idx] - exact[0]) + np.abs(c.heading_deg[idx] - exact[1])
-    order = np.lexsort((dang, dw, dv, miss))
+    order = np.lexsort((np.round(dw, 9), np.round(dv, 9), np.round(dh, 9), miss))
     return int(idx[order[0]])
 
 

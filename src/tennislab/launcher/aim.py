@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import tennislab.core.shoot as shoot_mod
 import tennislab.launcher._search as _search
 from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 from tennislab.core.launch import spin_axis_angle
@@ -51,17 +52,12 @@ from tennislab.launcher.preferences import (
     spin_change_rpm,
     wrap_deg,
 )
+from tennislab.launcher.reach import reach_map
 from tennislab.launcher.rollers import roller_geometry, roller_speeds
 from tennislab.results import Result
-from tennislab.units import KMH, RPM
+from tennislab.units import DEG, KMH, RPM
 
-#: Tolerances of the aiming integrations (fly_batch); tighter than fly_batch's default so
-#: that finite-difference Jacobians are smooth.
-AIM_RTOL = 1e-9
-AIM_ATOL = 1e-9
 SOLUTIONS = ("low", "high")
-#: Batches smaller than this are flown on one thread.
-PARALLEL_MIN = 4096
 
 
 def launcher_params(**options) -> FlightParams:
@@ -104,7 +100,8 @@ class AimSolution:
     quantisation_bound_mm : first-order bound of the miss from rounding a and b alone to
         the nearest step, 1/2 step |dL/da| + 1/2 step |dL/db| [mm]
     position : the machine's (x, y) [m]
-    asked : the settings as asked (height, speed, spin, axis; elevation/heading the exact ones)
+    asked : the settings as asked (height, speed, spin, axis; elevation/heading the exact ones; the
+        height NaN when it was searched)
     net_limited : True when steps nearer the target exist but go into the net
     """
 
@@ -125,6 +122,11 @@ class AimSolution:
     asked: Settings | None = None
     net_limited: bool = False
 
+    @property
+    def height_searched(self) -> bool:
+        """True when the height was not given but searched (every step of the machine's range)."""
+        return self.asked is not None and math.isnan(self.asked.height_m)
+
     def deviation(self) -> dict:
         """How far each chosen setting is from what was asked (chosen - asked; spin as a vector too)."""
         a = self.asked or self.settings
@@ -134,7 +136,7 @@ class AimSolution:
             "spin_rpm": s.spin_rpm - a.spin_rpm,
             "spin_axis_deg": float(wrap_deg(s.spin_axis_deg - a.spin_axis_deg)),
             "spin_vector_rpm": float(spin_change_rpm(s.spin_rpm, s.spin_axis_deg, a.spin_rpm, a.spin_axis_deg)),
-            "height_m": s.height_m - a.height_m,
+            "height_m": None if math.isnan(a.height_m) else s.height_m - a.height_m,
             "elevation_deg": s.elevation_deg - self.exact_elevation_deg,
             "heading_deg": s.heading_deg - self.exact_heading_deg,
         }
@@ -172,7 +174,12 @@ def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: Fl
         "flight_time_s": sol.flight_time_s,
         "apex_z_m": sol.apex_z_m,
         "landing_speed_kmh": sol.landing_speed_ms / KMH,
-        "asked": {k: v for k, v in asked.to_dict().items() if k not in ("elevation_deg", "heading_deg")},
+        "asked": {
+            k: (None if math.isnan(v) else v)
+            for k, v in asked.to_dict().items()
+            if k not in ("elevation_deg", "heading_deg")
+        },
+        "height_searched": sol.height_searched,
         "net_limited": sol.net_limited,
         "deviation": sol.deviation(),
         "machine": machine_dict(spec, sol.position),
@@ -257,52 +264,9 @@ def _net_required(spec: MachineSpec, target) -> bool:
     return (spec.position[0] < 0) != (target[0] < 0)
 
 
-def _shooter(spec: MachineSpec, params: FlightParams, height: float):
-    """fly(elevation, heading, speed, spin, axis) arrays at a fixed height -> ``FlightTable``."""
-
-    def shoot(elev, head, speed, spin, axis):
-        st = launch_states(spec, height, speed, elev, head, spin, axis)
-        # threads pay only on large batches: on busy cores a parallel kernel waits for its slowest thread
-        return fly_batch(st, params, rtol=AIM_RTOL, atol=AIM_ATOL, parallel=len(st) >= PARALLEL_MIN)
-
-    return shoot
-
-
-def _landing(tab):
-    xy = np.column_stack([tab["land_x"], tab["land_y"]])
-    xy[~tab.ok] = np.nan
-    return xy
-
-
-def _newton(shoot, target, a0, b0, a_lo, a_hi, tol=1e-7, h=1e-3, max_iter=40):
-    """Solve landing(a, b) = target; a kept within [a_lo, a_hi] (deg). Returns (a, b, J (2x2, m/deg))."""
-    a, b = a0, b0
-    tgt = np.asarray(target, float)
-    J = None
-    for _ in range(max_iter):
-        xy = _landing(shoot([a, a + h, a], [b, b, b + h]))
-        if np.isnan(xy).any():
-            break
-        r = xy[0] - tgt
-        J = np.column_stack([(xy[1] - xy[0]) / h, (xy[2] - xy[0]) / h])
-        if np.hypot(*r) < tol:
-            return a, b, J
-        try:
-            da, db = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            da, db = 0.5 * (a_lo + a_hi) - a, 0.0
-        an = a + da
-        if not (a_lo <= an <= a_hi):
-            an = 0.5 * (a + (a_hi if an > a_hi else a_lo))
-        a, b = an, b + float(np.clip(db, -5.0, 5.0))
-    xy = _landing(shoot([a], [b]))[0]
-    if J is None or np.isnan(xy).any() or np.hypot(*(xy - tgt)) > 1e-4:
-        raise InputError(f"target: aiming did not converge for ({target[0]:g}, {target[1]:g}) m")
-    return a, b, J
-
-
 def _fmt(speed, spin, axis, height):
-    return f"{speed:g} km/h, {spin:g} rpm, spin axis {axis:g} deg, height {height:g} m"
+    where = f"height {height:g} m" if isinstance(height, float) else f"any height {height[0]:g}-{height[1]:g} m"
+    return f"{speed:g} km/h, {spin:g} rpm, spin axis {axis:g} deg, {where}"
 
 
 def spin_axis_deg_of(spin_axis) -> float:
@@ -310,12 +274,32 @@ def spin_axis_deg_of(spin_axis) -> float:
     return math.degrees(spin_axis_angle(spin_axis))
 
 
+def _heights(spec: MachineSpec, params: FlightParams, height_m, prefs: Preferences) -> np.ndarray:
+    """The launch heights searched [m]: the asked one (rounded to its step), or every step the ball and the
+    apex bound allow."""
+    r = params.ball.radius
+    if height_m is not None:
+        q = spec.height.quantise(spec.height.check("height_m", height_m))
+        if q < r:
+            raise InputError(f"height_m: {q:g} m is below the ball radius {r:g} m")
+        prefs.check_height(q)
+        return np.array([q])
+    hs = _search._steps(spec.height, spec.height.lo, spec.height.hi)
+    hs = hs[hs >= r]
+    if prefs.max_apex_m is not None:
+        hs = hs[hs <= prefs.max_apex_m]
+    if hs.size == 0:
+        prefs.check_height(spec.height.lo)
+        raise InputError(f"height_m: no launch height of [{spec.height.lo:g}, {spec.height.hi:g}] m holds a ball")
+    return hs
+
+
 def aim_all(
     target,
     speed_kmh: float | None = None,
     spin_rpm: float = 0.0,
     spin_axis_deg: float = 0.0,
-    height_m: float = 1.0,
+    height_m: float | None = None,
     spec: MachineSpec = DEFAULT_SPEC,
     params: FlightParams | None = None,
     *,
@@ -327,12 +311,13 @@ def aim_all(
     """Every aim solution that exists for a target: ``({"low"|"high": AimSolution}, {name: reason})``.
 
     ``target`` (x, y) [m] on the court; speed [km/h] (or ``speed_ms``/``speed_mph``), spin [rpm],
-    spin axis [deg] and height [m] are range-checked (InputError naming the parameter).  Each
-    branch is searched on the machine's steps within ``tolerances`` (default 3 km/h, 100 rpm) and
-    must meet ``preferences``' bounds (its ``trajectory`` is not applied here: both branches are
-    returned).  A solution is missing (with its reason) when its exact elevation is outside the
-    elevation range, its heading outside the heading range, it (or every neighbour) hits the net,
-    or no neighbour meets the preferences.
+    spin axis [deg] and height [m] are range-checked (InputError naming the parameter); ``height_m``
+    None searches every height step (ties of the miss go to the height nearest 1 m).  Each branch is
+    searched on the machine's steps within ``tolerances`` (default 3 km/h, 100 rpm, 10 deg) and must
+    meet ``preferences``' bounds (its ``trajectory`` is not applied here: both branches are
+    returned).  A solution is missing (with its reason) when no elevation in the range lands there,
+    its heading is outside the heading range, it (or every neighbour) hits the net, or no neighbour
+    meets the preferences.
     """
     params = params or launcher_params()
     tolerances = tolerances or Tolerances()
@@ -342,16 +327,14 @@ def aim_all(
         "speed_kmh": speed_in_kmh(spec, speed_kmh, speed_ms, speed_mph),
         "spin_rpm": spec.spin.check("spin_rpm", spin_rpm),
         "spin_axis_deg": spec.spin_axis.check("spin_axis_deg", spin_axis_deg),
-        "height_m": spec.height.check("height_m", height_m),
     }
+    heights = _heights(spec, params, height_m, preferences)
+    free = height_m is None
     q = {f: spec.range_of(f).quantise(v) for f, v in asked.items()}
-    if q["height_m"] < params.ball.radius:
-        raise InputError(f"height_m: {q['height_m']:g} m is below the ball radius {params.ball.radius:g} m")
-    preferences.check_height(q["height_m"])
     px, py = spec.position
     dx, dy = tx - px, ty - py
     dist = math.hypot(dx, dy)
-    desc = _fmt(q["speed_kmh"], q["spin_rpm"], q["spin_axis_deg"], q["height_m"])
+    desc = _fmt(q["speed_kmh"], q["spin_rpm"], q["spin_axis_deg"], (heights[0], heights[-1]) if free else heights[0])
     if dist < 0.5:
         raise InputError(f"target: ({tx:g}, {ty:g}) m is within 0.5 m of the machine at ({px:g}, {py:g}) m")
     b0 = math.degrees(math.atan2(dy, dx))
@@ -361,105 +344,122 @@ def aim_all(
             f"target: ({tx:g}, {ty:g}) m lies at heading {b0:.1f} deg from the machine at "
             f"({px:g}, {py:g}) m, outside the heading range [{hr.lo:g}, {hr.hi:g}] deg"
         )
-    shoot5 = _shooter(spec, params, q["height_m"])
-
-    def shoot(elev, head):  # the exact solve flies the asked speed, spin and axis (rounded to the steps)
-        e = np.asarray(elev, float)
-        return shoot5(e, np.asarray(head, float), q["speed_kmh"], q["spin_rpm"], q["spin_axis_deg"])
-
-    er = spec.elevation
-    grid = np.arange(er.lo, er.hi + 0.5 * er.step, er.step)
-    xy = _landing(shoot(grid, np.full_like(grid, b0)))
-    e = np.array([dx, dy]) / dist
-    f = (xy - np.array([px, py])) @ e - dist
-    ok = np.isfinite(f)
-    if not ok.any():
-        raise InputError(f"target: no shot lands at {desc}")
-    if np.nanmax(f) < 0:
-        raise InputError(
-            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, beyond its reach "
-            f"{dist + np.nanmax(f):.2f} m at {desc}; raise speed_kmh (max {spec.speed.hi:g})"
-        )
-    if np.nanmin(f) > 0:
-        raise InputError(
-            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, nearer than its "
-            f"shortest flight {dist + np.nanmin(f):.2f} m at {desc}; lower speed_kmh "
-            f"(min {spec.speed.lo:g}) or height_m"
-        )
-    a_split = float(grid[int(np.nanargmax(np.where(ok, f, -np.inf)))])  # the longest flight splits the branches
-    brackets = {}
-    for i in range(len(grid) - 1):
-        if not (ok[i] and ok[i + 1]):
-            continue
-        if f[i] < 0 <= f[i + 1] and "low" not in brackets:
-            brackets["low"] = (grid[i], grid[i + 1], f[i], f[i + 1])
-        if f[i] >= 0 > f[i + 1]:
-            brackets["high"] = (grid[i], grid[i + 1], f[i], f[i + 1])
+    ask = _search.Ask(
+        (tx, ty),
+        asked["speed_kmh"],
+        asked["spin_rpm"],
+        asked["spin_axis_deg"],
+        q["speed_kmh"],
+        q["spin_rpm"],
+        q["spin_axis_deg"],
+        heights,
+        free,
+        tolerances,
+    )
+    shoot5 = _search.Shooter(spec, params)
+    rows, flown = _search.rows_of(shoot5, spec, params, reach_map(spec, params), ask)
     reasons = {}
-    if "low" not in brackets:
-        reasons["low"] = (
-            f"elevation_deg: no low solution within the allowed range [{er.lo:g}, {er.hi:g}] deg: "
-            f"even at {er.lo:g} deg the ball flies beyond the target ({desc})"
-        )
-    if "high" not in brackets:
-        reasons["high"] = (
-            f"elevation_deg: no high (lob) solution within the allowed range [{er.lo:g}, "
-            f"{er.hi:g}] deg: even at {er.hi:g} deg the ball flies beyond the target ({desc})"
-        )
-    need_net = _net_required(spec, (tx, ty))
-    out = {}
-    for name, (a_lo, a_hi, f_lo, f_hi) in brackets.items():
-        a0 = a_lo + (a_hi - a_lo) * f_lo / (f_lo - f_hi)
-        # the bracket was found at the geometric heading; a curving ball needs another heading,
-        # which shifts the elevation a little: widen the bracket by 3 steps on each side.
-        widen = 3 * er.step
-        a, b, J = _newton(shoot, (tx, ty), a0, b0, max(er.lo, a_lo - widen), min(er.hi, a_hi + widen))
-        if not (hr.lo <= b <= hr.hi):
+    for name in SOLUTIONS:
+        if not any(r.branch == name for r in rows):
+            failed = _search.probe(shoot5, spec, params, ask, name, rows)
+            if failed:
+                reasons[name] = _missing(name, failed, spec, (tx, ty), dist, desc)
+    for name in SOLUTIONS:
+        heads = [r.b for r in rows if r.branch == name]
+        if heads and not any(hr.lo <= b <= hr.hi for b in heads):
+            b = min(heads, key=lambda x: abs(x))
             reasons[name] = (
                 f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range [{hr.lo:g}, {hr.hi:g}] deg"
             )
+    rows = [r if hr.lo <= r.b <= hr.hi else None for r in rows]
+    live = [r for r in rows if r is not None]
+    if not live:
+        if not reasons:  # pragma: no cover - every missing branch has its reason
+            raise InputError(f"target: no shot lands at ({tx:g}, {ty:g}) m with {desc}")
+        return {}, reasons
+    need_net = _net_required(spec, (tx, ty))
+    c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
+    branch = np.array([live[i].branch for i in c.row])
+    out = {}
+    for name in SOLUTIONS:
+        if name in reasons:
             continue
-        limits = (er.lo, a_split) if name == "low" else (a_split, er.hi)
         try:
-            out[name] = _quantised(
-                shoot5, spec, asked, q, name, (tx, ty), a, b, J, need_net, tolerances, preferences, limits
-            )
+            out[name] = _quantised(spec, params, ask, live, c.take(branch == name), name, need_net, preferences)
         except InputError as exc:
             reasons[name] = str(exc)
     return out, reasons
 
 
-def _quantised(shoot5, spec, asked, q, name, target, a, b, J, need_net, tolerances, prefs, limits) -> AimSolution:
-    """The best candidate of the joint search around the exact (a, b) (:mod:`._search`), or InputError why not."""
-    c = _search.search(shoot5, spec, target, (a, b), asked, tolerances, limits)
+def _missing(name: str, failed: list, spec: MachineSpec, target, dist: float, desc: str) -> str:
+    """Why a branch has no solution, from the real scans of :func:`._search.probe` (one line)."""
+    tx, ty = target
+    er = spec.elevation
+    codes = [int(s.reason[0]) for _, s in failed]
+    reach = np.array([s.scan.reach[0] for _, s in failed if s.scan is not None])
+    if all(c == shoot_mod.NO_FLIGHT for c in codes) or reach.size == 0:
+        return f"target: no shot lands at {desc}"
+    if all(c == shoot_mod.TOO_FAR for c in codes):
+        return (
+            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, beyond its reach "
+            f"{np.nanmax(reach[:, 1]):.2f} m at {desc}; raise speed_kmh (max {spec.speed.hi:g})"
+        )
+    if all(c == shoot_mod.TOO_NEAR for c in codes):
+        return (
+            f"target: ({tx:g}, {ty:g}) m is {dist:.2f} m from the machine, nearer than its "
+            f"shortest flight {np.nanmin(reach[:, 0]):.2f} m at {desc}; lower speed_kmh "
+            f"(min {spec.speed.lo:g}) or height_m"
+        )
+    if name == "low":
+        return (
+            f"elevation_deg: no low solution within the allowed range [{er.lo:g}, {er.hi:g}] deg: "
+            f"even at {er.lo:g} deg the ball flies beyond the target ({desc})"
+        )
+    return (
+        f"elevation_deg: no high (lob) solution within the allowed range [{er.lo:g}, "
+        f"{er.hi:g}] deg: even at {er.hi:g} deg the ball flies beyond the target ({desc})"
+    )
+
+
+def _quantised(spec, params, ask, rows, c, name, need_net, prefs) -> AimSolution:
+    """The best flown candidate of a branch (:mod:`._search`), or InputError why not."""
+    asked = {"speed_kmh": ask.speed_kmh, "spin_rpm": ask.spin_rpm, "spin_axis_deg": ask.spin_axis_deg}
+    ref = _search.REFERENCE_HEIGHT_M if ask.height_free else None
+    target = ask.target
+    if c.miss_m.size == 0:
+        raise InputError(f"target: no {name} flight lands near ({target[0]:g}, {target[1]:g}) m")
     net_ok, pref_ok = _search.acceptable(c, need_net, prefs)
-    bound = 0.5 * spec.elevation.step * np.hypot(*J[:, 0]) + 0.5 * spec.heading.step * np.hypot(*J[:, 1])
+    where = " at any height" if ask.height_free else ""
     if not net_ok.any():
         i = int(np.nanargmin(np.where(np.isfinite(c.miss_m), c.miss_m, np.inf)))
+        r = rows[c.row[i]]
         raise InputError(
-            f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes "
-            f"into the net (clearance {c.clearance_m[i]:.3f} m); try the other solution or another "
+            f"target: the {name} solution (elevation {r.a:.2f} deg, heading {r.b:.2f} deg) goes "
+            f"into the net{where} (clearance {c.clearance_m[i]:.3f} m); try the other solution or another "
             f"speed/spin"
         )
-    i_net = _search.choose(c, asked, (a, b), net_ok)
+    i_net = _search.choose(c, asked, net_ok, ref)
+    r = rows[c.row[i_net]]
+    dist = math.hypot(target[0] - spec.position[0], target[1] - spec.position[1])
+    bound = 0.5 * spec.elevation.step * abs(r.slope) + 0.5 * math.radians(spec.heading.step) * dist
     near_m = 1.05 * bound + 1e-3
     if c.miss_m[i_net] > near_m:
         # the steps near the exact solution go into the net; the nearest one that clears it is far off
         raise InputError(
-            f"target: the {name} solution (elevation {a:.2f} deg, heading {b:.2f} deg) goes into "
-            f"the net at the machine's {spec.elevation.step:g} deg steps (the nearest step "
+            f"target: the {name} solution (elevation {r.a:.2f} deg, heading {r.b:.2f} deg) goes into "
+            f"the net at the machine's {spec.elevation.step:g} deg steps{where} (the nearest step "
             f"clearing it lands {c.miss_m[i_net]:.2f} m from the target); try the other solution or "
             f"another speed/spin"
         )
     near = net_ok & (c.miss_m <= near_m)
-    i = _search.choose(c, asked, (a, b), pref_ok & near)
+    i = _search.choose(c, asked, pref_ok & near, ref)
     if i < 0:
         what = f"{name} flights to ({target[0]:g}, {target[1]:g}) m"
         raise InputError(prefs.violation(c.apex_z_m[near], c.clearance_m[near], c.flight_time_s[near], what))
-    i_any = _search.choose(c, asked, (a, b), c.landed)
+    i_any = _search.choose(c, asked, c.landed, ref)
     net_limited = bool(need_net and c.miss_m[i] > c.miss_m[i_any] + 0.01)
     st = Settings(
-        q["height_m"],
+        float(c.height_m[i]),
         float(c.speed_kmh[i]),
         float(c.elevation_deg[i]),
         float(c.heading_deg[i]),
@@ -467,13 +467,14 @@ def _quantised(shoot5, spec, asked, q, name, target, a, b, J, need_net, toleranc
         float(c.spin_axis_deg[i]),
     )
     spec.validate(st, require_steps=True)
+    a, b, bound = _exact(spec, params, ask, rows[c.row[i]])
     net_result = ("none", "over", "net")[int(c.net_status[i])]
     return AimSolution(
         name,
         tuple(map(float, target)),
         st,
-        float(a),
-        float(b),
+        a,
+        b,
         (float(c.land_x[i]), float(c.land_y[i])),
         float(c.miss_m[i] * 1e3),
         float(c.clearance_m[i]),
@@ -483,9 +484,37 @@ def _quantised(shoot5, spec, asked, q, name, target, a, b, J, need_net, toleranc
         float(c.landing_speed_ms[i]),
         float(bound * 1e3),
         tuple(spec.position),
-        Settings(asked["height_m"], asked["speed_kmh"], float(a), float(b), asked["spin_rpm"], asked["spin_axis_deg"]),
+        Settings(math.nan if ask.height_free else st.height_m, ask.speed_kmh, a, b, ask.spin_rpm, ask.spin_axis_deg),
         net_limited,
     )
+
+
+def _exact(spec: MachineSpec, params: FlightParams, ask, row) -> tuple[float, float, float]:
+    """The exact (continuous) elevation and heading [deg] at the asked speed and spin and the row's height
+    (:func:`tennislab.core.shoot.shoot` from the row's solution), and the first-order bound [m] of the miss
+    from rounding the two angles alone."""
+    om = np.radians(ask.spin_axis_deg)
+    w = ask.spin_rpm * RPM
+    side = (
+        (-0.5 * math.pi, math.radians(row.split)) if row.branch == "low" else (math.radians(row.split), 0.5 * math.pi)
+    )
+    s = shoot_mod.shoot(
+        (spec.position[0], spec.position[1], row.height),
+        ask.speed_kmh * KMH,
+        ask.target,
+        params,
+        spin=(w * math.cos(om), w * math.sin(om), 0.0),
+        branch=row.branch,
+        start=(math.radians(row.a), math.radians(row.b)),
+        bounds=(min(side[0], math.radians(row.a)), max(side[1], math.radians(row.a))),
+    )
+    a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
+    J = s.jacobian[0] * DEG  # [m/deg]
+    if not s.converged[0] or not np.isfinite(J).all():
+        a, b = row.a, row.b
+        dist = math.hypot(ask.target[0] - spec.position[0], ask.target[1] - spec.position[1])
+        return a, b, 0.5 * spec.elevation.step * abs(row.slope) + 0.5 * spec.heading.step * DEG * dist
+    return a, b, 0.5 * spec.elevation.step * np.hypot(*J[:, 0]) + 0.5 * spec.heading.step * np.hypot(*J[:, 1])
 
 
 def pick_solution(sols: dict, reasons: dict, trajectory: str) -> AimSolution:
@@ -506,7 +535,7 @@ def aim(
     speed_kmh: float | None = None,
     spin_rpm: float = 0.0,
     spin_axis_deg: float = 0.0,
-    height_m: float = 1.0,
+    height_m: float | None = None,
     spec: MachineSpec = DEFAULT_SPEC,
     params: FlightParams | None = None,
     solution: str | None = None,
@@ -526,8 +555,9 @@ def aim(
 
     ``target`` (x, y) [m]; the ball speed in km/h (``speed_kmh``), m/s (``speed_ms``) or mph
     (``speed_mph``); ``spin_rpm`` about ``spin_axis_deg`` (or ``spin_axis``: a name such as
-    ``topspin``, ``slice``, ``sidespin-left``, or degrees); launch ``height_m`` (as given, on its
-    0.1 m steps).  ``trajectory`` ``low`` (default), ``high`` or ``any`` (``solution`` is its
+    ``topspin``, ``slice``, ``sidespin-left``, or degrees); launch ``height_m`` (as given, rounded to
+    its 0.1 m steps; None: searched like the other settings, every step of the machine's range, ties
+    of the miss to the height nearest 1 m).  ``trajectory`` ``low`` (default), ``high`` or ``any`` (``solution`` is its
     older name); ``max_apex_m``, ``net_clearance_m`` (MIN, MAX), ``max_flight_time_s`` bound the
     flight; ``speed_tolerance_kmh`` and ``spin_tolerance_rpm`` (0 = exact) how far speed and spin
     may move to land nearer.  Returns an :class:`AimResult`; InputError (naming the parameter)

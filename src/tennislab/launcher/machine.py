@@ -236,14 +236,10 @@ def launch_states(
     except ValueError as exc:
         raise InputError(f"launch_states: settings arrays do not broadcast together ({exc})") from None
     h, v, a, b, w, g = (x.reshape(-1) for x in (h, v, a, b, w, g))
-    out = np.empty((h.size, 9))
-    out[:, 0] = spec.position[0]
-    out[:, 1] = spec.position[1]
-    out[:, 2] = h
-    ar, br = a * DEG, b * DEG
-    out[:, 3:6] = launch.launch_velocity(v * KMH, ar, br)
-    out[:, 6:9] = launch.launch_spin(w * RPM, ar, br, g * DEG)
-    return out
+    pos = np.empty((h.size, 3))
+    pos[:, 0], pos[:, 1], pos[:, 2] = spec.position[0], spec.position[1], h
+    top, side = launch.axis_components(w * RPM, g * DEG)
+    return launch.launch_states(pos, v * KMH, a * DEG, b * DEG, top, side)
 
 
 def settings_states(spec: MachineSpec, settings) -> np.ndarray:

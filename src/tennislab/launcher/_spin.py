@@ -1,0 +1,155 @@
+"""The spin that lands a candidate nearest the target, within the tolerances, on the machine's steps.
+
+A candidate of the search (:mod:`._search`) is a launch whose landing L0 [m] is known (flown, or
+predicted) for a spin vector omega_b (two components about the flight, topspin and sidespin [rpm],
+:func:`~.preferences.spin_components`), with the sensitivity J [m/rpm] of its landing to those
+components.  The Magnus force of the seed's model is linear in omega (Wojcicki, Pucilowski & Kulesza
+2010, eq 3), so the landing is nearly linear in it::
+
+    L(omega) = L0 + J (omega - omega_b)
+
+The spins allowed (:class:`~.preferences.Tolerances`) are the disc |omega - omega_asked| <= tol
+and, with an axis tolerance, the box |w - w_asked| <= tol, |g - g_asked| <= tol_g of rate w and axis
+angle g; the machine dials w in 1 rpm and g in 1 deg steps.  :func:`variants` finds, per
+candidate, the continuous optimum in the disc (a 2 x 2 trust-region problem, :func:`trust_step`)
+and in the box (projected Gauss-Newton in (w, g)), then for the axis steps around each optimum the
+best rate on that axis (a 1-D least-squares problem clipped to the allowed interval of rates on it)
+rounded both ways, and the rounding of the asked spin: the quantised spins worth flying, with their
+predicted misses.
+
+References
+----------
+Nocedal & Wright (2006), Numerical Optimization, 2nd ed., chapter 4 (the trust-region subproblem).
+Wojcicki, Pucilowski & Kulesza (2010), Acta Mech. Autom. 4(4) (seed 002: spin rate and axis steps).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tennislab.launcher.machine import Range
+from tennislab.launcher.preferences import Tolerances, wrap_deg
+
+
+def _rate_intervals(g, w0, g0, tol_w, tol_g):
+    """Per axis angle g [deg] (any shape), the allowed rates: the disc's interval and the box's
+    ([lo, hi], NaN if none)."""
+    dg = np.radians(wrap_deg(g - g0))
+    c, s = np.cos(dg), np.sin(dg)
+    disc = tol_w * tol_w - (w0 * s) ** 2
+    root = np.sqrt(np.maximum(disc, 0.0))
+    d_lo = np.where(disc >= 0, w0 * c - root, np.nan)
+    d_hi = np.where(disc >= 0, w0 * c + root, np.nan)
+    in_box = (tol_g > 0) & (w0 > 0) & (np.abs(np.degrees(dg)) <= tol_g + 1e-9)
+    b_lo = np.where(in_box, w0 - tol_w, np.nan)
+    b_hi = np.where(in_box, w0 + tol_w, np.nan)
+    return (d_lo, d_hi), (b_lo, b_hi)
+
+
+#: More axis steps than this (a disc around a slow asked spin holds every axis): each candidate tries the
+#: :data:`NEAR_AXES` steps either side of its continuous optimum's axis instead
+MAX_AXES = 41
+NEAR_AXES = 4
+
+
+def _near_axes(J, rx, ry, w0, g0, tol_w, gr: Range) -> np.ndarray:
+    """Per candidate (n, 2 NEAR_AXES + 1) axis steps [deg] around the axis of its optimum in the disc
+    (the least-squares spin, pulled back onto the disc)."""
+    o0 = w0 * np.array([np.cos(np.radians(g0)), np.sin(np.radians(g0))])
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    # omega minimising |r + J omega|: -J^-1 r
+    ox = -(J[:, 1, 1] * rx - J[:, 0, 1] * ry) / det
+    oy = -(-J[:, 1, 0] * rx + J[:, 0, 0] * ry) / det
+    d = np.stack([ox - o0[0], oy - o0[1]], axis=1)
+    nd = np.hypot(d[:, 0], d[:, 1])
+    d *= np.where(nd > tol_w, tol_w / np.maximum(nd, 1e-300), 1.0)[:, None]
+    ang = np.degrees(np.arctan2(o0[1] + d[:, 1], o0[0] + d[:, 0]))
+    base = gr.lo + np.round((ang - gr.lo) / gr.step) * gr.step
+    return np.round(wrap_deg(base[:, None] + np.arange(-NEAR_AXES, NEAR_AXES + 1)[None, :] * gr.step), 9)
+
+
+def axis_steps(asked: tuple[float, float], tol: Tolerances, gr: Range) -> np.ndarray:
+    """Every axis step [deg] on which some rate is allowed (the disc's and the box's axis ranges)."""
+    w0, g0 = float(asked[0]), float(asked[1])
+    if tol.spin_rpm == 0 and (tol.spin_axis_deg == 0 or w0 == 0):
+        return np.array([gr.quantise(g0)])
+    if tol.spin_rpm >= w0:
+        half = 180.0  # the disc holds the origin: every axis
+    else:
+        half = np.degrees(np.arcsin(tol.spin_rpm / w0)) if tol.spin_rpm > 0 else 0.0
+        if tol.spin_axis_deg > 0 and w0 > 0:
+            half = max(half, tol.spin_axis_deg)
+    if half >= 180.0:
+        g = gr.lo + np.arange(int(round((gr.hi - gr.lo) / gr.step)) + 1) * gr.step
+    else:
+        k0 = np.ceil((g0 - half - 1e-9 - gr.lo) / gr.step)
+        k1 = np.floor((g0 + half + 1e-9 - gr.lo) / gr.step)
+        g = gr.lo + np.arange(k0, k1 + 1) * gr.step
+    g = np.unique(np.round(wrap_deg(g), 9))
+    return g[(g >= gr.lo - 1e-9) & (g <= gr.hi + 1e-9)]
+
+
+def variants(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances, wr: Range, gr: Range):
+    """Quantised spins worth flying for each of n candidates (module docstring).
+
+    ``L0`` (n, 2) [m] landings with the spin ``omega_b`` (n, 2) [rpm components], ``J`` (n, 2, 2)
+    [m/rpm]; ``asked`` (rate [rpm], axis [deg]) as asked (not rounded).  For every allowed axis step
+    (:func:`axis_steps`) the best rate on it under the linear model, clipped to the rates allowed on
+    that axis and rounded down and up to the rate steps, and the rounding of the asked spin.
+    Returns (rate (n, k), axis (n, k), predicted miss (n, k) [m]); a variant outside the tolerances
+    has miss inf.
+    """
+    L0, J, omega_b = (np.asarray(x, dtype=float) for x in (L0, J, omega_b))
+    n = L0.shape[0]
+    w0, g0 = float(asked[0]), float(asked[1])
+    j00, j01, j10, j11 = (J[:, i, k][:, None] for i in (0, 1) for k in (0, 1))
+    tx, ty = float(target[0]), float(target[1])
+    r0x = (L0[:, 0] - J[:, 0, 0] * omega_b[:, 0] - J[:, 0, 1] * omega_b[:, 1] - tx)[
+        :, None
+    ]  # L(omega) - T = r0 + J omega
+    r0y = (L0[:, 1] - J[:, 1, 0] * omega_b[:, 0] - J[:, 1, 1] * omega_b[:, 1] - ty)[:, None]
+    g = axis_steps(asked, tol, gr)
+    if g.size > MAX_AXES:  # the disc holds the origin (a slow asked spin): the axes near each optimum
+        g = _near_axes(J, r0x[:, 0], r0y[:, 0], w0, g0, tol.spin_rpm, gr)
+    else:
+        g = np.broadcast_to(g, (n, g.size))
+    cg, sg = np.cos(np.radians(g)), np.sin(np.radians(g))
+    jx, jy = j00 * cg + j01 * sg, j10 * cg + j11 * sg  # J e_g (n, m)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w_opt = -(jx * r0x + jy * r0y) / (jx * jx + jy * jy)
+    w_opt = np.nan_to_num(w_opt, nan=w0, posinf=w0, neginf=w0)
+    best = np.full(w_opt.shape, np.nan)
+    for lo, hi in _rate_intervals(g, w0, g0, tol.spin_rpm, tol.spin_axis_deg):
+        lo, hi = np.maximum(lo, wr.lo), np.minimum(hi, wr.hi)
+        with np.errstate(invalid="ignore"):
+            w_c = np.clip(w_opt, lo, hi)
+            better = np.isfinite(w_c) & (lo <= hi)
+            better &= ~np.isfinite(best) | (np.abs(w_c - w_opt) < np.abs(best - w_opt))
+        best = np.where(better, w_c, best)
+    k = np.floor((np.where(np.isfinite(best), best, w0) - wr.lo) / wr.step)
+    w_q, g_q = wr.quantise(w0), gr.quantise(g0)
+    W = np.concatenate([np.full((n, 1), w_q), wr.lo + k * wr.step, wr.lo + (k + 1) * wr.step], axis=1)
+    G = np.concatenate([np.full((n, 1), g_q), g, g], axis=1)
+    W = np.round(np.clip(W, wr.lo, wr.hi), 9)
+    G = np.where(W == 0.0, g_q, G)  # zero spin: one axis (the same flight)
+    gg = np.radians(G)
+    ox, oy = W * np.cos(gg), W * np.sin(gg)
+    miss = np.hypot(r0x + j00 * ox + j01 * oy, r0y + j10 * ox + j11 * oy)
+    ok = tol.allows(W, G, w0, g0) | ((W == w_q) & (G == g_q))
+    return W, G, np.where(ok, miss, np.inf)
+
+
+def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -> np.ndarray:
+    """Per candidate, an upper bound [m] of how far an allowed spin can move its landing (pruning)."""
+    w0, g0 = float(asked[0]), np.radians(float(asked[1]))
+    o0 = w0 * np.array([np.cos(g0), np.sin(g0)])
+    box = tol.spin_rpm + (w0 + tol.spin_rpm) * np.radians(tol.spin_axis_deg) if w0 > 0 else 0.0
+    radius = np.hypot(*(np.asarray(omega_b, dtype=float) - o0).T) + max(tol.spin_rpm, box)
+    JtJ = np.einsum("nki,nkj->nij", J, J)
+    tr, det = JtJ[:, 0, 0] + JtJ[:, 1, 1], JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+    sigma = np.sqrt(np.maximum(0.5 * (tr + np.sqrt(np.maximum(tr * tr - 4 * det, 0.0))), 0.0))
+    return sigma * radius
+
+
+__all__ = ["axis_steps", "reach", "variants"]

@@ -1,0 +1,328 @@
+"""The machine's whole reach as a fitted map: where every setting lands, and back (the inverse map).
+
+A launch of the machine is known by its height h, speed v, elevation a, heading b and spin (two
+components about the flight, topspin t and sidespin s, Wojcicki, Pucilowski & Kulesza 2010 section
+2).  Without wind the physics does not depend on the heading: a launch turned by b lands where the
+launch at heading 0 lands, turned by b about the machine.  So the whole reach is two functions of
+five settings, the distance rho and the angle phi (to the left of the launch direction) of the
+landing seen from the launch point::
+
+    rho(h, v, a, t, s),  phi(h, v, a, t, s)
+
+:class:`ReachMap` holds both as tensor-product Chebyshev interpolants (Trefethen 2013) over the
+machine's ranges: ``NODES`` Chebyshev points per setting (in sqrt(h), v, a, t, s), one compiled batch
+flight per node (:func:`tennislab.core.flight.fly_batch`, ~60,000 flights: about a second), the
+coefficients by a discrete cosine transform along each axis.  Evaluating it costs no flight.
+
+The inverse map (:meth:`ReachMap.aim`): for a target at distance D and bearing beta from the
+machine and given h, v, t, s, the 1-D polynomial rho(a) is evaluated on a fine elevation grid; its
+crossings of D on the rising (low) and falling (high) side of its maximum give the elevation, and
+b = beta - phi(a) the heading.  Its error (cm at court distances, more at the edges of the reach:
+docs/launcher.md) is then removed by one or two Newton steps on the real kernel
+(:func:`tennislab.core.shoot.shoot` started there): the map is where a search starts, never an
+answer by itself.
+
+A map depends on the physics (aero model and its coefficients, ball, air, spin decay, the flight's
+``t_max``) and the machine's ranges, not on its position, the court or the wind (a wind breaks the
+symmetry: with wind the map of the still air is the start and the Newton steps do the rest).  It is
+built on first use and kept in memory and on disk (:func:`reach_map`): in the user's cache folder,
+``$TENNISLAB_CACHE_DIR`` if set (empty: no file at all), else ``$XDG_CACHE_HOME/tennislab`` or
+``~/.cache/tennislab``, as ``reach-<key>.npz`` (about 1 MB).  A file that cannot be read or does not
+match its key is built again; a folder that cannot be written is no error (the map stays in memory).
+
+References
+----------
+Trefethen, L. N. (2013), Approximation Theory and Approximation Practice, SIAM, chapters 2-3
+(Chebyshev points and interpolants).
+Wojcicki, Pucilowski & Kulesza (2010), Mathematical analysis for a new tennis ball launcher,
+Acta Mech. Autom. 4(4) (seed 002: the settings and their ranges).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import functools
+import hashlib
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tennislab.core import aero as _aero
+from tennislab.core.flight import FlightParams, fly_batch
+from tennislab.core.launch import launch_states
+from tennislab.launcher.machine import MachineSpec
+from tennislab.units import DEG, KMH, RPM
+
+#: Version of the map's layout and fit (part of its key: a new version is built anew)
+FORMAT = 1
+#: Chebyshev points per setting: height (in sqrt h), speed, elevation, topspin, sidespin
+NODES = (6, 10, 16, 8, 8)
+AXES = ("height_m", "speed_kmh", "elevation_deg", "topspin_rpm", "sidespin_rpm")
+#: Elevation grid on which the 1-D curves rho(a) are evaluated to find crossings [deg]
+CURVE_POINTS = 201
+
+
+def _cheb_points(n: int) -> np.ndarray:
+    """Chebyshev points of the first kind in [-1, 1], ascending (n = 1: the middle)."""
+    return -np.cos(np.pi * (np.arange(n) + 0.5) / n)
+
+
+def _vander(u, n: int) -> np.ndarray:
+    """Chebyshev polynomials T_0 .. T_{n-1} at u (..., n): T_k(u) = cos(k arccos u), u clipped to [-1, 1]."""
+    theta = np.arccos(np.clip(np.asarray(u, dtype=float), -1.0, 1.0))
+    return np.cos(theta[..., None] * np.arange(n))
+
+
+@dataclass(frozen=True)
+class ReachMap:
+    """The fitted reach (module docstring): domain ``lo``/``hi`` (5,) in the fitted variables (sqrt of
+    the height [m^0.5], speed [km/h], elevation [deg], topspin and sidespin [rpm]), coefficient
+    tensors ``rho`` [m] and ``phi`` [rad] of shape :data:`NODES`, and the ``key`` of the physics and
+    ranges it was built for."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    rho: np.ndarray
+    phi: np.ndarray
+    key: str
+
+    @functools.cached_property
+    def _grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """The elevation grid of the curves [deg] and its Chebyshev matrix (computed once)."""
+        grid = np.linspace(self.lo[2], self.hi[2], CURVE_POINTS)
+        return grid, _vander(self._u(2, grid), self.rho.shape[2])
+
+    def _u(self, axis: int, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        if axis == 0:
+            x = np.sqrt(np.maximum(x, 0.0))
+        lo, hi = self.lo[axis], self.hi[axis]
+        return np.zeros_like(x) if hi <= lo else (2.0 * x - (lo + hi)) / (hi - lo)
+
+    def _reduce(self, h, v, t: float, s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Chebyshev coefficients in the elevation (Q, n_a) of rho and phi for Q (h, v) rows of one spin."""
+        h, v = (np.asarray(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(h, v))
+        nh, nv, na, nt, ns = self.rho.shape
+        spin = np.outer(_vander(self._u(3, float(t)), nt), _vander(self._u(4, float(s)), ns)).reshape(-1)
+        th, tv = _vander(self._u(0, h), nh), _vander(self._u(1, v), nv)
+        out = []
+        for c in (self.rho, self.phi):
+            spun = (c.reshape(-1, nt * ns) @ spin).reshape(nh, nv * na)  # the spin contracted once for every row
+            per_h = (th @ spun).reshape(-1, nv, na)  # (Q, n_v, n_a)
+            out.append(np.einsum("qj,qja->qa", tv, per_h))
+        return out[0], out[1]
+
+    def landing(self, h, v, a, t: float, s: float) -> tuple[np.ndarray, np.ndarray]:
+        """(rho [m], phi [rad]) of launches of one spin (t, s) [rpm] (h [m], v [km/h], a [deg] broadcast)."""
+        h, v, a = (np.asarray(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(h, v, a))
+        cr, cp = self._reduce(h, v, t, s)
+        ta = _vander(self._u(2, a), cr.shape[1])
+        return (cr * ta).sum(axis=1), (cp * ta).sum(axis=1)
+
+    def aim(self, distance, h, v, t: float, s: float, branch: str, elevation=None) -> dict:
+        """The inverse map: elevation [deg] landing at ``distance`` [m] on ``branch``, for Q rows of
+        (distance, h [m], v [km/h]) and one spin (t, s) [rpm].
+
+        Returns a dict of (Q,) arrays: ``elevation_deg`` (NaN where the map finds none),
+        ``phi`` [rad] the landing's angle at it, ``split_deg`` the elevation of the longest flight,
+        ``reach`` (Q, 2) the shortest and longest distance [m] over ``elevation`` (default: the
+        map's range), ``slope`` [m/deg] d rho / d a at the solution.
+        """
+        d, h, v = (np.asarray(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
+        cr, cp = self._reduce(h, v, t, s)
+        q = cr.shape[0]
+        if elevation is None:
+            grid, ta = self._grid
+        else:
+            grid = np.linspace(elevation[0], elevation[1], CURVE_POINTS)
+            ta = _vander(self._u(2, grid), cr.shape[1])
+        curve = cr @ ta.T  # (Q, G)
+        k_max = np.argmax(curve, axis=1)
+        f = curve - d[:, None]
+        rows = np.arange(q)
+        idx = np.arange(grid.size - 1)[None, :]
+        if branch == "low":
+            ok = (f[:, :-1] < 0) & (f[:, 1:] >= 0) & (idx < np.maximum(k_max, 1)[:, None])
+            k = np.where(ok.any(axis=1), np.argmax(ok, axis=1), -1)
+        else:
+            ok = (f[:, :-1] >= 0) & (f[:, 1:] < 0) & (idx >= k_max[:, None])
+            k = np.where(ok.any(axis=1), grid.size - 2 - np.argmax(ok[:, ::-1], axis=1), -1)
+        kk = np.maximum(k, 0)
+        f0, f1 = f[rows, kk], f[rows, kk + 1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            frac = np.where(f1 != f0, f0 / (f0 - f1), 0.5)
+        a = np.where(k >= 0, grid[kk] + frac * (grid[1] - grid[0]), np.nan)
+        ta1 = _vander(self._u(2, np.nan_to_num(a)), cr.shape[1])
+        slope = (curve[rows, kk + 1] - curve[rows, kk]) / (grid[1] - grid[0])
+        return {
+            "elevation_deg": a,
+            "phi": np.where(k >= 0, (cp * ta1).sum(axis=1), np.nan),
+            "split_deg": grid[k_max],
+            "reach": np.column_stack([curve.min(axis=1), curve.max(axis=1)]),
+            "slope": np.where(k >= 0, slope, np.nan),
+        }
+
+
+def still_air(params: FlightParams) -> FlightParams:
+    """The physics a map is built with: ``params`` without wind and with the net as no obstacle."""
+    atm = dataclasses.replace(params.atmosphere, wind=(0.0, 0.0, 0.0))
+    return dataclasses.replace(params, atmosphere=atm, net_obstacle=False)
+
+
+def domain(spec: MachineSpec, params: FlightParams) -> tuple[np.ndarray, np.ndarray]:
+    """The fitted box (lo, hi) for a machine's ranges (module docstring)."""
+    h_lo = max(spec.height.lo, params.ball.radius * 1.5)
+    w = spec.spin.hi
+    lo = np.array([math.sqrt(h_lo), spec.speed.lo, spec.elevation.lo, -w, -w])
+    hi = np.array([math.sqrt(max(spec.height.hi, h_lo)), spec.speed.hi, spec.elevation.hi, w, w])
+    return lo, hi
+
+
+def map_key(spec: MachineSpec, params: FlightParams) -> str:
+    """A hash of everything a map depends on (module docstring): format, physics sources, physics, ranges."""
+    lo, hi = domain(spec, params)
+    a = params.aero
+    doc = {
+        "format": FORMAT,
+        "core": _aero._DIGEST,
+        "nodes": list(NODES),
+        "aero": [a.name, [float(x) for x in np.asarray(a.params, dtype=float).ravel()], a.batch_tol],
+        "kernel": getattr(getattr(a.kernel, "py_func", a.kernel), "__qualname__", repr(a.kernel)),
+        "ball": [params.ball.mass, params.ball.radius],
+        "air": [params.atmosphere.density, params.atmosphere.gravity],
+        "spin_decay": params.spin_decay,
+        "t_max": params.t_max,
+        "domain": [list(map(float, lo)), list(map(float, hi))],
+    }
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:20]
+
+
+def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
+    """Fit the map for a machine and physics: one batch flight per Chebyshev node (module docstring)."""
+    lo, hi = domain(spec, params)
+    pts = []
+    for n, a, b in zip(NODES, lo, hi):
+        u = _cheb_points(n) if b > a else np.zeros(1)
+        pts.append(0.5 * (u * (b - a) + a + b))
+    shape = tuple(len(p) for p in pts)
+    g = [x.reshape(-1) for x in np.meshgrid(*pts, indexing="ij")]
+    h = g[0] ** 2
+    st = launch_states(
+        np.column_stack([np.zeros_like(h), np.zeros_like(h), h]),
+        g[1] * KMH,
+        g[2] * DEG,
+        0.0,
+        g[3] * RPM,
+        g[4] * RPM,
+    )
+    tab = fly_batch(st, still_air(params))
+    x, y = tab["land_x"], tab["land_y"]
+    rho = np.where(tab.ok, np.hypot(x, y), np.nan).reshape(shape)
+    phi = np.where(tab.ok, np.arctan2(y, x), np.nan).reshape(shape)
+    coef = [np.ascontiguousarray(_coefficients(_fill(f), shape)) for f in (rho, phi)]
+    return ReachMap(lo, hi, coef[0], coef[1], map_key(spec, params))
+
+
+def _fill(f: np.ndarray) -> np.ndarray:
+    """Nodes without a landing (a flight longer than ``t_max``) take the nearest value along the elevation."""
+    if np.isfinite(f).all():
+        return f
+    g = np.moveaxis(f.copy(), 2, -1)
+    flat = g.reshape(-1, g.shape[-1])
+    idx = np.arange(flat.shape[1])
+    for row in flat:
+        ok = np.isfinite(row)
+        row[:] = np.interp(idx, idx[ok], row[ok]) if ok.any() else 0.0
+    return np.moveaxis(flat.reshape(g.shape), -1, 2)
+
+
+def _coefficients(f: np.ndarray, shape: tuple) -> np.ndarray:
+    """Chebyshev coefficients of the interpolant through values at the points of :func:`_cheb_points`."""
+    c = f
+    for axis, n in enumerate(shape):
+        inv = np.linalg.inv(_vander(_cheb_points(n), n)) if n > 1 else np.ones((1, 1))
+        c = np.moveaxis(np.tensordot(inv, np.moveaxis(c, axis, 0), axes=(1, 0)), 0, axis)
+    return c
+
+
+#: Environment variable naming the folder of the maps' files (empty: keep them in memory only)
+CACHE_ENV = "TENNISLAB_CACHE_DIR"
+_MEMORY: dict[str, ReachMap] = {}
+_MEMORY_MAX = 8
+
+
+def cache_dir() -> Path | None:
+    """The folder of the maps' files (module docstring), or None when the disk cache is off."""
+    env = os.environ.get(CACHE_ENV)
+    if env is not None:
+        return Path(env).expanduser() if env.strip() else None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "tennislab"
+
+
+def reach_map(spec: MachineSpec, params: FlightParams) -> ReachMap:
+    """The map of a machine and physics: from memory, from the cache folder, or built (and stored there)."""
+    key = map_key(spec, params)
+    got = _MEMORY.get(key)
+    if got is not None:
+        return got
+    folder = cache_dir()
+    path = None if folder is None else folder / f"reach-{key}.npz"
+    got = _load(path, key) if path is not None else None
+    if got is None:
+        got = build(spec, params)
+        if path is not None:
+            _save(path, got)
+    if len(_MEMORY) >= _MEMORY_MAX:
+        _MEMORY.pop(next(iter(_MEMORY)))
+    _MEMORY[key] = got
+    return got
+
+
+def _load(path: Path, key: str) -> ReachMap | None:
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], str(z["key"]))
+    except (OSError, ValueError, KeyError, EOFError):
+        return None
+    good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
+    good = good and all(np.isfinite(x).all() for x in (m.lo, m.hi, m.rho, m.phi))
+    return m if good else None
+
+
+def _save(path: Path, m: ReachMap) -> None:
+    """Write atomically (a temporary file in the folder, then renamed); any failure leaves no file."""
+    tmp = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".reach-", suffix=".npz", dir=path.parent)
+        with os.fdopen(fd, "wb") as f:
+            np.savez(f, lo=m.lo, hi=m.hi, rho=m.rho, phi=m.phi, key=np.array(m.key))
+        os.replace(tmp, path)
+        tmp = None
+    except OSError:
+        pass
+    finally:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+
+
+__all__ = [
+    "CACHE_ENV",
+    "FORMAT",
+    "NODES",
+    "ReachMap",
+    "build",
+    "cache_dir",
+    "domain",
+    "map_key",
+    "reach_map",
+    "still_air",
+]
