@@ -1,8 +1,11 @@
 import os
+import tempfile
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# the launcher's reach maps are cached in a folder of this session, never in the user's cache
+os.environ.setdefault("TENNISLAB_CACHE_DIR", tempfile.mkdtemp(prefix="tennislab-test-cache-"))
 
 
 @pytest.fixture(autouse=True, scope="session")

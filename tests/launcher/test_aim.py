@@ -25,7 +25,12 @@ def _fly_exact(sol, spec=DEFAULT_SPEC):
     chosen height: the asked one, or the one the search chose)."""
     a = sol.asked
     y0 = launch_states(
-        spec, sol.settings.height_m, a.speed_kmh, sol.exact_elevation_deg, sol.exact_heading_deg, a.spin_rpm,
+        spec,
+        sol.settings.height_m,
+        a.speed_kmh,
+        sol.exact_elevation_deg,
+        sol.exact_heading_deg,
+        a.spin_rpm,
         a.spin_axis_deg,
     )[0]
     return fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)

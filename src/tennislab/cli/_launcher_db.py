@@ -95,11 +95,14 @@ def register(sub) -> None:
 
     p = sub.add_parser(
         "lookup",
-        help="settings that land nearest a target, from the database (no integration)",
+        help="settings that land nearest a target, from the database (or the machine's aim when it has nothing near)",
         description="Answer 'which settings land a ball there' from a table built by `launcher table`: the "
         "stored hit nearest the target among those with the given speed and spin (within the tolerances) "
         "that meets the trajectory preferences; ties: the smaller change of speed, then of spin, then the "
-        "larger net clearance.  Machine and physics come from the file; flags given and different are refused.",
+        "larger net clearance.  When the table holds nothing within 2 cm the machine's aim (started from the "
+        "reach map) answers if it lands nearer, and says so (source refined or inverse-map); --no-fallback "
+        "answers from the table alone.  Machine and physics come from the file; flags given and different "
+        "are refused.",
     )
     p.add_argument("--db", required=True, metavar="FILE", help="SQLite database built by `launcher table`")
     p.add_argument("--target", type=float, nargs=2, required=True, metavar=("X", "Y"), help="bounce point [m]")
@@ -110,6 +113,11 @@ def register(sub) -> None:
     ex.add_argument("--spin-axis-deg", type=float, help="only this spin-axis rotation [deg] (default: any)")
     p.add_argument("--height", type=float, help="only this launch height [m] (default: any)")
     p.add_argument("--max-miss-m", type=float, default=1.0, help="refuse answers landing farther than this [m] (1)")
+    p.add_argument(
+        "--no-fallback",
+        action="store_true",
+        help="answer from the table alone (no flight), however far its nearest hit",
+    )
     add_preference_flags(p)
     add_tolerance_flags(p, speed=3.0, spin=100.0, axis=False)
     add_machine_flags(p)
@@ -318,6 +326,7 @@ def run_lookup(args) -> int:
         spin_axis_deg=spin_axis_deg(args, None),
         height_m=args.height,
         max_miss_m=args.max_miss_m,
+        fallback=not args.no_fallback,
         **speed_kwargs(args),
         **tolerance_kwargs(args),
         **preference_kwargs(args),
@@ -338,6 +347,14 @@ def run_lookup(args) -> int:
         f"(miss {out['miss_mm']:.0f} mm); net clearance {out['net_clearance_m']:.3f} m; apex "
         f"{out['apex_z_m']:.2f} m, {out['flight_time_s']:.2f} s; lookup {out['lookup_ms']:.2f} ms"
     )
+    if out["source"] != "table":
+        near = (
+            "no stored hit"
+            if out["table_miss_mm"] is None
+            else f"the nearest stored hit lands {out['table_miss_mm']:.0f} mm off"
+        )
+        how = "refined by the machine's aim" if out["source"] == "refined" else "the machine's aim from its reach map"
+        print(f"source: {out['source']} ({near}; {how}, {out['fallback_ms']:.1f} ms)")
     return 0
 
 

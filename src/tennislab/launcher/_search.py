@@ -36,9 +36,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import tennislab.launcher._spin as _spin
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.shoot import shoot
-from tennislab.launcher import _spin
 from tennislab.launcher.machine import MachineSpec, Range, launch_states
 from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm
 from tennislab.launcher.reach import ReachMap

@@ -248,6 +248,7 @@ class HitsDB:
         spin_tolerance_rpm: float = 100.0,
         spin_axis_tolerance_deg: float = 0.0,
         max_miss_m: float = 1.0,
+        fallback: bool = True,
     ) -> LookupResult:
         """The stored hit nearest the target among those meeting the request (the ``launcher lookup`` workflow).
 
@@ -256,8 +257,12 @@ class HitsDB:
         axis too, the spin tolerance bounds the change of the spin vector as in ``aim``
         (``spin_axis_tolerance_deg`` lets the axis turn further); ``height_m`` keeps only hits of that
         height; the trajectory preferences filter the hits (default: the low branch).
-        Ties: :mod:`tennislab.launcher.lookup`.  InputError
-        (naming the parameter) when nothing in the file meets the request within ``max_miss_m``.
+        Ties: :mod:`tennislab.launcher.lookup`.  When the nearest accepted hit lands farther than
+        :data:`~tennislab.launcher.lookup.FALLBACK_M` (or none does) the machine's aim answers if it lands
+        nearer (``source`` ``refined`` or ``inverse-map``; :func:`~tennislab.launcher.lookup.fallback`;
+        ``fallback=False``: the table only, no flight).
+        InputError (naming the parameter) when neither the file nor the aim has an answer within
+        ``max_miss_m``.
         """
         prefs = Preferences(trajectory, max_apex_m, net_clearance_m, max_flight_time_s)
         tols = Tolerances(speed_tolerance_kmh, spin_tolerance_rpm, spin_axis_tolerance_deg)
@@ -291,9 +296,21 @@ class HitsDB:
             t0 = time.perf_counter()
             hit = lk.nearest_hit(conn, x, y, query=query, max_m=max_miss_m, start_m=d0)
             ms = (time.perf_counter() - t0) * 1e3
+            if hit is not None:
+                _sane(hit, spec)
+            table_miss = None if hit is None else float(hit["miss_m"])
+            fb_ms = None
+            if fallback and (table_miss is None or table_miss > lk.FALLBACK_M):  # nothing near: the machine's aim
+                t1 = time.perf_counter()
+                asked_fb = {"speed_kmh": speed, "spin_rpm": spin, "spin_axis_deg": axis, "height_m": height_m}
+                alt = lk.fallback(spec, cfg["physics"], (x, y), hit, asked_fb, tols, prefs)
+                fb_ms = (time.perf_counter() - t1) * 1e3
+                if alt is not None and (table_miss is None or alt["miss_m"] < table_miss - lk.FALLBACK_GAIN_M):
+                    if hit is not None:  # the table's search still read what it read
+                        alt.update(n_candidates=hit["n_candidates"], n_read=hit["n_read"])
+                    hit = alt
             if hit is None:
                 raise self._no_hit(conn, x, y, query, max_miss_m)
-            _sane(hit, spec)
             ball = Ball(
                 **{k: v for k, v in cfg["physics"]["ball"].items() if k in ("mass", "radius", "inertia_factor")}
             )
@@ -318,6 +335,9 @@ class HitsDB:
             prefs,
             int(hit["n_candidates"]),
             int(hit["n_read"]),
+            hit.get("source", "table"),
+            None if table_miss is None else table_miss * 1e3,
+            fb_ms,
         )
 
     def _no_hit(self, conn, x, y, q: lk.HitQuery, max_m: float) -> InputError:
@@ -562,6 +582,7 @@ class HitsDB:
             spin_tolerance_rpm=shot.spin_tolerance_rpm,
             spin_axis_tolerance_deg=shot.spin_axis_tolerance_deg,
             max_miss_m=max_miss_m,
+            fallback=False,  # a drill plays from the file alone
         )
 
     # ------------------------------------------------------------- writers

@@ -34,7 +34,13 @@ class DbInfo(Result):
 
 @dataclass(frozen=True)
 class LookupResult(Result):
-    """The stored hit a lookup chose, with the request (``to_dict()`` has ``launcher aim``'s keys and ``lookup_ms``)."""
+    """The stored hit a lookup chose, with the request (``to_dict()`` has ``launcher aim``'s keys and ``lookup_ms``).
+
+    ``source`` says where the answer comes from: ``table`` (the stored hit), ``refined`` or
+    ``inverse-map`` (the machine's aim, when the table holds nothing within 2 cm:
+    :func:`tennislab.launcher.lookup.fallback`; ``db.hit_id`` is then null); ``table_miss_mm`` is the
+    nearest stored hit's miss (null if none), ``fallback_ms`` the aim's time (null if not asked).
+    """
 
     path: str
     hash: str
@@ -49,6 +55,9 @@ class LookupResult(Result):
     preferences: Preferences
     index_entries_read: int = 0
     hits_read: int = 0
+    source: str = "table"
+    table_miss_mm: float | None = None
+    fallback_ms: float | None = None
 
     @property
     def settings(self) -> Settings:
@@ -90,10 +99,13 @@ class LookupResult(Result):
             "machine": self.machine,
             "physics": self.physics,
             "lookup_ms": self.lookup_ms,
+            "source": self.source,
+            "table_miss_mm": self.table_miss_mm,
+            "fallback_ms": self.fallback_ms,
             "db": {
                 "path": self.path,
                 "hash": self.hash,
-                "hit_id": int(h["id"]),
+                "hit_id": None if h["id"] is None else int(h["id"]),
                 "index_entries_read": self.index_entries_read,
                 "hits_read": self.hits_read,
             },

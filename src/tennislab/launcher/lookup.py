@@ -11,18 +11,30 @@ index entries only; :func:`scan_nearest` is the brute-force reference.
 Tie rule (every form, and the scan): landings within :data:`TIE_M` (1 mm) of the nearest are a
 tie; among them the smaller change from the asked speed wins, then from the asked spin, then the
 larger net clearance (a safer ball for the same landing), then the smaller hit id.
+
+Fallback (:func:`fallback`): a table holds the settings it was filled with, so its nearest hit may
+land decimetres from a target that the machine's own steps reach to a millimetre.  When the nearest
+accepted hit lands farther than :data:`FALLBACK_M` (or none does), the lookup asks the machine's aim
+(:func:`tennislab.launcher.aim.aim`, started from the reach map of :mod:`tennislab.launcher.reach`,
+the inverse map of the machine's whole reach) with the file's physics, and answers it when it lands
+nearer: ``refined`` (the aim at the stored hit's height) or ``inverse-map`` (no hit: the asked height,
+or every height).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sqlite3
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from tennislab.core.aero import get_aero_model
 from tennislab.core.court import ITF_COURT
+from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_finite
+from tennislab.launcher.aim import aim
 from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column, stored_json
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW, Preferences
 
@@ -607,3 +619,92 @@ def check_target(x: float, y: float, machine_x: float = -1.0, court=None) -> tup
             f"aims at the {area} area, x in [{b[0]:g}, {b[1]:g}] m, y in [{b[2]:g}, {b[3]:g}] m"
         )
     return x, y
+
+
+# ------------------------------------------------------------------ the fallback: the machine's own aim
+#: A stored hit farther than this from the target sends a lookup to the machine's aim [m] (the inverse
+#: map's promise: settings within 2 cm for a reachable target)
+FALLBACK_M = 0.02
+#: The aim's answer replaces the stored hit only when it lands nearer by more than this [m]
+FALLBACK_GAIN_M = 1e-3
+SOURCES = ("table", "refined", "inverse-map")
+
+
+def params_from_physics(p: dict):
+    """The :class:`~tennislab.core.flight.FlightParams` a file's ``physics`` record describes, or None when
+    it cannot be rebuilt (a table aero model: its grid is not stored)."""
+    try:
+        model = get_aero_model(p["aero"]["name"])
+        model = dataclasses.replace(model, params=np.asarray(p["aero"]["params"], dtype=float))
+        ball, atm = p["ball"], p["atmosphere"]
+        return FlightParams.from_options(
+            aero=model,
+            mass=ball["mass"],
+            radius=ball["radius"],
+            inertia_factor=ball.get("inertia_factor"),
+            air_density=atm["density"],
+            gravity=atm["gravity"],
+            wind=atm["wind"],
+            spin_decay=p["spin_decay"],
+            t_max=p["t_max"],
+        )
+    except (InputError, KeyError, TypeError, ValueError):
+        return None
+
+
+def fallback(spec, physics: dict, target, hit: dict | None, asked: dict, tolerances, prefs: Preferences):
+    """The machine's aim for a lookup whose table holds nothing within :data:`FALLBACK_M` (module docstring).
+
+    With a stored nearest hit, the aim at its height (``source`` ``refined``); without one, at the asked
+    height or every height (``inverse-map``: the reach map and the search on the machine's steps,
+    :func:`tennislab.launcher.aim.aim`).  The speed and spin are the asked ones (else the hit's), within
+    the lookup's tolerances and preferences.  Returns a hit-shaped dict (``id`` None, plus ``source``) or
+    None when there is no answer (no speed, physics that cannot be rebuilt, an unreachable target).
+    """
+    params = params_from_physics(physics)
+    speed = asked.get("speed_kmh") if asked.get("speed_kmh") is not None else (hit or {}).get("speed_kmh")
+    if params is None or speed is None:
+        return None
+    spin = asked.get("spin_rpm") if asked.get("spin_rpm") is not None else (hit or {}).get("spin_rpm", 0.0)
+    axis = asked.get("spin_axis_deg")
+    if axis is None:
+        axis = (hit or {}).get("spin_axis_deg", 0.0) if asked.get("spin_rpm") is None else 0.0
+    height = (hit or {}).get("height_m") if hit is not None else asked.get("height_m")
+    try:
+        res = aim(
+            target,
+            float(speed),
+            float(spin),
+            float(axis),
+            None if height is None else float(height),
+            spec,
+            params,
+            trajectory=prefs.trajectory,
+            speed_tolerance_kmh=tolerances.speed_kmh,
+            spin_tolerance_rpm=tolerances.spin_rpm,
+            spin_axis_tolerance_deg=tolerances.spin_axis_deg,
+            max_apex_m=prefs.max_apex_m,
+            net_clearance_m=prefs.net_clearance_m,
+            max_flight_time_s=prefs.max_flight_time_s,
+        )
+    except InputError:
+        return None
+    sol = res.solution
+    st = sol.settings
+    out = {k: float(getattr(st, k)) for k in HIT_SETTINGS}
+    out.update(
+        id=None,
+        land_x=sol.landing[0],
+        land_y=sol.landing[1],
+        net_clearance_m=sol.net_clearance_m,
+        flight_time_s=sol.flight_time_s,
+        bounce_speed_ms=sol.landing_speed_ms,
+        bounce_spin_rpm=st.spin_rpm * math.exp(-params.spin_decay * sol.flight_time_s),
+        apex_z_m=sol.apex_z_m,
+        branch=BRANCH_LOW if sol.solution == "low" else BRANCH_HIGH,
+        miss_m=sol.miss_mm * 1e-3,
+        n_candidates=0,
+        n_read=0,
+        source="refined" if hit is not None else "inverse-map",
+    )
+    return out
