@@ -1,15 +1,21 @@
-"""Launcher benchmarks (issue 5): aiming cost, launch-state throughput, quantisation error.
+"""Launcher benchmarks (issues 5, 15, 22): aiming cost and quality, the inverse map, launch-state throughput.
 
-1. ``launch_states`` (vectorised NumPy) vs a per-shot Python loop building the same
-   states with ``math`` (baseline measured in this run): states/s and speed-up.
-2. ``aim`` (scan + Newton + quantised neighbours, both solutions) per target vs one
-   reference flight with ``fly`` (SciPy DOP853, rtol 1e-10) of the same shot, measured
-   in this run: "an aim costs X reference flights".
-3. Aiming on the machine's steps (issue 15): over a grid of targets in the far court, for every
-   drill shot type, the miss of ``aim``'s answer [mm] (median, 95th percentile) with exact
-   tolerances (only the angles searched: the old behaviour), 3 km/h and 100 rpm as a spin vector, the
-   default tolerances (the same, and the axis may turn by 10 deg) and 20 deg; time per aim.
-4. Drill compilation time of every shipped drill.
+1. ``launch_states`` (vectorised NumPy) vs a per-shot Python loop building the same states with
+   ``math`` (baseline measured in this run): states/s and speed-up.
+2. ``aim`` per target (both branches, on the machine's steps): wall and CPU time with the height
+   given and searched, against one reference flight with ``fly`` (SciPy DOP853, rtol 1e-10) of the
+   same shot measured in this run ("an aim costs X reference flights"), and against an exhaustive
+   search of the same neighbourhood of steps (every elevation floor-2 .. ceil+2, heading floor-1 ..
+   ceil+1, speed within 3 km/h and every spin step within the tolerances: ~700,000 flights a target,
+   a few targets): how far the answer is from the lattice's best, and the time ratio.
+3. Aiming on the machine's steps over a grid of court targets (x 1.5-11.5 m, y -4.5-4.5 m, 1 m apart):
+   the issue's machine owner (100 km/h, 1000 rpm topspin) and every drill shot type, default
+   tolerances, height searched and, as the baseline of the same run, at 1 m and with exact tolerances
+   (angles only): miss median / p95 [mm], with the net-limited targets apart, and time per aim.
+4. The inverse map (``launcher.inverse_aim``): random reachable targets, speeds, spins and heights;
+   time per answer and miss of its checked flight, against ``core.shoot`` from an elevation scan (the
+   primitive without the map) measured in this run.
+5. Drill compilation time of every shipped drill.
 
 Run: ``python benchmarks/bench_launcher.py [--quick]``.
 """
@@ -69,106 +75,207 @@ def bench_states(n):
     )
 
 
+def _timed(f, *args, **kw):
+    """(f(*args, **kw), wall time [s], CPU time [s])."""
+    w0, c0 = time.perf_counter(), time.process_time()
+    out = f(*args, **kw)
+    return out, time.perf_counter() - w0, time.process_time() - c0
+
+
 def bench_aim(n_targets):
+    """Time per aim (height given / searched) against one reference ``fly`` of the same shot."""
     from tennislab.core.flight import fly_dense
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim_all, launcher_params
     from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
 
     params = launcher_params()
-    aim_all((8.0, 0.0), 80, 1000, 0)  # compile / warm up
+    aim_all((8.0, 0.0), 80, 1000, 0)  # build / load the reach map, compile
     rng = np.random.default_rng(2)
     targets = np.column_stack([rng.uniform(6, 11.5, n_targets), rng.uniform(-4, 4, n_targets)])
     speeds = rng.integers(70, 120, n_targets)
     spins = rng.integers(0, 2000, n_targets)
     axes = rng.choice([0, 180, 45, -45], n_targets)
-    t_aim, t_fly, n_ok = 0.0, 0.0, 0
-    for (x, y), v, w, g in zip(targets, speeds, spins, axes):
-        t0 = time.perf_counter()
+    for label, height in (("height 1 m", 1.0), ("height searched", None)):
+        wall, cpu, t_fly = [], [], []
+        for (x, y), v, w, g in zip(targets, speeds, spins, axes):
+            try:
+                (sols, _), dt, dc = _timed(aim_all, (x, y), v, w, g, height)
+            except InputError:
+                continue
+            if not sols:
+                continue
+            wall.append(dt)
+            cpu.append(dc)
+            s = next(iter(sols.values())).settings
+            st = launch_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
+            t_fly.append(_timed(fly_dense, st[0:3], st[3:6], st[6:9], params)[1])
+        print(
+            f"aim ({label}, both solutions): median {1e3 * np.median(wall):.2f} ms wall, "
+            f"{1e3 * np.median(cpu):.2f} ms CPU per target (p95 {1e3 * np.percentile(wall, 95):.2f} ms) vs "
+            f"{1e3 * np.median(t_fly):.2f} ms for one reference fly() (baseline, this run): an aim costs "
+            f"{np.median(wall) / np.median(t_fly):.1f} reference flights ({len(wall)} targets)"
+        )
+
+
+def _exhaustive(target, v0, w0, g0, height, params):
+    """The best landing among every on-step setting of aim's neighbourhood (default tolerances): the baseline."""
+    import math
+
+    from tennislab.core.flight import fly_batch
+    from tennislab.core.shoot import shoot
+    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    from tennislab.launcher.preferences import Tolerances
+    from tennislab.units import KMH, RPM
+
+    spec, tol = DEFAULT_SPEC, Tolerances()
+    px, py = spec.position
+    g = math.radians(g0)
+    s = shoot((px, py, height), v0 * KMH, target, params, spin=(w0 * RPM * math.cos(g), w0 * RPM * math.sin(g), 0))
+    if not s.converged[0]:
+        return None
+    a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
+    A = np.arange(math.floor(a) - 2, math.ceil(a) + 3)
+    B = np.arange(math.floor(b) - 1, math.ceil(b) + 2)
+    V = np.arange(v0 - 3, v0 + 4)
+    W, G = np.meshgrid(np.arange(max(0, w0 - 100), min(2000, w0 + 100) + 1), np.arange(g0 - 10, g0 + 11))
+    ok = tol.allows(W, G, w0, g0)
+    W, G = W[ok], G[ok]
+    best = math.inf
+    for v in V:
+        AA, BB, WW = np.meshgrid(A, B, np.arange(W.size), indexing="ij")
+        st = launch_states(spec, height, v, AA.ravel(), BB.ravel(), W[WW.ravel()], G[WW.ravel()])
+        tab = fly_batch(st, params)
+        clear = tab.ok & (tab["net_status"] == 1) & (tab.clearance >= 0)
+        miss = np.hypot(tab["land_x"] - target[0], tab["land_y"] - target[1])
+        if clear.any():
+            best = min(best, float(miss[clear].min()))
+    return best * 1e3
+
+
+def bench_exhaustive(n_targets):
+    """aim's answer against the exhaustive search of the same neighbourhood (height 1 m, default tolerances)."""
+    from tennislab.errors import InputError
+    from tennislab.launcher.aim import aim, launcher_params
+
+    params = launcher_params()
+    rng = np.random.default_rng(5)
+    rows = []
+    for _ in range(n_targets):
+        t = (float(rng.uniform(6, 11)), float(rng.uniform(-4, 4)))
+        v, w, g = int(rng.integers(70, 120)), int(rng.integers(300, 1800)), int(rng.choice([0, 180]))
         try:
-            sols, _ = aim_all((x, y), v, w, g)
+            r, dt, _ = _timed(aim, t, v, w, g, 1.0)
         except InputError:
             continue
-        t_aim += time.perf_counter() - t0
-        s = next(iter(sols.values())).settings
-        st = launch_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
-        t0 = time.perf_counter()
-        fly_dense(st[0:3], st[3:6], st[6:9], params)
-        t_fly += time.perf_counter() - t0
-        n_ok += 1
+        if r.solution.net_limited:
+            continue
+        ref, dt_ref, _ = _timed(_exhaustive, t, v, w, g, 1.0, params)
+        if ref is not None:
+            rows.append((r.miss_mm, ref, dt, dt_ref))
+    m = np.array(rows)
     print(
-        f"aim (both solutions): {1e3 * t_aim / n_ok:.1f} ms per target vs {1e3 * t_fly / n_ok:.1f} ms for one "
-        f"reference fly() (baseline, this run): an aim costs {t_aim / t_fly:.1f} reference flights "
-        f"({n_ok} targets)"
+        f"aim vs exhaustive search of its neighbourhood ({len(m)} targets, height 1 m): aim miss median "
+        f"{np.median(m[:, 0]):.2f} mm, exhaustive {np.median(m[:, 1]):.2f} mm; aim - exhaustive: median "
+        f"{np.median(m[:, 0] - m[:, 1]):.2f} mm, max {np.max(m[:, 0] - m[:, 1]):.2f} mm; time "
+        f"{1e3 * np.median(m[:, 2]):.1f} ms vs {np.median(m[:, 3]):.1f} s: x{np.median(m[:, 3] / m[:, 2]):.0f}"
     )
 
 
-def bench_aiming_grid(step: float, variants=("exact", "vector only", "default", "axis 20 deg")):
-    """Miss of ``aim`` over a grid of targets in the far court for every shot type (issue 15).
+GRID_SHOTS = {"owner 100 km/h 1000 rpm": (100, 1000, 0, "low", None)}
 
-    Targets: x from 1.5 to 11.5 m and y from -4.5 to 4.5 m in steps of ``step``; shots: the drill
-    shot types (speed, spin, axis, trajectory of :data:`tennislab.launcher.drills.SHOT_TYPES`,
-    serve-return from 3 m into the service boxes only), launched from the default position.
-    "Reachable" = aim answers; targets where the net keeps the ball from landing nearer
-    (``net_limited``) are counted apart.  Variants: ``exact`` (tolerances 0: only the angles are
-    searched, as before), ``vector only`` (3 km/h, 100 rpm as a spin vector, the axis turning only
-    within it), ``default`` (the same, and the axis may turn by 10 deg), ``axis 20 deg``.
-    """
+
+def bench_aiming_grid(step: float):
+    """Miss of ``aim`` over a grid of court targets (module docstring, item 3)."""
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim
     from tennislab.launcher.drills import SHOT_TYPES
 
-    kw = {
-        "exact": dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0, spin_axis_tolerance_deg=0),
-        "vector only": dict(spin_axis_tolerance_deg=0),
-        "default": {},
-        "axis 20 deg": dict(spin_axis_tolerance_deg=20),
-    }
+    shots = dict(GRID_SHOTS)
+    for t in SHOT_TYPES.values():
+        shots[t.name] = (t.speed_kmh, t.spin_rpm, t.spin_axis_deg, t.trajectory, t.height_m)
     xs = np.arange(1.5, 11.5 + 1e-9, step)
     ys = np.arange(-4.5, 4.5 + 1e-9, step)
+    exact = dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0, spin_axis_tolerance_deg=0)
+    variants = {"height searched": ({}, False), "height 1 m (baseline)": ({}, True), "exact, 1 m": (exact, True)}
     aim((9.0, 2.0), 80, 1500)  # compile / warm up
-    for name in variants:
-        rows = {}
-        t_all, n_all, limited = 0.0, 0, 0
-        for t in SHOT_TYPES.values():
-            height = t.height_m or 1.0
-            miss = []
+    for vname, (kw, fixed) in variants.items():
+        allm, alln, times, refused = [], [], [], 0
+        lines = []
+        for name, (v, w, g, traj, h) in shots.items():
+            height = (h or 1.0) if fixed else h
+            miss, lim = [], []
             for x in xs:
                 for y in ys:
-                    if t.name == "serve-return" and not (x <= 6.4 and abs(y) <= 4.115):
+                    if name == "serve-return" and not (x <= 6.4 and abs(y) <= 4.115):
                         continue
-                    t0 = time.perf_counter()
                     try:
-                        r = aim(
-                            (x, y),
-                            t.speed_kmh,
-                            t.spin_rpm,
-                            t.spin_axis_deg,
-                            height,
-                            trajectory=t.trajectory,
-                            **kw[name],
-                        )
+                        r, dt, _ = _timed(aim, (x, y), v, w, g, height, trajectory=traj, **kw)
                     except InputError:
+                        refused += 1
                         continue
-                    t_all += time.perf_counter() - t0
-                    n_all += 1
-                    if r.solution.net_limited:
-                        limited += 1
-                        continue
-                    miss.append(r.miss_mm)
-            rows[t.name] = np.array(miss)
-        allm = np.concatenate([m for m in rows.values() if m.size])
-        print(
-            f"aim [{name}] over {allm.size} reachable targets (+{limited} net-limited, apart): miss median "
-            f"{np.median(allm):.1f} mm, p95 {np.percentile(allm, 95):.1f} mm; share < 20 mm "
-            f"{np.mean(allm < 20):.0%}; {1e3 * t_all / max(1, n_all):.0f} ms per aim"
-        )
-        for tname, m in rows.items():
-            if m.size:
-                print(
-                    f"    {tname:<13} {m.size:4d} targets: median {np.median(m):6.1f} mm, "
-                    f"p95 {np.percentile(m, 95):6.1f} mm, max {m.max():6.1f} mm"
+                    times.append(dt)
+                    (lim if r.solution.net_limited else miss).append(r.miss_mm)
+            miss, lim = np.array(miss), np.array(lim)
+            allm += list(miss)
+            alln += list(lim)
+            if miss.size:
+                both = np.concatenate([miss, lim])
+                lines.append(
+                    f"    {name:<24} {miss.size:4d} targets (+{lim.size} net-limited): median {np.median(miss):6.1f}"
+                    f" mm, p95 {np.percentile(miss, 95):6.1f} mm (with net-limited {np.median(both):6.1f} / "
+                    f"{np.percentile(both, 95):6.1f} mm)"
                 )
+        a, b = np.array(allm), np.array(allm + alln)
+        print(
+            f"aim [{vname}] over {a.size} reachable targets (+{len(alln)} net-limited, {refused} refused): miss "
+            f"median {np.median(a):.1f} mm, p95 {np.percentile(a, 95):.1f} mm (with net-limited: {np.median(b):.1f} / "
+            f"{np.percentile(b, 95):.1f} mm); share < 20 mm {np.mean(a < 20):.0%}; "
+            f"{1e3 * np.median(times):.1f} ms per aim"
+        )
+        print("\n".join(lines))
+
+
+def bench_inverse(n):
+    """The inverse map: random reachable requests; time and checked miss vs core.shoot from a scan."""
+    from tennislab.core.shoot import shoot
+    from tennislab.errors import InputError
+    from tennislab.launcher.aim import launcher_params
+    from tennislab.launcher.inverse import inverse_aim
+    from tennislab.launcher.machine import DEFAULT_SPEC
+    from tennislab.units import DEG, KMH, RPM
+
+    params = launcher_params()
+    inverse_aim((9.0, 2.0), 100, 1000)  # the map, compiled kernels
+    rng = np.random.default_rng(4)
+    t_map, t_scan, miss, ref = [], [], [], 0
+    px, py = DEFAULT_SPEC.position
+    for _ in range(n):
+        tgt = (float(rng.uniform(0.0, 11.9)), float(rng.uniform(-5.5, 5.5)))
+        v, w, g, h = (
+            float(rng.uniform(40, 160)),
+            float(rng.uniform(0, 2000)),
+            float(rng.uniform(-180, 180)),
+            float(rng.uniform(0.1, 3.0)),
+        )
+        branch = str(rng.choice(["low", "high"]))
+        try:
+            r, dt, _ = _timed(inverse_aim, tgt, v, w, g, h, trajectory=branch)
+        except InputError:
+            ref += 1
+            continue
+        t_map.append(dt)
+        miss.append(r.miss_mm)
+        spin = (w * RPM * np.cos(g * DEG), w * RPM * np.sin(g * DEG), 0.0)
+        t_scan.append(_timed(shoot, (px, py, h), v * KMH, tgt, params, spin=spin, branch=branch)[1])
+    m = np.array(miss)
+    print(
+        f"inverse map: {len(m)} reachable requests ({ref} outside the reach): median {1e3 * np.median(t_map):.2f} ms, "
+        f"p95 {1e3 * np.percentile(t_map, 95):.2f} ms per answer vs {1e3 * np.median(t_scan):.2f} ms for core.shoot "
+        f"from a scan (baseline, this run): x{np.median(t_scan) / np.median(t_map):.1f}; miss of the checked flight "
+        f"median {np.median(m):.4f} mm, p95 {np.percentile(m, 95):.3f} mm, max {m.max():.2f} mm; over 20 mm: "
+        f"{int((m > 20).sum())}"
+    )
 
 
 def bench_drills():
@@ -190,7 +297,9 @@ def main(argv=None):
     args = ap.parse_args(argv if argv is not None else [])
     bench_states(200_000 if args.quick else 1_000_000)
     bench_aim(10 if args.quick else 40)
+    bench_exhaustive(2 if args.quick else 6)
     bench_aiming_grid(2.0 if args.quick else 1.0)
+    bench_inverse(50 if args.quick else 300)
     bench_drills()
 
 

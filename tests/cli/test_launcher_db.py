@@ -85,10 +85,12 @@ def test_table_then_lookup_json_keys(built, capsys):
         "100",
         "--spin-rpm",
         "1000",
+        "--no-fallback",
         "--json",
     )
     assert rc == 0, err
     d = json.loads(out)
+    assert d["source"] == "table" and d["fallback_ms"] is None
     for k in AIM_KEYS + ("lookup_ms", "branch", "apex_z_m", "flight_time_s", "db.hash"):
         assert _get(d, k) is not None, k
     assert d["settings"]["speed_kmh"] == 100.0 and d["settings"]["spin_rpm"] == 1000.0
@@ -140,6 +142,8 @@ def test_lookup_agrees_with_aim(built, capsys, target, speed, spin):
             str(spin),
             "--solution",
             sol,
+            "--height",
+            "1",
             "--speed-tolerance-kmh",
             "0",
             "--spin-tolerance-rpm",
@@ -202,13 +206,16 @@ def test_errors_are_one_line_exit_2(built, tmp_path, capsys):
     cases += [
         ["--db", built, "--target", "12.5", "0"],
         ["--db", built, "--target", "-3", "0"],
-        ["--db", built, "--target", "8", "1", "--speed-kmh", "150"],
+        ["--db", built, "--target", "8", "1", "--speed-kmh", "150", "--no-fallback"],
         ["--db", built, "--target", "8", "1", "--speed-kmh", "250"],
         ["--db", built, "--target", "0.2", "0", "--speed-kmh", "110", "--max-miss-m", "0.05"],
     ]
     for argv in cases:
         rc, out, err = run(capsys, "launcher", "lookup", *argv)
         _one_line_error(rc, err)
+    # a speed the table does not hold: the machine's aim answers (its reach map), and says so
+    rc, out, err = run(capsys, "launcher", "lookup", "--db", built, "--target", "8", "1", "--speed-kmh", "150")
+    assert rc == 0 and "source: inverse-map (no stored hit; the machine's aim from its reach map" in out, err
     for argv in (
         ["--db", built, *GRID, "--aero", "stepanek1988"],
         ["--db", str(foreign), *GRID],
@@ -534,7 +541,10 @@ def test_bit_flips_are_reported_as_damaged(built, tmp_path, capsys):
         flipped[pos] ^= 1 << int(rng.integers(0, 8))
         f = tmp_path / f"flip{i}.sqlite"
         f.write_bytes(bytes(flipped))
-        for argv in (["lookup", "--db", str(f), "--target", "9", "2", "--json"], ["info", "--db", str(f)]):
+        for argv in (
+            ["lookup", "--db", str(f), "--target", "9", "2", "--no-fallback", "--json"],
+            ["info", "--db", str(f)],
+        ):
             rc, out, err = run(capsys, "launcher", *argv)
             assert "Traceback" not in err and rc in (0, 2), (pos, err)
             if rc == 2:

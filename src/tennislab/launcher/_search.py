@@ -218,13 +218,13 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     J = np.stack([ell[4 * n : 5 * n] - base, ell[5 * n :] - base], axis=2) / SPIN_FD_RPM
     good = np.isfinite(a) & np.isfinite(dv).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
     rows, flown = [], {}
-    for i in np.flatnonzero(good):
+    for i in np.flatnonzero(good).tolist():
         h, branch, _, _, split = found[i]
         rows.append(Row(h, branch, float(a[i]), float(b[i]), float(b0[i]), float(split), float(slope[i]), dv[i], J[i]))
         for k in range(3):
             if np.isfinite(le[i, k, 0]):
                 flown[(len(rows) - 1, vq, float(E[i, k]))] = (le[i, k], info[i, k])
-    for i in np.flatnonzero(~good):
+    for i in np.flatnonzero(~good).tolist():
         row, _ = _solve_row(shoot5, spec, params, ask, found[i][0], found[i][1], float(found[i][4]))
         if row is not None:
             rows.append(row)
@@ -387,12 +387,12 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_n
     lb = np.maximum(np.hypot(*(L0 - T).T) - _spin.reach(Jc, om_b, asked, ask.tolerances), 0.0)
     branch = np.array([rows[i].branch for i in ri[par]])
     good = _parent_ok(info[par], need_net, prefs)
-    keep = []
+    parts = []
     for name in ("low", "high"):
         for pool, size in ((branch == name, PRUNE), ((branch == name) & good, PRUNE // 2)):
             idx = np.flatnonzero(pool)
-            keep.append(idx[np.argsort(lb[idx], kind="stable")[:size]])
-    keep = np.unique(np.concatenate(keep))
+            parts.append(idx[np.argsort(lb[idx], kind="stable")[:size]])
+    keep = np.unique(np.concatenate(parts))
     par, B, L0, Jc, om_b = par[keep], B[keep], L0[keep], Jc[keep], om_b[keep]
     W, G, miss = _spin.variants(L0, Jc, om_b, T, asked, ask.tolerances, spec.spin, spec.spin_axis)
     k = W.shape[1]
@@ -502,7 +502,7 @@ def _clearing_parents(spec, ask: Ask, rows, flown: dict, c: Candidates, need_net
     cols = [h[order], v[order], a[order], np.atleast_1d(b)[order]]
     w = np.full(order.size, ask.q_spin_rpm)
     g = np.full(order.size, ask.q_spin_axis_deg)
-    fresh = [k.tobytes() not in seen for k in _settings_key(*cols, w, g)]
+    fresh = [k.tobytes() not in seen for k in _settings_key(cols[0], cols[1], cols[2], cols[3], w, g)]
     if not any(fresh):
         return None
     f = np.array(fresh)

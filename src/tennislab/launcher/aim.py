@@ -323,8 +323,8 @@ def aim_all(
     tolerances = tolerances or Tolerances()
     preferences = preferences or Preferences()
     tx, ty = check_vector("target", target, 2)
-    asked = {
-        "speed_kmh": speed_in_kmh(spec, speed_kmh, speed_ms, speed_mph),
+    asked: dict[str, float] = {
+        "speed_kmh": float(speed_in_kmh(spec, speed_kmh, speed_ms, speed_mph)),  # type: ignore[arg-type]
         "spin_rpm": spec.spin.check("spin_rpm", spin_rpm),
         "spin_axis_deg": spec.spin_axis.check("spin_axis_deg", spin_axis_deg),
     }
@@ -371,8 +371,7 @@ def aim_all(
             reasons[name] = (
                 f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range [{hr.lo:g}, {hr.hi:g}] deg"
             )
-    rows = [r if hr.lo <= r.b <= hr.hi else None for r in rows]
-    live = [r for r in rows if r is not None]
+    live = [r for r in rows if hr.lo <= r.b <= hr.hi]
     if not live:
         if not reasons:  # pragma: no cover - every missing branch has its reason
             raise InputError(f"target: no shot lands at ({tx:g}, {ty:g}) m with {desc}")

@@ -27,7 +27,7 @@ import numpy as np
 import tennislab.core.shoot as shoot_mod
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_vector
-from tennislab.launcher.aim import launcher_params, machine_dict, physics_summary
+from tennislab.launcher.aim import launcher_params, machine_dict
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, speed_in_kmh
 from tennislab.launcher.preferences import TRAJECTORIES
 from tennislab.launcher.reach import reach_map
@@ -85,7 +85,7 @@ class InverseResult(Result):
             "elapsed_ms": self.elapsed_ms,
             "flights": self.flights,
             "machine": machine_dict(self.spec),
-            "physics": physics_summary(self.params),
+            "physics": self.params.to_dict(),
         }
 
 
@@ -115,7 +115,7 @@ def inverse_aim(
     if trajectory not in TRAJECTORIES:
         raise InputError(f"trajectory: {trajectory!r} is not one of {', '.join(TRAJECTORIES)}")
     tx, ty = check_vector("target", target, 2)
-    v = speed_in_kmh(spec, speed_kmh, speed_ms, speed_mph)
+    v = float(speed_in_kmh(spec, speed_kmh, speed_ms, speed_mph))  # type: ignore[arg-type]
     w = spec.spin.check("spin_rpm", spin_rpm)
     g = spec.spin_axis.check("spin_axis_deg", spin_axis_deg)
     h = spec.height.check("height_m", height_m)

@@ -665,7 +665,9 @@ def fallback(spec, physics: dict, target, hit: dict | None, asked: dict, toleran
     speed = asked.get("speed_kmh") if asked.get("speed_kmh") is not None else (hit or {}).get("speed_kmh")
     if params is None or speed is None:
         return None
-    spin = asked.get("spin_rpm") if asked.get("spin_rpm") is not None else (hit or {}).get("spin_rpm", 0.0)
+    speed = float(speed)
+    spin = asked.get("spin_rpm") if asked.get("spin_rpm") is not None else (hit or {}).get("spin_rpm")
+    spin = 0.0 if spin is None else float(spin)
     axis = asked.get("spin_axis_deg")
     if axis is None:
         axis = (hit or {}).get("spin_axis_deg", 0.0) if asked.get("spin_rpm") is None else 0.0
@@ -673,8 +675,8 @@ def fallback(spec, physics: dict, target, hit: dict | None, asked: dict, toleran
     try:
         res = aim(
             target,
-            float(speed),
-            float(spin),
+            speed,
+            spin,
             float(axis),
             None if height is None else float(height),
             spec,
@@ -691,7 +693,7 @@ def fallback(spec, physics: dict, target, hit: dict | None, asked: dict, toleran
         return None
     sol = res.solution
     st = sol.settings
-    out = {k: float(getattr(st, k)) for k in HIT_SETTINGS}
+    out: dict = {k: float(getattr(st, k)) for k in HIT_SETTINGS}
     out.update(
         id=None,
         land_x=sol.landing[0],
