@@ -204,14 +204,14 @@ def main(argv=None) -> int:
     }
     results = {}
     with HitsDB(path) as hdb:
-        hdb.lookup((8.0, 0.0), trajectory="any")  # statistics and the machine row, read once per connection
+        hdb.lookup((8.0, 0.0), trajectory="any", fallback=False)  # statistics and the machine row, read once
         for label, kw in forms.items():
             xs, ys, ss, ws = targets(args.lookups)
             ms, reads, misses = [], [], 0
             for x, y, s, w in zip(xs, ys, ss, ws):
                 t = time.perf_counter()
-                try:  # the path of `launcher lookup` (max miss 1 m), errors included
-                    res = hdb.lookup((x, y), **kw(float(s), float(w)))
+                try:  # the path of `launcher lookup --no-fallback` (max miss 1 m), errors included
+                    res = hdb.lookup((x, y), fallback=False, **kw(float(s), float(w)))
                     reads.append(res.index_entries_read)
                 except InputError:
                     misses += 1

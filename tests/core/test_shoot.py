@@ -64,6 +64,7 @@ SHOTS = [  # position, speed [m/s], spin components (top, side, along) [rpm], la
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("branch", ["low", "high"])
 def test_both_branches_match_the_independent_reference(branch):
     p = np.array([s[0] for s in SHOTS])

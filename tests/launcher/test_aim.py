@@ -221,7 +221,7 @@ def test_same_half_target_needs_no_net():
             "heading: the low solution needs 44.22 deg, outside the allowed range [-40, 40] deg",
         ),
         ((4.0, 0.0), dict(speed_kmh=129, height_m=1.0), "into the net at the machine's 1 deg steps"),
-        ((1.5, 0.5), dict(speed_kmh=100, spin_rpm=1000), "goes into the net at any height"),
+        ((1.5, 0.5), dict(speed_kmh=100, spin_rpm=1000), "into the net at the machine's 1 deg steps at any height"),
         ((-20.0, 0.0), dict(speed_kmh=100), "heading range"),
         ((3.0, 0.0), dict(speed_kmh=200, height_m=1.0), "into the net"),
         ((8.0, 0.0), dict(speed_kmh=250), "speed_kmh: 250 km/h is outside the allowed range [30, 200] km/h"),

@@ -316,20 +316,21 @@ def test_lookup_agrees_with_aim_on_random_targets(table_db, params):
 
 
 def test_lookup_errors(table_db):
+    """The table's own answers and refusals (the fallback to the machine's aim off: tests/launcher/test_reach.py)."""
     hdb = HitsDB(table_db)
     with pytest.raises(InputError, match="^speed_kmh: no hit with speed 150"):
-        hdb.lookup((6.0, 0.0), 150.0, 0.0)
+        hdb.lookup((6.0, 0.0), 150.0, 0.0, fallback=False)
     with pytest.raises(InputError, match="^target: no hit in range"):
-        hdb.lookup((0.3, 0.0), 120.0, 0.0, max_miss_m=0.01, trajectory="any")
-    a = hdb.lookup((8.0, 1.0), 100.0, 0.0)
-    b = hdb.lookup((8.0, 1.0), 100.0, 0.0, height_m=1.0)
+        hdb.lookup((0.3, 0.0), 120.0, 0.0, max_miss_m=0.01, trajectory="any", fallback=False)
+    a = hdb.lookup((8.0, 1.0), 100.0, 0.0, fallback=False)
+    b = hdb.lookup((8.0, 1.0), 100.0, 0.0, height_m=1.0, fallback=False)
     assert a.hit["id"] == b.hit["id"]
     with pytest.raises(InputError, match="height_m 2"):
-        hdb.lookup((8.0, 1.0), 100.0, height_m=2.0)
+        hdb.lookup((8.0, 1.0), 100.0, height_m=2.0, fallback=False)
     with pytest.raises(InputError, match="^max_miss_m: "):
-        hdb.lookup((8.0, 1.0), 100.0, max_miss_m=0)
+        hdb.lookup((8.0, 1.0), 100.0, max_miss_m=0, fallback=False)
     with pytest.raises(InputError, match="^target: \\(13, 0\\) m is off the court"):
-        hdb.lookup((13.0, 0.0), 100.0)
+        hdb.lookup((13.0, 0.0), 100.0, fallback=False)
     with pytest.raises(InputError, match="off the court"):
         lk.check_target(13.0, 0.0)
     with pytest.raises(InputError, match="off the court"):

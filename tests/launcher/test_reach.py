@@ -33,6 +33,7 @@ def _reference_landing(res):
     return tr.landing.x, tr.landing.y
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     st.floats(0.5, 11.8),
@@ -85,6 +86,7 @@ def test_inverse_aim_refusals_are_one_line(kw, frag):
     assert str(e.value).startswith(frag) and "\n" not in str(e.value)
 
 
+@pytest.mark.slow
 def test_map_is_cached_on_disk_and_rebuilt_when_stale(tmp_path, monkeypatch):
     monkeypatch.setenv(R.CACHE_ENV, str(tmp_path))
     spec = MachineSpec(speed=DEFAULT_SPEC.speed.__class__(30.0, 120.0, 1.0, "km/h"))  # a map of its own

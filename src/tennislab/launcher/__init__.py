@@ -4,7 +4,9 @@ Workflows (plain parameters in, a :class:`tennislab.results.Result` out; ``to_di
 command's ``--json``):
 
 * :func:`aim` - machine settings on the machine's steps that land a ball nearest a target
-  (``launcher aim``), within speed/spin tolerances and trajectory preferences;
+  (``launcher aim``), within speed/spin tolerances and trajectory preferences, the height given or searched;
+* :func:`inverse_aim` - any target at once: the continuous angles from the machine's reach map, refined
+  by one Newton step on the flight kernel;
 * :class:`HitsDB` - a database of hits and drills: :meth:`~HitsDB.info`, :meth:`~HitsDB.lookup`,
   :meth:`~HitsDB.play`, :meth:`~HitsDB.fill`, drills (``launcher info | lookup | play | table | drills``);
 * :func:`compile_drill` / :func:`load_drill` - a training program compiled to settings (``launcher drill``);
@@ -13,7 +15,7 @@ command's ``--json``):
 Modules: :mod:`.machine` (spec, settings, launch states), :mod:`.aim`, :mod:`.preferences`,
 :mod:`.drills` and :mod:`.drill_schema` (drill programs and their file format), :mod:`.db`,
 :mod:`.lookup`, :mod:`.table` (the database), :mod:`.hitsdb` and :mod:`.hitsdb_results`, :mod:`.rollers`, :mod:`.power`,
-:mod:`.materials`.
+:mod:`.materials`, :mod:`.reach` (the reach map) and :mod:`.inverse`.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ if TYPE_CHECKING:
     )
     from tennislab.launcher.hitsdb import HitsDB
     from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
+    from tennislab.launcher.inverse import InverseResult, inverse_aim
     from tennislab.launcher.machine import (
         DEFAULT_POSITION,
         DEFAULT_SPEC,
@@ -86,6 +89,7 @@ __all__ = [
     "FillReport",
     "FillReports",
     "HitsDB",
+    "InverseResult",
     "LookupResult",
     "MachineSpec",
     "PlayResult",
@@ -103,6 +107,7 @@ __all__ = [
     "find_drill_source",
     "fly_settings",
     "friction_coefficient",
+    "inverse_aim",
     "launch_states",
     "launcher_params",
     "load_drill",

@@ -54,7 +54,8 @@ REFINE = 8  #: flown candidates refined per branch and round
 PER_REFINE = 4  #: new spins flown per refined candidate
 CLEARING = 8  #: parents that clear the net flown as they are, for a branch no candidate of which does
 ROUNDS = 1  #: refinement rounds (the spin is nearly linear: one round rarely moves the answer)
-#: Speeds, extra elevation and heading steps per row: (asked height, free height: per row of 30 heights)
+#: Speeds, extra elevation and heading steps per row: of the asked (or the reference) height (False), of every
+#: other height when the height is searched (True: 30 rows a branch)
 SPEEDS = {False: 7, True: 3}
 ELEVATION_EXTRA = {False: 2, True: 0}
 HEADING_EXTRA = {False: 1, True: 0}
@@ -121,6 +122,33 @@ class Candidates:
         return Candidates(**{k: v[mask] for k, v in self.__dict__.items()})
 
 
+class Parents:
+    """The flights at each row's heading b0 with the rounded asked spin, the parents of the candidates:
+    keyed by (row index, speed [km/h], elevation [deg]); the landing in the launch-direction frame (n, 2) [m]
+    and (:func:`_info`) net clearance, net status, apex and flight time."""
+
+    def __init__(self):
+        self.keys: set = set()
+        self.parts: list = []
+
+    def __contains__(self, key) -> bool:
+        return key in self.keys
+
+    def __len__(self) -> int:
+        return len(self.keys)
+
+    def add(self, ri, v, a, ell, info) -> None:
+        ri, v, a = (np.broadcast_to(np.asarray(x), (len(ell),)) for x in (ri, v, a))
+        ok = np.isfinite(ell[:, 0])
+        part = (ri[ok].astype(int), v[ok].astype(float), a[ok].astype(float), ell[ok], info[ok])
+        self.parts.append(part)
+        self.keys.update(zip(part[0].tolist(), part[1].tolist(), part[2].tolist()))
+
+    def arrays(self):
+        """(row, speed, elevation, landing (n, 2), info (n, 4)) of every parent."""
+        return tuple(np.concatenate([p[k] for p in self.parts]) for k in range(5))
+
+
 def speed_steps(rng: Range, asked: float, tol: float, count: int | None = None) -> np.ndarray:
     """Machine speed steps within ``tol`` of ``asked`` (and always the nearest step) [km/h]; with ``count``,
     the ``count`` nearest the asked speed."""
@@ -175,7 +203,7 @@ def _steps(rng: Range, lo: float, hi: float) -> np.ndarray:
     return np.round(rng.lo + np.arange(k0, k1 + 1) * rng.step, 9)
 
 
-def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask: Ask) -> tuple[list[Row], dict]:
+def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask: Ask) -> tuple[list[Row], Parents]:
     """Stage 1 (module docstring): every row's exact solution and sensitivities; and the flights at b0
     by (row index, speed, elevation) -> landing in the launch-direction frame (for reuse)."""
     P = np.asarray(spec.position, float)
@@ -191,7 +219,7 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
             if np.isfinite(m["elevation_deg"][i]):
                 found.append((float(h), branch, m["elevation_deg"][i], m["phi"][i], m["split_deg"][i]))
     if not found:
-        return [], {}
+        return [], Parents()
     n = len(found)
     H = np.array([f[0] for f in found])
     b0 = beta - np.degrees([f[3] for f in found])
@@ -217,13 +245,12 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     dv = (ell[3 * n : 4 * n] - base) / (v_fd - vq)
     J = np.stack([ell[4 * n : 5 * n] - base, ell[5 * n :] - base], axis=2) / SPIN_FD_RPM
     good = np.isfinite(a) & np.isfinite(dv).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
-    rows, flown = [], {}
-    for i in np.flatnonzero(good).tolist():
+    rows, flown = [], Parents()
+    gi = np.flatnonzero(good)
+    for i in gi.tolist():
         h, branch, _, _, split = found[i]
         rows.append(Row(h, branch, float(a[i]), float(b[i]), float(b0[i]), float(split), float(slope[i]), dv[i], J[i]))
-        for k in range(3):
-            if np.isfinite(le[i, k, 0]):
-                flown[(len(rows) - 1, vq, float(E[i, k]))] = (le[i, k], info[i, k])
+    flown.add(np.repeat(np.arange(gi.size), 3), vq, E[gi].reshape(-1), le[gi].reshape(-1, 2), info[gi].reshape(-1, 4))
     for i in np.flatnonzero(~good).tolist():
         row, _ = _solve_row(shoot5, spec, params, ask, found[i][0], found[i][1], float(found[i][4]))
         if row is not None:
@@ -298,14 +325,16 @@ def _info(tab: FlightTable) -> np.ndarray:
     return np.column_stack([tab.clearance, tab["net_status"], tab["apex_z"], tab["land_t"]])
 
 
-def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict) -> dict:
+def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents) -> Parents:
     """Stage 2: per row, the speed steps and the elevation steps around each speed's exact elevation, flown
     at the row's b0 with the rounded asked spin (those of stage 1 reused).  Updates and returns ``flown``."""
     er = spec.elevation
     P = np.asarray(spec.position, float)
     beta = math.degrees(math.atan2(ask.target[1] - P[1], ask.target[0] - P[0]))
-    speeds = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[ask.height_free])
-    extra = ELEVATION_EXTRA[ask.height_free]
+    speeds = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[False])
+    few = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[True])
+    extra = ELEVATION_EXTRA[False]
+    full = _full_rows(ask, rows)  # the asked (or reference) height: the whole neighbourhood
     vq = ask.q_speed_kmh
     ra = np.array([r.a for r in rows])
     phi = np.radians(beta - np.array([r.b for r in rows]))
@@ -322,7 +351,11 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict) -
     inside = (A >= er.lo - 1e-9) & (A <= er.hi + 1e-9)
     side = np.where(low[:, None, None], A <= split[:, None, None] + 1e-9, A >= split[:, None, None] - 1e-9)
     keep = inside & side
-    none = ~keep.any(axis=2)  # no step on the branch's side: the nearest step
+    light = ~full[:, None, None] & (
+        ~np.isin(speeds, few)[None, :, None] | (np.abs(offs - 0.5 * er.step) > er.step)[None, None, :]
+    )
+    keep &= ~light  # the other heights: the speeds nearest the asked one, the floor and ceil of each elevation
+    none = ~keep.any(axis=2) & (full[:, None] | np.isin(speeds, few)[None, :])  # none on the branch's side: the nearest
     A[..., 0] = np.where(none, np.clip(np.round((a_v - er.lo) / er.step) * er.step + er.lo, er.lo, er.hi), A[..., 0])
     keep[..., 0] |= none
     ri, mi, _ = np.nonzero(keep)
@@ -338,11 +371,19 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict) -
             ask.q_spin_rpm,
             ask.q_spin_axis_deg,
         )
-        ell = _polar(tab, P, b0)
-        info = _info(tab)
-        for k in np.flatnonzero(np.isfinite(ell[:, 0])):
-            flown[todo[k]] = (ell[k], info[k])
+        flown.add(ri, np.array([t[1] for t in todo]), np.array([t[2] for t in todo]), _polar(tab, P, b0), _info(tab))
     return flown
+
+
+def _full_rows(ask: Ask, rows: list[Row]) -> np.ndarray:
+    """Rows searched in the whole neighbourhood: every row of an asked height; of a searched one, the rows at
+    the step nearest :data:`REFERENCE_HEIGHT_M` (so that searching the height never lands farther than the
+    reference height alone)."""
+    h = np.array([r.height for r in rows])
+    if not ask.height_free:
+        return np.ones(h.size, bool)
+    ref = ask.heights[np.argmin(np.abs(ask.heights - REFERENCE_HEIGHT_M))]
+    return np.abs(h - ref) < 1e-9
 
 
 def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarray:
@@ -355,7 +396,7 @@ def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarr
     return ok
 
 
-def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_net: bool, prefs: Preferences):
+def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
     """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring).
 
     Returns a dict of flat arrays: ``row``, ``height``, ``speed``, ``elevation``, ``heading``, ``rate``,
@@ -364,20 +405,19 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_n
     P = np.asarray(spec.position, float)
     T = np.asarray(ask.target, float)
     beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
-    keys = list(flown)
-    ell = np.array([flown[k][0] for k in keys])
-    info = np.array([flown[k][1] for k in keys])
-    ri = np.array([k[0] for k in keys])
+    ri, speed, elev, ell, info = flown.arrays()
     need = beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0]))  # the heading that puts each on the target's ray
-    extra = HEADING_EXTRA[ask.height_free]
+    extra = HEADING_EXTRA[False]
     offs = np.arange(-extra, extra + 2)
     base = hr.lo + np.floor((need - hr.lo) / hr.step) * hr.step
     B = np.round(base[:, None] + offs[None, :] * hr.step, 9)  # (n, m)
     n, m = B.shape
     par = np.repeat(np.arange(n), m)
+    full = _full_rows(ask, rows)[ri][par]
+    light = np.tile((offs < 0) | (offs > 1), n)  # the other heights: the floor and ceil of the heading
     B = B.reshape(-1)
-    inside = (B >= hr.lo - 1e-9) & (B <= hr.hi + 1e-9)
-    par, B = par[inside], B[inside]
+    inside = (B >= hr.lo - 1e-9) & (B <= hr.hi + 1e-9) & (full | ~light)
+    par, B, full = par[inside], B[inside], full[inside]
     L0 = P + _rotate(ell[par], B)
     J = np.array([r.J for r in rows])[ri[par]]
     Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
@@ -385,11 +425,15 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_n
     asked = (ask.spin_rpm, ask.spin_axis_deg)
     # prune: a candidate whose landing no allowed spin can bring near the best bound is not worth a variant
     lb = np.maximum(np.hypot(*(L0 - T).T) - _spin.reach(Jc, om_b, asked, ask.tolerances), 0.0)
-    branch = np.array([rows[i].branch for i in ri[par]])
+    branch = np.array([r.branch for r in rows])[ri[par]]
     good = _parent_ok(info[par], need_net, prefs)
     parts = []
+    pools = [(np.ones(par.size, bool), PRUNE), (good, PRUNE // 2)]
+    if ask.height_free:  # the reference height keeps the quota it has when it is asked
+        pools += [(full, PRUNE), (full & good, PRUNE // 2)]
     for name in ("low", "high"):
-        for pool, size in ((branch == name, PRUNE), ((branch == name) & good, PRUNE // 2)):
+        for mask, size in pools:
+            pool = mask & (branch == name)
             idx = np.flatnonzero(pool)
             parts.append(idx[np.argsort(lb[idx], kind="stable")[:size]])
     keep = np.unique(np.concatenate(parts))
@@ -400,8 +444,8 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_n
     return {
         "row": ri[pp],
         "height": np.array([rows[i].height for i in ri])[pp],
-        "speed": np.array([kk[1] for kk in keys])[pp],
-        "elevation": np.array([kk[2] for kk in keys])[pp],
+        "speed": speed[pp],
+        "elevation": elev[pp],
         "heading": np.repeat(B, k),
         "rate": W.reshape(-1),
         "axis": G.reshape(-1),
@@ -410,10 +454,23 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_n
     }
 
 
-def _settings_key(h, v, a, b, w, g) -> np.ndarray:
-    """One hashable key per setting combination (settings on steps, compared to 1e-6 of their units)."""
-    cols = np.ascontiguousarray(np.round(np.column_stack([h, v, a, b, w, g]) * 1e6).astype(np.int64))
-    return cols.view(np.dtype((np.void, cols.dtype.itemsize * cols.shape[1]))).ravel()
+_KEY_FIELDS = ("height", "speed", "elevation", "heading", "spin", "spin_axis")
+
+
+def _settings_key(spec: MachineSpec, h, v, a, b, w, g) -> np.ndarray:
+    """One int64 per setting combination (the step index of each setting, in mixed radix), or, for a machine
+    with more steps than 2^62 combinations, one bytes-like key per row."""
+    cols = [h, v, a, b, w, g]
+    ranges = [getattr(spec, f) for f in _KEY_FIELDS]
+    sizes = [int(round((r.hi - r.lo) / r.step)) + 2 for r in ranges]
+    idx = [np.rint((np.asarray(x, float) - r.lo) / r.step).astype(np.int64) + 1 for x, r in zip(cols, ranges)]
+    if math.prod(sizes) < 2**62:
+        key = np.zeros(np.shape(idx[0]), np.int64)
+        for k, n in zip(idx, sizes):
+            key = key * n + np.clip(k, 0, n - 1)
+        return key
+    arr = np.ascontiguousarray(np.stack(idx, axis=-1))
+    return arr.view(np.dtype((np.void, 8 * len(cols)))).reshape(np.shape(idx[0]))
 
 
 def _fly_candidates(shoot5, spec: MachineSpec, ask: Ask, rows_idx, cols) -> Candidates:
@@ -445,24 +502,30 @@ def _concat(parts: list[Candidates]) -> Candidates:
     return Candidates(**{k: np.concatenate([getattr(p, k) for p in parts]) for k in Candidates.__dataclass_fields__})
 
 
-def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, need_net: bool, prefs: Preferences):
+def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
     """Stages 2 and 3 (module docstring) on the rows of :func:`rows_of`: every candidate flown."""
     flown = _combos(shoot5, spec, ask, rows, flown)
     pr = _predicted(spec, ask, rows, flown, need_net, prefs)
-    branch = np.array([rows[i].branch for i in pr["row"]])
+    branch = np.array([r.branch for r in rows])[pr["row"]]
     fin = np.isfinite(pr["pred"])
     parent_ok = _parent_ok(pr["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    keys = _settings_key(*(pr[c] for c in cols))
+    keys = _settings_key(spec, *(pr[c] for c in cols))
     chosen = []
+    pools = [(fin, TOP), (fin & parent_ok, TOP // 2)]
+    if ask.height_free:
+        ref = _full_rows(ask, rows)[pr["row"]]
+        pools += [(fin & ref, TOP), (fin & ref & parent_ok, TOP // 2)]
     for name in ("low", "high"):
-        for pool, top in ((fin & (branch == name), TOP), (fin & (branch == name) & parent_ok, TOP // 2)):
-            idx = np.flatnonzero(pool)
+        for mask, top in pools:
+            idx = np.flatnonzero(mask & (branch == name))
+            if idx.size > 8 * top:  # the best few first (a partition), then in order
+                idx = idx[np.argpartition(pr["pred"][idx], 8 * top)[: 8 * top]]
             idx = idx[np.argsort(pr["pred"][idx], kind="stable")]
             _, first = np.unique(keys[idx], return_index=True)
             chosen.append(idx[np.sort(first)][:top])
     pick = np.unique(np.concatenate(chosen))
-    seen = {k.tobytes() for k in keys[pick]}
+    seen = {k.item() if keys.dtype == np.int64 else k.tobytes() for k in keys[pick]}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr["row"][pick], [pr[c][pick] for c in cols])]
     extra = _clearing_parents(spec, ask, rows, flown, flown_c[0], need_net, prefs, seen)
     if extra is not None:
@@ -475,34 +538,30 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: dict, ne
     return _concat(flown_c)
 
 
-def _clearing_parents(spec, ask: Ask, rows, flown: dict, c: Candidates, need_net, prefs, seen: set):
+def _clearing_parents(spec, ask: Ask, rows, flown: Parents, c: Candidates, need_net, prefs, seen: set):
     """A branch none of whose flown candidates clears the net (or meets the preferences): its parents that do,
     nearest the target first, with the rounded asked spin at their nearest heading step (so that a refusal
     can say how far the nearest acceptable step lands)."""
     _, pref_ok = acceptable(c, need_net, prefs)
     have = {rows[i].branch for i in c.row[pref_ok]}
-    keys = [k for k in flown if rows[k[0]].branch not in have]
-    if not keys:
-        return None
-    info = np.array([flown[k][1] for k in keys])
-    good = _parent_ok(info, need_net, prefs)
+    ri, speed, elev, ell, info = flown.arrays()
+    good = np.array([rows[i].branch not in have for i in ri]) & _parent_ok(info, need_net, prefs)
     if not good.any():
         return None
     P = np.asarray(spec.position, float)
     T = np.asarray(ask.target, float)
     beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
-    ell = np.array([flown[k][0] for k in keys])[good]
-    ri = np.array([k[0] for k in keys])[good]
+    ell, ri = ell[good], ri[good]
     b = spec.heading.quantise(beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0])))
     miss = np.hypot(*(P + _rotate(ell, b) - T).T)
     order = np.argsort(miss, kind="stable")[:CLEARING]
     h = np.array([rows[i].height for i in ri])
-    v = np.array([k[1] for k in keys])[good]
-    a = np.array([k[2] for k in keys])[good]
+    v, a = speed[good], elev[good]
     cols = [h[order], v[order], a[order], np.atleast_1d(b)[order]]
     w = np.full(order.size, ask.q_spin_rpm)
     g = np.full(order.size, ask.q_spin_axis_deg)
-    fresh = [k.tobytes() not in seen for k in _settings_key(cols[0], cols[1], cols[2], cols[3], w, g)]
+    kk = _settings_key(spec, cols[0], cols[1], cols[2], cols[3], w, g)
+    fresh = [(k.item() if kk.dtype == np.int64 else k.tobytes()) not in seen for k in kk]
     if not any(fresh):
         return None
     f = np.array(fresh)
@@ -512,7 +571,7 @@ def _clearing_parents(spec, ask: Ask, rows, flown: dict, c: Candidates, need_net
 def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_net, prefs, seen: set):
     """New spins for the best flown candidates of each branch from their measured misses (module docstring)."""
     net_ok, pref_ok = acceptable(c, need_net, prefs)
-    branch = np.array([rows[i].branch for i in c.row])
+    branch = np.array([r.branch for r in rows])[c.row]
     picks = []
     for name in ("low", "high"):
         for mask in (pref_ok, net_ok, c.landed):
@@ -536,16 +595,16 @@ def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_ne
     n, k = W.shape
     rep = np.repeat(idx, k)
     keys = _settings_key(
-        c.height_m[rep], c.speed_kmh[rep], c.elevation_deg[rep], c.heading_deg[rep], W.ravel(), G.ravel()
+        spec, c.height_m[rep], c.speed_kmh[rep], c.elevation_deg[rep], c.heading_deg[rep], W.ravel(), G.ravel()
     ).reshape(n, k)
-    order = np.argsort(miss, axis=1, kind="stable")
+    order = np.argsort(miss, axis=1, kind="stable")[:, : 4 * PER_REFINE]
     out = []
     for j in range(n):
         got = 0
-        for kk in order[j]:
+        for kk in order[j].tolist():
             if got >= PER_REFINE or not np.isfinite(miss[j, kk]):
                 break
-            key = keys[j, kk].tobytes()
+            key = keys[j, kk].item() if keys.dtype == np.int64 else keys[j, kk].tobytes()
             if key in seen:
                 continue
             seen.add(key)
