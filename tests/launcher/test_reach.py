@@ -9,7 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tennislab.core.flight import fly
+from tennislab.core.flight import fly_dense
 from tennislab.errors import InputError
 from tennislab.launcher import HitsDB
 from tennislab.launcher import reach as R
@@ -29,7 +29,7 @@ def _reference_landing(res):
         s["spin_rpm"],
         s["spin_axis_deg"],
     )[0]
-    tr = fly(y0[0:3], y0[3:6], y0[6:9], PARAMS)
+    tr = fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)
     return tr.landing.x, tr.landing.y
 
 
@@ -165,7 +165,7 @@ def test_lookup_refines_a_far_hit_and_says_so(small_db):
         DEFAULT_SPEC,
         *(s[k] for k in ("height_m", "speed_kmh", "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg")),
     )[0]
-    tr = fly(y0[0:3], y0[3:6], y0[6:9], PARAMS)
+    tr = fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)
     assert math.hypot(tr.landing.x - d["landing"]["x"], tr.landing.y - d["landing"]["y"]) < 1e-3
 
 
