@@ -305,10 +305,6 @@ _RHS_NAMES = ("derivative", "rhs", "_rhs", "deriv", "_deriv", "accel", "_accel",
 _OTHER_PHYSICS = {("core.impact", "rhs")}
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="linecall/model.py's copy of the equations of motion goes with issue 20 (h20 flips this)",
-)
 def test_one_definition_of_the_right_hand_side():
     """The flight's right-hand side is written once (core/dynamics.py): no other module defines one
     or evaluates the aero coefficients inside compiled code of its own."""
