@@ -9,7 +9,9 @@ Workflows (each returns a :class:`~tennislab.results.Result`; ``to_dict()`` is t
   (``tennislab call --rally``);
 * :func:`call_state` - a state flown to its landing (``tennislab call --position``);
 * :func:`call_detections` - 2-D detections of calibrated cameras, triangulated then called
-  (``tennislab call --cameras``).
+  (``tennislab call --cameras``);
+* :func:`check_rally` - a rally's calls against real tracker output: the bounce against an
+  independent estimate (:func:`independent_bounces`), residuals, sigma coverage, spin.
 
 Pieces: :mod:`.model` (compiled track models), :mod:`.fit` (robust fits), :mod:`.free_flight`, :mod:`.net`,
 :mod:`.detect` (hits, bounces, noise), :mod:`.decide` (a mark against lines and areas),
@@ -26,15 +28,19 @@ if TYPE_CHECKING:
     from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
     from tennislab.linecall.rally import RallyCall, call_rally, split_point
     from tennislab.linecall.synth import sample_serve
+    from tennislab.linecall.tracker_check import TrackerCheck, check_rally, independent_bounces
 
 __all__ = [
     "CALLS",
     "RallyCall",
+    "TrackerCheck",
     "TrackCall",
     "call_detections",
     "call_rally",
     "call_state",
     "call_track",
+    "check_rally",
+    "independent_bounces",
     "sample_serve",
     "split_point",
 ]

@@ -341,9 +341,11 @@ def quality_reasons(fit: TrackFit, t, noise: float, local: LocalFit | None = Non
     return reasons
 
 
-def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float) -> dict:
-    return {
+def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float, local: LocalFit | None = None) -> dict:
+    pre = (fit.segment == M.SEG_PRE) & np.isfinite(fit.residual)
+    out = {
         "rms_mm": fit.rms * 1000.0,
+        "flight_rms_mm": float(math.sqrt(np.mean(fit.residual[pre] ** 2)) * 1000.0) if pre.any() else None,
         "outliers": int(fit.outlier.sum()),
         "outlier_rows": np.nonzero(fit.outlier)[0],
         "n_points": int(n_points),
@@ -366,6 +368,17 @@ def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float) -> dic
         "evaluations": fit.n_iter,
         "elapsed_ms": elapsed * 1000,
     }
+    if local is not None:
+        out.update(
+            bounce_window_s=local.window,
+            bounce_rms_mm=local.rms * 1000.0,
+            bounce_n_points=int(local.rows.size),
+            bounce_windows=[
+                {"window_s": w, "x": x, "y": y, "sigma_mm": sg * 1000.0, "n_points": k}
+                for w, x, y, sg, k in local.tried
+            ],
+        )
+    return out
 
 
 def _effective_aero(fit: TrackFit) -> dict:
@@ -575,7 +588,7 @@ def call_track(
         decision=decision,
         bounce=_bounce_dict(fit, t_ref),
         mark=None if mark is None else mark_dict(mark),
-        fit=_fit_dict(fit, n_all, elapsed, noise),
+        fit=_fit_dict(fit, n_all, elapsed, noise, loc),
         spin=spin,
         net=net_d,
         later_bounces=tuple(later),
