@@ -76,7 +76,10 @@ def run(folder: Path) -> dict:
 def _line(label: str, st: dict) -> str:
     if not st["n"]:
         return f"  {label:<7} -"
-    return f"  {label:<7} median {st['median']:5.2f} mm  p90 {st['p90']:6.2f} mm  mean {st['mean']:5.2f} mm  ({st['n']} shots)"
+    return (
+        f"  {label:<7} median {st['median']:5.2f} mm  p90 {st['p90']:6.2f} mm  mean {st['mean']:5.2f} mm"
+        f"  ({st['n']} shots)"
+    )
 
 
 def main(argv=None) -> None:
@@ -95,9 +98,8 @@ def main(argv=None) -> None:
     sp, cov, speed = s["spin"], s["coverage"], s["speed"]
     print(f"real tracks: {folder}")
     calls = ", ".join(f"{k} {v}" for k, v in s["calls"].items() if v)
-    print(
-        f"{s['n_shots']} shots: {calls}; agree with the tracker {s['tracker_calls_agree']}/{s['tracker_calls_compared']}"
-    )
+    agree = f"{s['tracker_calls_agree']}/{s['tracker_calls_compared']}"
+    print(f"{s['n_shots']} shots: {calls}; agree with the tracker {agree}")
     print("bounce vs the independent estimate (target: median <= 3 mm, p90 <= 8 mm):")
     for label in ("all", "serve", "rally"):
         print(_line(label, s[f"bounce_error_mm_{label}"]))

@@ -55,11 +55,11 @@ def independent_bounces(point: Point, n: int = N_LAST, z: float = Z_CONTACT) -> 
             continue
         tt = t[sel] - te
         cz = np.polyfit(tt, xyz[sel, 2], 2)
-        roots = np.roots(cz - np.array([0.0, 0.0, z]))
-        roots = [r.real for r in roots if abs(r.imag) < 1e-12 and -MAX_GAP < r.real < MAX_GAP]
-        if not roots:
+        real = [r.real for r in np.roots(cz - np.array([0.0, 0.0, z])) if abs(r.imag) < 1e-12]
+        near = [r for r in real if -MAX_GAP < r < MAX_GAP]
+        if not near:
             continue
-        tr = min(roots, key=abs)
+        tr = min(near, key=abs)
         x = float(np.polyval(np.polyfit(tt, xyz[sel, 0], 2), tr))
         y = float(np.polyval(np.polyfit(tt, xyz[sel, 1], 2), tr))
         out.append(IndependentBounce(float(te), float(te + tr), x, y))
