@@ -31,7 +31,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from tennislab.core.aero import DEFAULT_AERO, AeroModel, get_aero_model, inline_tag
 from tennislab.core.atmosphere import Atmosphere
@@ -548,6 +547,8 @@ def fly_dense(
         ts, ys, sol = np.array([t0]), y0[None, :].copy(), _Constant(y0)
     else:
         try:
+            from scipy.integrate import solve_ivp  # (here: SciPy loads only for a dense flight)
+
             res = solve_ivp(
                 f,
                 (t0, t0 + params.t_max),

@@ -92,7 +92,6 @@ from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from tennislab.core.ball import Ball
 from tennislab.core.haake2003 import BallImpactModel, get_ball_model
@@ -676,6 +675,8 @@ def impact_reference(
 
     ev.terminal = True  # type: ignore[attr-defined]  # solve_ivp's event attributes
     ev.direction = -1  # type: ignore[attr-defined]
+    from scipy.integrate import solve_ivp  # (here: SciPy loads only for a dense flight)
+
     sol = solve_ivp(
         f,
         (0.0, 0.1),
