@@ -118,10 +118,42 @@ def test_tracks_command(capsys, tmp_path):
         p = tmp_path / f"t{i}.csv"
         p.write_text(track_to_csv(t, tr.sol(t).T[:, :3]))
         files.append(str(p))
-    rc, out, err = run(capsys, "calibrate", "tracks", *files, "--json", "--quiet")
+    rc, out, err = run(capsys, "calibrate", "tracks", *files, "--fit", "cd", "--json", "--quiet")
     assert rc == 0, err
     d = json.loads(out)
-    assert d["values"]["cd"] == pytest.approx(0.58, abs=2e-3) and d["free"] == ["cd"]
+    assert d["values"]["cd"] == pytest.approx(0.58, abs=2e-3) and d["free"] == ["cd"] and d["model"] == "family"
+
+
+def _track_files(tmp_path, n=4):
+    truth = FlightParams.from_options(aero="cross2014", cd=0.62, cl=0.6, spin_decay=0.5)
+    files = []
+    for i in range(n):
+        vx, vz, w = 20.0 + 6 * i, 6.0 - i, (0.0, (-1) ** i * 250.0, 0.0)
+        tr = fly((-11.5, 0.3 * i, 1.0), (vx, 0.0, vz), w, truth)
+        t = np.arange(0.0, 0.95 * tr.landing.t, 0.02)
+        p = tmp_path / f"t{i}.csv"
+        p.write_text(track_to_csv(t, tr.sol(t).T[:, :3]))
+        files.append(str(p))
+    return files
+
+
+def test_tracks_curves_command(capsys, tmp_path):
+    """The default fit identifies the curves: the held-out (even-numbered) tracks, the table and a
+    tennislab.toml that flies it."""
+    files = _track_files(tmp_path)
+    table, conf = tmp_path / "aero.csv", tmp_path / "tennislab.toml"
+    args = ("calibrate", "tracks", *files, "--speed-knots", "15,30", "--s-knots", "0.2,0.4", "--max-iter", "2")
+    rc, out, err = run(capsys, *args, "--out-table", str(table), "--out-config", str(conf), "--quiet")
+    assert rc == 0, err
+    assert "identified on 2 flights, 2 held out" in out and "held out all" in out and "cubic floor" in out
+    assert f"--aero table --aero-table {table} --spin-decay" in out
+    rc, out, err = run(capsys, *args, "--json", "--quiet")
+    d = json.loads(out)
+    assert d["model"] == "curves" and d["split"]["n_held_out"] == 2 and set(d["values"]) >= {"cd@15", "decay"}
+    assert d["held_out"]["all"]["after"]["median_mm"] is not None
+    rc, out, err = run(capsys, "--config", str(conf), "fly", "--speed-kmh", "90", "--elevation-deg", "8", "--json")
+    assert rc == 0, err
+    assert json.loads(out)["physics"]["aero"] == "table"
 
 
 @pytest.mark.parametrize(
@@ -137,6 +169,12 @@ def test_tracks_command(capsys, tmp_path):
         (("serves", "--serves", "/nonexistent/s.csv"), "no such file"),
         (("sensitivity", "--serves", "{f}", "--cd", "a,b"), "--cd: expected comma-separated numbers"),
         (("tracks", "{bad}"), "missing column"),
+        (("tracks", "{track}", "--split", "random"), "--split: unknown split"),
+        (("tracks", "{track}", "--fit", "cd_v,wobble"), "--fit: unknown parameter"),
+        (("tracks", "{track}", "--drag-sigma", "-1"), "--drag-sigma:"),
+        (("tracks", "{track}", "--speed-knots", "30,20"), "cd: knots must be"),
+        (("tracks", "{track}", "--out-config", "{dir}/c.toml"), "--out-config: needs --out-table"),
+        (("tracks", "{points}"), "points: no hit-to-bounce flight"),
         (("validate", "--serves", "{same}"), "--serves: no serves left after the checks"),
     ],
 )
@@ -154,8 +192,15 @@ def test_bad_input_exit_2_one_line(capsys, serves_file, tmp_path, args, msg):
     i = head.index("x_serve_bounce")
     cols[i] = str(-float(cols[i]))
     same.write_text("\n".join([lines[0], ",".join(cols)]) + "\n")
-    argv = [a.format(f=serves_file, bad=bad, nan=nan, same=same) for a in args]
+    track = tmp_path / "track.csv"
+    t = np.arange(0.0, 0.5, 0.02)
+    track.write_text(track_to_csv(t, np.stack([-11 + 25 * t, 0 * t, 1 + 3 * t - 4.9 * t**2], axis=1)))
+    points = tmp_path / "points.json"
+    points.write_text(json.dumps({"samples": [{"time": 0.0, "event": "hit", "ball": [0, 0, 1]}]}))
+    fmt = {"f": serves_file, "bad": bad, "nan": nan, "same": same, "track": track, "points": points, "dir": tmp_path}
+    argv = [a.format(**fmt) for a in args]
     rc, out, err = run(capsys, "calibrate", *argv, "--quiet")
     assert rc == 2
     assert msg in err
+    assert len(err.strip().splitlines()) == 1
     assert len(err.strip().splitlines()) == 1

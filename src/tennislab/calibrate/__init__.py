@@ -10,8 +10,10 @@ Workflows (plain parameters in, a frozen :class:`~tennislab.results.Result` out)
   (:class:`CalibrationResult`).
 * :func:`sensitivity_serves` - the misses over a grid of coefficients and spin-axis assumptions
   (:class:`SensitivityResult`).
-* :func:`calibrate_tracks` - the coefficients fitted to time-stamped free-flight tracks
-  (:class:`TrackCalibrationResult`).
+* :func:`calibrate_tracks` - a ball's aerodynamic curves (C_D against speed and spin, C_L against
+  the spin parameter, spin decay) identified from timed tracks and tracker points, with every flight's
+  launch state and spin, reported on held-out flights (:class:`TrackCalibrationResult`); or the
+  family's coefficients on tracks of a known spin.
 * :func:`calibrate_surface` - the court's restitution and friction fitted to measured bounces
   (:class:`SurfaceCalibrationResult`; its surface file is what ``--surface FILE.toml`` reads).
 
@@ -34,6 +36,8 @@ if TYPE_CHECKING:
         sensitivity_serves,
     )
     from tennislab.calibrate.family import aero_table_csv, family_coefficients, family_model, family_table
+    from tennislab.calibrate.flights import Flight, flights_from_points, flights_from_tracks
+    from tennislab.calibrate.identify import Curves
     from tennislab.calibrate.predict import Prediction, SpinAxis, predict_bounces
     from tennislab.calibrate.serves import (
         FAMILIES,
@@ -53,6 +57,8 @@ __all__ = [
     "FAMILIES",
     "REASONS",
     "CalibrationResult",
+    "Curves",
+    "Flight",
     "ModelValidation",
     "Prediction",
     "SensitivityResult",
@@ -70,6 +76,8 @@ __all__ = [
     "family_coefficients",
     "family_model",
     "family_table",
+    "flights_from_points",
+    "flights_from_tracks",
     "load_serves",
     "predict_bounces",
     "registered_models",

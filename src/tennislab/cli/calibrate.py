@@ -5,7 +5,7 @@ Sub-commands (workflows of :mod:`tennislab.calibrate`; docs/validation.md):
 * ``validate``    measured serves flown by every aero model: median / p90 miss, length and width bias
 * ``serves``      fit the aero coefficients to measured serves; write an ``--aero table`` CSV
 * ``sensitivity`` the misses over a grid of C_D, C_L and spin-axis assumptions
-* ``tracks``      fit the aero coefficients to time-stamped free-flight tracks (t,x,y,z CSVs)
+* ``tracks``      identify a ball's aerodynamic curves from timed tracks and tracker points (CSV, point JSON)
 
 Progress goes to stderr (``--quiet`` silences it); ``--json`` prints the workflow's ``to_dict()``.
 """
@@ -13,6 +13,7 @@ Progress goes to stderr (``--quiet`` silences it); ``--json`` prints the workflo
 from __future__ import annotations
 
 import csv
+import os
 import sys
 
 from tennislab.cli.common import (
@@ -151,17 +152,45 @@ def register(sub) -> None:
 
     t = sp.add_parser(
         "tracks",
-        help="fit the aero coefficients to free-flight tracks (t,x,y,z[,sigma] CSVs)",
-        description="Fit the calibrated family to time-stamped tracks, each one free flight (no bounce, no hit).",
+        help="identify a ball's aerodynamics from timed tracks or tracker points (CSV tracks, point JSON)",
+        description="Fit the global curves of a ball (C_D against speed and spin, C_L against the spin parameter, "
+        "spin decay) jointly with every flight's launch state, spin and drag scale, on hit-to-bounce flights of "
+        "point JSON and on t,x,y,z CSV tracks; report the residuals before and after on held-out flights "
+        "(docs/validation.md). With --fit among cd, cl, cd_s (or --spin-rpm) fit the 3-parameter family instead.",
     )
-    t.add_argument("files", nargs="+", metavar="TRACK.csv", help="track CSVs (t,x,y,z[,sigma]; one free flight each)")
-    t.add_argument("--fit", default=None, help="free parameters among cd, cl, cd_s (default cd, cl with a spin)")
-    t.add_argument("--cd", type=float, help="drag start / fixed value (default 0.6)")
-    t.add_argument("--cl", type=float, help="lift slope start / fixed value (default 0.6)")
-    t.add_argument("--cd-s", type=float, help="drag growth with S, start / fixed value (default 0)")
-    t.add_argument("--spin-rpm", type=float, help="the tracks' spin rate [rpm] (default: none)")
     t.add_argument(
-        "--spin-axis", default="topspin", help="its axis relative to each track's direction (default topspin)"
+        "files",
+        nargs="+",
+        metavar="FILE|DIR",
+        help="track CSVs (t,x,y,z[,sigma]; one free flight each), point JSON files or folders of them",
+    )
+    t.add_argument("--holdout", nargs="+", default=[], metavar="FILE|DIR", help="held-out tracks or points (no split)")
+    t.add_argument(
+        "--split",
+        default="parity",
+        help="held-out part: parity (odd games fitted, even held out; CSV tracks: odd-numbered fitted; default) "
+        "or none",
+    )
+    t.add_argument(
+        "--fit",
+        default=None,
+        help="curves among cd_v, cd_s, cl_s, decay, wind (default cd_v,cl_s,decay), or the family's cd, cl, cd_s",
+    )
+    t.add_argument(
+        "--drag-sigma",
+        type=float,
+        default=0.15,
+        help="prior sigma of every flight's drag scale about 1 (shot-to-shot variation; 0: none; default 0.15)",
+    )
+    t.add_argument("--speed-knots", help="comma-separated speeds [m/s] of the C_D curve (default 10,15,...,60)")
+    t.add_argument("--s-knots", help="comma-separated spin parameters of the C_L curve (default 0.1,0.2,0.3,0.4,0.6)")
+    t.add_argument("--max-iter", type=int, default=20, help="most iterations of the global curves (default 20)")
+    t.add_argument("--cd", type=float, help="family: drag start / fixed value (default 0.6)")
+    t.add_argument("--cl", type=float, help="family: lift slope start / fixed value (default 0.6)")
+    t.add_argument("--cd-s", type=float, help="family: drag growth with S, start / fixed value (default 0)")
+    t.add_argument("--spin-rpm", type=float, help="family: the tracks' spin rate [rpm] (default: none)")
+    t.add_argument(
+        "--spin-axis", default="topspin", help="family: its axis relative to each track's direction (default topspin)"
     )
     t.add_argument("--baseline", help=LazyHelp(lambda: f"model of the 'before' residuals (default {_default_aero()})"))
     t.add_argument(
@@ -169,6 +198,12 @@ def register(sub) -> None:
         metavar="CSV",
         type=output_file((".csv",)),
         help="write the calibrated model as an --aero table CSV",
+    )
+    t.add_argument(
+        "--out-config",
+        metavar="FILE.toml",
+        type=output_file((".toml",)),
+        help="write a tennislab.toml [physics] table flying the model (the --out-table CSV and the spin decay)",
     )
     _common(t, serves=False)
     t.set_defaults(func=run_tracks)
@@ -416,14 +451,33 @@ def run_sensitivity(args) -> int:
     return 0
 
 
+def _read_flight_files(paths: list[str]) -> tuple[list, list]:
+    """(CSV tracks, points) of ``paths``: folders and .json/.jsonl files are point JSON, the rest CSV."""
+    from tennislab.io import read_points, read_track
+
+    tracks, points = [], []
+    for f in paths:
+        if os.path.isdir(f) or f.lower().endswith((".json", ".jsonl")):
+            points += read_points(f)
+        else:
+            tracks.append(read_track(f))
+    return tracks, points
+
+
 def run_tracks(args) -> int:
     from tennislab.calibrate import calibrate_tracks
-    from tennislab.io import read_track
+    from tennislab.linecall import find_bounces, find_hits
 
     args.baseline = args.baseline or _default_aero()
-    tracks = [read_track(f) for f in args.files]
+    if args.out_config and not args.out_table:
+        raise InputError("--out-config: needs --out-table (the table the configuration points to)")
+    tracks, points = _read_flight_files(args.files)
+    h_tracks, h_points = _read_flight_files(args.holdout)
     res = calibrate_tracks(
         tracks,
+        points=points,
+        holdout_tracks=h_tracks,
+        holdout_points=h_points,
         fit=args.fit,
         cd=args.cd,
         cl=args.cl,
@@ -432,26 +486,73 @@ def run_tracks(args) -> int:
         spin_axis=args.spin_axis,
         baseline=args.baseline,
         physics=_physics(args),
+        split=args.split,
+        drag_sigma=args.drag_sigma,
+        speed_knots=_floats(args.speed_knots, "speed_knots") if args.speed_knots else None,
+        s_knots=_floats(args.s_knots, "s_knots") if args.s_knots else None,
+        max_iter=args.max_iter,
+        find_hits=find_hits,
+        find_bounces=find_bounces,
         progress=_progress(args),
     )
     if args.out_table:
         text = res.table_csv()
         atomic_write(args.out_table, lambda fh: fh.write(text))
+    if args.out_config:
+        conf = res.config_toml(os.path.abspath(args.out_table))
+        atomic_write(args.out_config, lambda fh: fh.write(conf))
     if args.csv:
         _write_rows(args.csv, res.rows())
     if args.json:
         emit_json(res)
         return 0
-    vals = ", ".join(
-        f"{k} = {res.values[k]:.4f}" + (f" ± {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
-        for k in ("cd", "cl", "cd_s")
-    )
-    print(f"calibrated on {res.n_tracks} tracks ({res.n_points} points): {vals}")
-    print(
-        f"residual RMS: {res.rms_before_mm:.2f} mm ({res.baseline}) -> {res.rms_after_mm:.2f} mm; "
-        f"chi2/dof {res.chi2_dof:.2f}"
-    )
-    for extra in (args.out_table, args.csv):
+    if res.model == "curves":
+        _print_curves(res)
+    else:
+        vals = ", ".join(
+            f"{k} = {res.values[k]:.4f}" + (f" ± {res.sd[k]:.4f}" if k in res.sd else " (fixed)")
+            for k in ("cd", "cl", "cd_s")
+        )
+        print(f"calibrated on {res.n_tracks} tracks ({res.n_points} points): {vals}")
+        print(
+            f"residual RMS: {res.rms_before_mm:.2f} mm ({res.baseline}) -> {res.rms_after_mm:.2f} mm; "
+            f"chi2/dof {res.chi2_dof:.2f}"
+        )
+    if args.out_table:
+        print(f"fly it with: --aero table --aero-table {args.out_table} --spin-decay {res.spin_decay_per_s:.4g}")
+    for extra in (args.out_table, args.out_config, args.csv):
         if extra:
             print(f"wrote {extra}")
     return 0
+
+
+def _pm(v, s) -> str:
+    return f"{v:.3f}" + (f" ± {s:.3f}" if s is not None else "")
+
+
+def _print_curves(res) -> None:
+    c = res.curves
+    print(f"identified on {res.split['n_fit']} flights, {res.split['n_held_out']} held out ({res.split['name']})")
+    print("C_D(v): " + ", ".join(f"{v:g} m/s {_pm(a, s)}" for v, a, s in zip(c["speed_ms"], c["cd"], c["cd_sd"])))
+    print(f"C_D growth with S: {_pm(c['cd_s'], c['cd_s_sd'])}")
+    print(
+        "C_L(S): " + ", ".join(f"S {v:g} {_pm(a, s)}" for v, a, s in zip(c["s"], c["cl"], c["cl_sd"])) + " (S 0.1 held)"
+    )
+    print(
+        f"spin decay: {_pm(c['spin_decay_per_s'], c['spin_decay_sd'])} /s; "
+        f"wind {c['wind_ms'][0]:.2f}, {c['wind_ms'][1]:.2f} m/s"
+    )
+    ds = res.drag_scale
+    if ds["sigma_prior"]:
+        print(f"drag scale per flight: p10 {ds['p10']:.3f}, median {ds['p50']:.3f}, p90 {ds['p90']:.3f}")
+    for part, label in (("fit_part", "fitted"), ("held_out", "held out")):
+        for kind, s in (getattr(res, part) or {}).items():
+            b, a, fl = s["before"], s["after"], s["cubic_floor"]
+            print(
+                f"  {label:<8s} {kind:<6s} n {s['n']:4d}  residual median {b['median_mm']:.2f} -> "
+                f"{a['median_mm']:.2f} mm "
+                f"[{a['median_ci95_mm'][0]:.2f}, {a['median_ci95_mm'][1]:.2f}], p90 {b['p90_mm']:.2f} -> "
+                f"{a['p90_mm']:.2f} mm; cubic floor {fl['median_mm']:.2f} mm"
+            )
+    if res.excluded:
+        print("left out: " + ", ".join(f"{k} {v}" for k, v in res.excluded.items()))

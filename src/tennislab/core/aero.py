@@ -291,6 +291,30 @@ def _table_kernel(v, w, r, p):
     return out0, out1
 
 
+@_inlinable
+@nb.njit(AERO_SIGNATURE, **JIT)
+def _curves_kernel(v, w, r, p):
+    # p = [nv, ns, v_0..v_nv-1, cd_0..cd_nv-1, S_1..S_ns, cl_1..cl_ns, cd_s, S_drag_max]:
+    # C_D = cd(v) + cd_s min(S, S_drag_max), C_L = cl(S); both piecewise linear, clamped beyond the
+    # last knot, C_L rising linearly from (0, 0) to the first knot (no lift without spin)
+    nv = int(p[0])
+    ns = int(p[1])
+    ov = 2
+    ocd = ov + nv
+    osk = ocd + nv
+    ocl = osk + ns
+    i, tv = _locate(p, ov, nv, v)
+    cd = p[ocd + i] * (1.0 - tv) + p[ocd + min(i + 1, nv - 1)] * tv
+    s = r * w / v if v > 0.0 else (math.inf if w > 0.0 else 0.0)
+    if s <= p[osk]:
+        cl = p[ocl] * s / p[osk]
+    else:
+        j, ts = _locate(p, osk, ns, s)
+        cl = p[ocl + j] * (1.0 - ts) + p[ocl + min(j + 1, ns - 1)] * ts
+    cd += p[ocl + ns] * min(s, p[ocl + ns + 1])
+    return cd, cl
+
+
 # ---------------------------------------------------------------- registry
 #: The default aero model of every command and workflow (stated here only; see docs/validation.md
 #: for the evidence behind the choice).
@@ -565,6 +589,52 @@ def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
             )
     p = _params(len(v), len(w), *v, *w, *cda.ravel(), *cla.ravel())
     return AeroModel("table", _table_kernel, p, "user table")
+
+
+#: allowed ranges of a ``curves`` model: knots' speed [m/s] and spin parameter [-], and the drag growth
+#: with S (C_D and C_L as :data:`TABLE_CD_RANGE`, :data:`TABLE_CL_RANGE`)
+CURVES_SPEED_RANGE = (0.0, 200.0)
+CURVES_S_RANGE = (0.0, 10.0)
+CURVES_CD_S_RANGE = (-2.0, 5.0)
+#: spin parameter beyond which a ``curves`` model holds its drag term cd_s S (as the calibrated family)
+CURVES_S_DRAG_MAX = 0.5
+CURVES_MAX_KNOTS = 64  #: most knots of one curve
+
+
+def _knots(name: str, x, y, xr, yr) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        xa = np.asarray(x, dtype=float).ravel()
+        ya = np.asarray(y, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: expected numbers") from None
+    if xa.size < 1 or xa.size != ya.size or xa.size > CURVES_MAX_KNOTS:
+        raise InputError(f"{name}: 1 to {CURVES_MAX_KNOTS} knots with one value each (got {xa.size}, {ya.size})")
+    if not (np.all(np.isfinite(xa)) and np.all(np.diff(xa) > 0) and xa[0] > xr[0] and xa[-1] <= xr[1]):
+        raise InputError(f"{name}: knots must be finite, strictly increasing, in ({xr[0]:g}, {xr[1]:g}]")
+    bad = ~np.isfinite(ya) | (ya < yr[0]) | (ya > yr[1])
+    if bad.any():
+        raise InputError(f"{name}: {ya[bad][0]:g} is outside the allowed range [{yr[0]:g}, {yr[1]:g}]")
+    return xa, ya
+
+
+def curves_model(speed, cd, spin_parameter, cl, cd_s: float = 0.0, name: str = "curves") -> AeroModel:
+    """Piecewise-linear curves: C_D = cd(v) + cd_s min(S, 0.5) and C_L = cl(S), S = r w / v.
+
+    ``speed`` [m/s] and ``cd`` [-] are the drag curve's knots (held constant beyond the first and last),
+    ``spin_parameter`` [-] (> 0) and ``cl`` [-] the lift curve's (linear from C_L = 0 at S = 0 to the
+    first knot, held beyond the last); ``cd_s`` [-] the growth of drag with S (held beyond
+    :data:`CURVES_S_DRAG_MAX`).  The form of the identified model (``tennislab2026``) and of
+    ``tennislab calibrate tracks`` (not registered by itself: a model of this form is rebuilt from its
+    name and knots only as ``tennislab2026``, or written as a table); its piecewise-linear kinks get the
+    capped models' batch tolerance.
+    """
+    v, c_d = _knots("cd", speed, cd, CURVES_SPEED_RANGE, TABLE_CD_RANGE)
+    s, c_l = _knots("cl", spin_parameter, cl, CURVES_S_RANGE, TABLE_CL_RANGE)
+    cds = check_range("cd_s", cd_s, *CURVES_CD_S_RANGE)
+    if c_d.min() + min(cds, 0.0) * CURVES_S_DRAG_MAX <= 0.0:
+        raise InputError("cd_s: drag would turn negative at high spin; raise cd or cd_s")
+    p = _params(len(v), len(s), *v, *c_d, *s, *c_l, cds, CURVES_S_DRAG_MAX)
+    return AeroModel(name, _curves_kernel, p, "piecewise-linear curves", batch_tol=CAPPED_BATCH_TOL)
 
 
 def callable_model(fn: Callable[[float, float], tuple[float, float]], name: str = "callable") -> AeroModel:

@@ -26,6 +26,7 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
+    from tennislab.linecall.detect import find_bounces, find_hits
     from tennislab.linecall.rally import RallyCall, call_rally, split_point
     from tennislab.linecall.synth import sample_serve
     from tennislab.linecall.tracker_check import TrackerCheck, check_rally, independent_bounces
@@ -40,6 +41,8 @@ __all__ = [
     "call_state",
     "call_track",
     "check_rally",
+    "find_bounces",
+    "find_hits",
     "independent_bounces",
     "sample_serve",
     "split_point",

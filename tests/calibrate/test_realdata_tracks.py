@@ -1,0 +1,59 @@
+"""The identification on real 50 Hz tracker points of a professional match (set 1 of
+``../shared/realdata/match50hz-set1``; skipped when it is absent).  Numbers: docs/validation.md, section
+"A ball identified from real flights".  These tests measure the physics against real balls."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tennislab.calibrate import calibrate_tracks, flights_from_points
+from tennislab.io.hawkeye import read_points
+
+
+def _realdata() -> Path:
+    env = os.environ.get("TENNISLAB_REALDATA")
+    if env:
+        return Path(env)
+    root = Path(__file__).resolve().parents[2]
+    for up in (root.parent, root.parent.parent):
+        if (up / "shared" / "realdata").is_dir():
+            return up / "shared" / "realdata"
+    return root.parent / "shared" / "realdata"
+
+
+SET1 = _realdata() / "match50hz-set1"
+pytestmark = pytest.mark.skipif(not SET1.is_dir(), reason="../shared/realdata is absent")
+
+
+@pytest.fixture(scope="module")
+def points():
+    return read_points(str(SET1))
+
+
+def test_set1_is_cut_into_free_flights(points):
+    """Every hit with a bounce before the next hit gives a flight of on-grid samples; net cords are cut
+    at the contact (their speed drops by metres per second at the net)."""
+    skipped: dict = {}
+    fl = flights_from_points(points, skipped=skipped)
+    assert 220 <= len(fl) <= 250 and skipped["contact"] >= 5
+    assert 60 <= sum(f.kind == "serve" for f in fl) <= 80
+    dt = np.concatenate([np.diff(f.t) for f in fl])
+    assert np.allclose(dt, 0.02, atol=1e-6)  # the tracker's grid; its event samples left out
+
+
+def test_identification_on_a_subsample(points):
+    """A few games' flights: fitted on the odd games, reported on the even ones; the curves stay
+    physical (C_D 0.4-1.1 at 15-45 m/s, a spin decay in [0, 2] /s, drag scales about 1)."""
+    sub = [p for p in points if p.sequences.get("game") in (1, 2)][::2]
+    r = calibrate_tracks(points=sub, fit="cd_v,cl_s,decay", speed_knots=(15.0, 30.0, 45.0), max_iter=3)
+    d = r.to_dict()
+    assert d["split"]["n_fit"] >= 4 and d["split"]["n_held_out"] >= 4
+    for v in (15, 30, 45):
+        assert 0.4 < d["values"][f"cd@{v}"] < 1.1
+    assert 0.0 <= d["spin_decay_per_s"] < 2.0
+    assert 0.8 < d["drag_scale"]["p50"] < 1.25  # the fitted flights' median is 1 by construction
+    h = d["held_out"]["all"]
+    assert np.isfinite(h["after"]["median_mm"]) and h["after"]["median_mm"] < 2 * h["before"]["median_mm"]
+    assert 0 < h["cubic_floor"]["median_mm"] < h["after"]["median_mm"]
