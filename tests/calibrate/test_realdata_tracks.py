@@ -57,3 +57,43 @@ def test_identification_on_a_subsample(points):
     h = d["held_out"]["all"]
     assert np.isfinite(h["after"]["median_mm"]) and h["after"]["median_mm"] < 2 * h["before"]["median_mm"]
     assert 0 < h["cubic_floor"]["median_mm"] < h["after"]["median_mm"]
+
+
+@pytest.mark.slow
+def test_the_documented_identification(points):
+    """docs/validation.md, "A ball identified from real flights": `tennislab calibrate tracks
+    ../shared/realdata/match50hz-set1` (odd games fitted, even held out), and `tennislab2026` is it."""
+    from tennislab.core import aero
+
+    d = calibrate_tracks(points=points).to_dict()
+    assert d["split"] == {"name": "parity (odd games fitted, even held out)", "n_fit": 111, "n_held_out": 128}
+    assert d["curves"]["cd"] == pytest.approx(aero.TENNISLAB2026_CD, abs=6e-4)
+    assert d["curves"]["cl"] == pytest.approx(aero.TENNISLAB2026_CL, abs=6e-4)
+    assert d["spin_decay_per_s"] == pytest.approx(aero.TENNISLAB2026_SPIN_DECAY, abs=6e-4)
+    assert d["sd"]["cd@25"] == pytest.approx(0.017, abs=6e-4) and d["sd"]["decay"] == pytest.approx(0.112, abs=6e-4)
+    h = d["held_out"]
+    for kind, before, after, floor in (
+        ("all", 5.92, 4.92, 1.29),
+        ("serve", 2.71, 2.53, 0.76),
+        ("rally", 6.92, 6.64, 2.23),
+    ):
+        assert h[kind]["before"]["median_mm"] == pytest.approx(before, abs=0.006), kind
+        assert h[kind]["after"]["median_mm"] == pytest.approx(after, abs=0.006), kind
+        assert h[kind]["cubic_floor"]["median_mm"] == pytest.approx(floor, abs=0.006), kind
+    assert (h["all"]["before"]["p90_mm"], h["all"]["after"]["p90_mm"]) == pytest.approx((12.20, 14.18), abs=0.006)
+    assert (d["drag_scale"]["p10"], d["drag_scale"]["p90"]) == pytest.approx((0.77, 1.13), abs=0.006)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not (_realdata() / "courtvision_serves.csv").is_file(), reason="no CourtVision serves")
+def test_tennislab2026_on_the_courtvision_serves():
+    """docs/validation.md: held out, spin axis fitted per serve type, `tennislab2026` within a centimetre
+    of `choppin2018` (0.217 m against 0.225 m median miss)."""
+    from tennislab.calibrate import validate_serves
+
+    r = validate_serves(str(_realdata() / "courtvision_serves.csv"), models=["tennislab2026", "choppin2018"],
+                        spin_axis="fitted")  # fmt: skip
+    held = {m.model: m.held_out for m in r.models}
+    assert held["tennislab2026"]["miss_median_m"] == pytest.approx(0.217, abs=6e-4)
+    assert held["choppin2018"]["miss_median_m"] == pytest.approx(0.225, abs=6e-4)
+    assert held["tennislab2026"]["length_median_m"] == pytest.approx(-0.009, abs=6e-4)

@@ -13,7 +13,9 @@ the calibration does not import the line-calling package, so the caller supplies
 samples strictly between the hit and the bounce are kept; when most samples lie on a regular time grid
 (a tracker's fitted trajectory stored every 20 ms, say), the samples off that grid are left out: the
 tracker's hit, bounce, net and apex samples, whose times are rounded to the millisecond (0.5 ms is
-10-30 mm of path at these speeds: README of ``../shared/realdata``).
+10-30 mm of path at these speeds: README of ``../shared/realdata``).  A flight with a contact in it (a
+net cord, or a gross outlier that looks like one: :func:`velocity_jump`) is cut before it; gross outliers
+left in the rest (:func:`outliers`) are left out.
 
 **From CSV tracks** (:func:`flights_from_tracks`): each track is one free flight as it is.
 """
@@ -40,6 +42,9 @@ SERVICE_LINE = 6.4  #: [m] without shot records, a point's first hit from behind
 #: (the net cord, a frame): no drag or lift changes a ball's velocity by as much within a window
 JUMP_DV = 3.0
 JUMP_WINDOW = 0.08  #: [s] the windows (each side, at least 3 samples) whose quadratic fits are compared
+#: [m] a sample this far from the quadratic through its six neighbours is a gross outlier (a tracker's
+#: wrong detection) and is left out before the contact check (3 mm of noise moves it by ~1 cm)
+OUTLIER_TOL = 0.03
 
 #: a detector: sample indices (time order) of hits or bounces in a track ``(t (n,), xyz (n, 3))``
 Detector = Callable[[np.ndarray, np.ndarray], Sequence[int]]
@@ -93,6 +98,21 @@ def on_grid(t: np.ndarray) -> np.ndarray:
     dist = np.abs((turns - ref + 0.5) % 1.0 - 0.5)
     grid = dist < GRID_TOL
     return grid if grid.mean() >= GRID_SHARE else keep
+
+
+def outliers(t: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+    """Mask of the samples farther than :data:`OUTLIER_TOL` from the quadratic in time through their
+    (up to) three neighbours on each side."""
+    n = t.size
+    bad = np.zeros(n, dtype=bool)
+    for i in range(n):
+        nb = [j for j in range(max(0, i - 3), min(n, i + 4)) if j != i]
+        if len(nb) < 5:
+            continue
+        tt = t[nb] - t[i]
+        coef, *_ = np.linalg.lstsq(np.vander(tt, 3), xyz[nb], rcond=None)
+        bad[i] = float(np.linalg.norm(xyz[i] - coef[2])) > OUTLIER_TOL
+    return bad
 
 
 def velocity_jump(t: np.ndarray, xyz: np.ndarray) -> int | None:
@@ -159,12 +179,13 @@ def flights_from_points(
     """The hit-to-first-bounce flights of tracker points (module docstring), in point order.
 
     ``skipped`` (a dict, when given) counts what was left out: ``no_bounce`` (hit again or the point
-    over before a bounce), ``few_samples`` (fewer than ``min_samples`` samples), and ``contact``
-    counts flights cut short at a contact (:func:`velocity_jump`; the part before it is kept).
+    over before a bounce), ``few_samples`` (fewer than ``min_samples`` samples), ``outliers`` (samples
+    left out, :func:`outliers`), and ``contact`` counts flights cut short at a contact
+    (:func:`velocity_jump`; the part before it is kept).
     """
     out: list[Flight] = []
     count = skipped if skipped is not None else {}
-    for key in ("no_bounce", "few_samples", "contact"):
+    for key in ("no_bounce", "few_samples", "contact", "outliers"):
         count.setdefault(key, 0)
     for point in points:
         if point.t.size < min_samples:
@@ -181,9 +202,13 @@ def flights_from_points(
                 continue
             sel = np.nonzero(grid & (point.t > th + EVENT_GAP) & (point.t < tb - EVENT_GAP))[0]
             jump = velocity_jump(point.t[sel], point.xyz[sel]) if sel.size >= min_samples else None
-            if jump is not None:  # a net cord: the flight before it
+            if jump is not None:  # a net cord (or a gross outlier): the flight before it
                 sel = sel[: max(jump - 1, 0)]
                 count["contact"] += 1
+            if sel.size >= min_samples:  # outliers after the cut: their kinks would hide a contact
+                bad = outliers(point.t[sel], point.xyz[sel])
+                count["outliers"] += int(bad.sum())
+                sel = sel[~bad]
             if sel.size < min_samples:
                 count["few_samples"] += 1
                 continue

@@ -73,7 +73,8 @@ class TrackCalibrationResult(Table):
     ``n_points``, ``spin`` (the spin assumption), ``baseline``, ``rms_before_mm`` / ``rms_after_mm``
     (residual RMS per coordinate over all points of the held-out flights, else of the fitted ones),
     ``chi2_dof``, ``tracks`` (per flight: ``name, kind, part, n, duration_s, speed_ms, spin_rpm,
-    tracker_spin_rpm, drag_scale, weight, rms_before_mm, rms_after_mm, cubic_floor_mm``).  The
+    tracker_spin_rpm, drag_scale, weight, rms_before_mm, rms_after_mm, cubic_floor_mm``, after ``track``,
+    its number, fitted flights first).  The
     curves add ``curves`` {``speed_ms, cd, cd_sd, s, cl, cl_sd, cd_s, cd_s_sd, spin_decay_per_s,
     spin_decay_sd, wind_ms``}, ``split`` {``name, n_fit, n_held_out``}, ``fit_part`` and ``held_out``
     ({kind: {``n``, ``before``/``after``/``cubic_floor`` {``median_mm, p90_mm, median_ci95_mm,
@@ -84,6 +85,7 @@ class TrackCalibrationResult(Table):
 
     #: the curves' row keys (the family's rows have ``track, name, n, speed_ms, rms_before_mm, rms_after_mm``)
     COLUMNS = (
+        "track",
         "name",
         "kind",
         "part",
@@ -345,11 +347,12 @@ def _curves_result(
     after = [*ident.shots, *after_held]
     weights = [*ident.weights, *([None] * len(held_part))]
     rows = []
-    for sb, sa, w in zip(before, after, weights):
+    for i, (sb, sa, w) in enumerate(zip(before, after, weights)):
         f = sa.flight
         pos = sa.positions(kern, ext)
         rows.append(
             {
+                "track": i + 1,
                 "name": f.name,
                 "kind": f.kind,
                 "part": "fit" if w is not None else "held_out",

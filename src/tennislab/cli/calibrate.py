@@ -534,14 +534,14 @@ def _print_curves(res) -> None:
     c = res.curves
     print(f"identified on {res.split['n_fit']} flights, {res.split['n_held_out']} held out ({res.split['name']})")
     print("C_D(v): " + ", ".join(f"{v:g} m/s {_pm(a, s)}" for v, a, s in zip(c["speed_ms"], c["cd"], c["cd_sd"])))
-    print(f"C_D growth with S: {_pm(c['cd_s'], c['cd_s_sd'])}")
-    print(
-        "C_L(S): " + ", ".join(f"S {v:g} {_pm(a, s)}" for v, a, s in zip(c["s"], c["cl"], c["cl_sd"])) + " (S 0.1 held)"
-    )
-    print(
-        f"spin decay: {_pm(c['spin_decay_per_s'], c['spin_decay_sd'])} /s; "
-        f"wind {c['wind_ms'][0]:.2f}, {c['wind_ms'][1]:.2f} m/s"
-    )
+    if "cd_s" in res.free:
+        print(f"C_D growth with S: {_pm(c['cd_s'], c['cd_s_sd'])}")
+    cl = ", ".join(f"S {v:g} {_pm(a, s)}" for v, a, s in zip(c["s"], c["cl"], c["cl_sd"]))
+    print(f"C_L(S): {cl} (the first knot held at 0.6 S)")
+    decay = _pm(c["spin_decay_per_s"], c["spin_decay_sd"]) if "decay" in res.free else "0 (not fitted)"
+    print(f"spin decay: {decay} /s")
+    if "wind" in res.free:
+        print(f"wind: {c['wind_ms'][0]:.2f}, {c['wind_ms'][1]:.2f} m/s (x, y)")
     ds = res.drag_scale
     if ds["sigma_prior"]:
         print(f"drag scale per flight: p10 {ds['p10']:.3f}, median {ds['p50']:.3f}, p90 {ds['p90']:.3f}")
