@@ -64,6 +64,7 @@ def identified():
     return calibrate_tracks(tracks, holdout_tracks=held, drag_sigma=0, max_iter=10, **KNOTS)
 
 
+@pytest.mark.slow
 def test_recovers_drag_crisis_and_spin_decay(identified):
     """C_D at every knot within 3 sigma (and 0.02) of the truth, the decay within 3 sigma (and 0.2 /s),
     the lift's shape knot within 0.02."""
@@ -76,6 +77,7 @@ def test_recovers_drag_crisis_and_spin_decay(identified):
     assert 0 < r.sd["cd@25"] < 0.05
 
 
+@pytest.mark.slow
 def test_held_out_report(identified):
     """The held-out flights fly the identified model to the noise, the baseline (choppin2018) not."""
     d = identified.to_dict()

@@ -43,6 +43,7 @@ def test_set1_is_cut_into_free_flights(points):
     assert np.allclose(dt, 0.02, atol=1e-6)  # the tracker's grid; its event samples left out
 
 
+@pytest.mark.slow
 def test_identification_on_a_subsample(points):
     """A few games' flights: fitted on the odd games, reported on the even ones; the curves stay
     physical (C_D 0.4-1.1 at 15-45 m/s, a spin decay in [0, 2] /s, drag scales about 1)."""

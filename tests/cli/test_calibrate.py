@@ -137,6 +137,7 @@ def _track_files(tmp_path, n=4):
     return files
 
 
+@pytest.mark.slow
 def test_tracks_curves_command(capsys, tmp_path):
     """The default fit identifies the curves: the held-out (even-numbered) tracks, the table and a
     tennislab.toml that flies it."""
