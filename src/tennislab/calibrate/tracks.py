@@ -8,12 +8,12 @@ flights (:mod:`~.flights`).  Two fits:
   against the spin parameter, the spin decay (and optionally the wind), jointly with every flight's
   launch state, spin vector and drag scale (:mod:`~.identify`: method, priors, uncertainties).  The
   flights are split (``split``): ``parity`` fits the odd games' flights and reports on the even ones
-  (flights without a game, CSV tracks: the odd-numbered fitted, the even held out), ``none`` fits all,
-  ``holdout=`` gives the held-out flights explicitly.  Residuals before (the ``baseline`` model,
-  each flight with the same freedoms) and after are reported per part and kind (serve, rally,
-  track) with 95 % bootstrap intervals over flights, beside each flight's *cubic floor* (the fitted
-  flight's distance from its own best cubic in time: what a tracker that stores a flight as a cubic
-  leaves of a perfect model; :func:`~.identify.cubic_floor_mm`).
+  (flights without a game, CSV tracks: the odd-numbered fitted, the even held out), ``parity:even`` the
+  other way round, ``none`` fits all, ``holdout=`` gives the held-out flights explicitly.  Residuals
+  before (the ``baseline`` model, each flight with the same freedoms) and after are reported per part
+  and kind (serve, rally, track) with 95 % bootstrap intervals over flights, beside each flight's
+  *cubic floor* (the fitted flight's distance from its own best cubic in time: what a tracker that
+  stores a flight as a cubic leaves of a perfect model; :func:`~.identify.cubic_floor_mm`).
 * **The family** (``fit`` among ``cd, cl, cd_s``, or a known ``spin_rpm``): the three coefficients of
   :mod:`~.family` on tracks of a known spin (a launcher's setting) or none (:mod:`._family_fit`).
 
@@ -56,7 +56,7 @@ from tennislab.units import RPM
 
 MAX_TRACKS = 5000  #: most flights in one calibration
 MIN_POINTS = 8  #: fewest samples of a track in the curves fit
-SPLITS = ("parity", "none")  #: the splits (``holdout=`` makes a third, "holdout")
+SPLITS = ("parity", "parity:even", "none")  #: the splits (``holdout=`` makes another, "holdout")
 CURVES_FORMULA = "C_D = s_D (cd(v) + cd_s min(S, 0.5)), C_L = cl(S), dw/dt = -decay w, S = r w / v"
 DEFAULT_FIT = ("cd_v", "cl_s", "decay")  #: the curves' free groups by default (docs/validation.md: why not cd_s)
 BOOTSTRAP = 1000  #: resamples of the 95 % intervals over flights
@@ -221,7 +221,7 @@ def calibrate_tracks(
     spin_axis : its axis relative to each track's initial direction (name or angle [deg])
     baseline : the model of the "before" residuals (default :data:`DEFAULT_AERO`)
     physics : other :meth:`FlightParams.from_options` options (ball, air)
-    split : ``parity`` or ``none`` (curves; ignored with ``holdout_*``)
+    split : ``parity``, ``parity:even`` or ``none`` (curves; ignored with ``holdout_*``)
     drag_sigma : prior sigma of every flight's drag scale about 1 (None or 0: no drag scale)
     speed_knots : [m/s] knots of cd(v) (default :data:`~.identify.SPEED_KNOTS`)
     s_knots : knots of cl(S) (default :data:`~.identify.S_KNOTS`; the first is anchored)
@@ -279,13 +279,15 @@ def _split(flights: list[Flight], held: list[Flight], split: str) -> tuple[list[
         return flights, held, "holdout"
     if split == "none":
         return flights, [], "none"
-    odd = [(f.game if f.game is not None else i + 1) % 2 == 1 for i, f in enumerate(flights)]
-    fit_part = [f for f, o in zip(flights, odd) if o]
-    held_part = [f for f, o in zip(flights, odd) if not o]
+    want = 0 if split == "parity:even" else 1
+    fitted = [(f.game if f.game is not None else i + 1) % 2 == want for i, f in enumerate(flights)]
+    fit_part = [f for f, o in zip(flights, fitted) if o]
+    held_part = [f for f, o in zip(flights, fitted) if not o]
+    a, b = ("even", "odd") if want == 0 else ("odd", "even")
     if not fit_part:
-        raise InputError("split: no flight in the fitted part (odd games); use split none")
-    how = "odd games fitted, even held out" if any(f.game is not None for f in flights) else "odd flights fitted"
-    return fit_part, held_part, f"parity ({how})"
+        raise InputError(f"split: no flight in the fitted part ({a} games); use split none")
+    unit = "games" if any(f.game is not None for f in flights) else "flights"
+    return fit_part, held_part, f"{split} ({a} {unit} fitted, {b} held out)"
 
 
 def _stats(vals: np.ndarray, rng: np.random.Generator) -> dict:

@@ -168,8 +168,8 @@ def register(sub) -> None:
     t.add_argument(
         "--split",
         default="parity",
-        help="held-out part: parity (odd games fitted, even held out; CSV tracks: odd-numbered fitted; default) "
-        "or none",
+        help="held-out part: parity (odd games fitted, even held out; CSV tracks: odd-numbered fitted; default), "
+        "parity:even (the other way round) or none",
     )
     t.add_argument(
         "--fit",
