@@ -14,7 +14,7 @@ import pytest
 from tennislab.calibrate import Curves, calibrate_tracks, flights_from_points
 from tennislab.calibrate.flights import on_grid, velocity_jump
 from tennislab.calibrate.identify import cubic_floor_mm
-from tennislab.core.flight import FlightParams, fly
+from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.core.launch import launch_spin, launch_velocity
 from tennislab.errors import InputError
 from tennislab.io.hawkeye import parse_points
@@ -42,7 +42,7 @@ def _shot(rng, params):
     head = np.radians(rng.uniform(-6, 6))
     spin = rng.choice([-1.0, 1.0]) * rng.uniform(0.4, 1.0) * rpm * RPM
     a = np.radians(elev)
-    return fly(p0, launch_velocity(speed, a, head), launch_spin(spin, a, head, 0.0), params)
+    return fly_dense(p0, launch_velocity(speed, a, head), launch_spin(spin, a, head, 0.0), params)
 
 
 def _flights(n=10, seed=3, hz=50.0, noise=2e-4, params=None):

@@ -129,7 +129,7 @@ def _track_files(tmp_path, n=4):
     files = []
     for i in range(n):
         vx, vz, w = 20.0 + 6 * i, 6.0 - i, (0.0, (-1) ** i * 250.0, 0.0)
-        tr = fly((-11.5, 0.3 * i, 1.0), (vx, 0.0, vz), w, truth)
+        tr = fly_dense((-11.5, 0.3 * i, 1.0), (vx, 0.0, vz), w, truth)
         t = np.arange(0.0, 0.95 * tr.landing.t, 0.02)
         p = tmp_path / f"t{i}.csv"
         p.write_text(track_to_csv(t, tr.sol(t).T[:, :3]))
