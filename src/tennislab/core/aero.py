@@ -670,6 +670,14 @@ def tennislab2026() -> AeroModel:
     each flight refitted alone: median whole-flight residual 5.92 -> 4.92 mm against ``choppin2018``
     (serves 2.71 -> 2.53, rally shots 6.92 -> 6.64 mm), p90 12.2 -> 14.2 mm; CourtVision serves in
     docs/validation.md.  Not the default: the held-out evidence is mixed (docs/validation.md).
+
+    References
+    ----------
+    .. [1] tennislab (2026), docs/validation.md, "A ball identified from real flights" (the data, the
+       command, the held-out residuals and the CourtVision validation).
+    .. [2] Golub & Pereyra (1973), SIAM J. Numer. Anal. 10:413 (variable projection).
+    .. [3] Cross (2020), Sports Eng. 23:9 (C_L = 0.6 S, the anchor of the lift's scale).
+    .. [4] Cross & Lindsey (2014), Sports Eng. 17:89 (shot-to-shot variation of C_D in flight).
     """
     return dataclasses.replace(
         curves_model(
