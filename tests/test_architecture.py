@@ -414,4 +414,6 @@ def test_every_registered_aero_model_cites_its_sources():
 
     for name in aero.aero_model_names():
         factory = inspect.unwrap(aero._REGISTRY[name])
+        if factory.__module__ != aero.__name__:
+            continue  # registered by a user (or a test), not one of tennislab's models
         assert _has_references(factory.__doc__), f"aero model {name!r}: no References in {factory.__name__}'s docstring"
