@@ -14,7 +14,7 @@ from tennislab.core.aero import get_aero_model
 from tennislab.core.flight import FlightParams
 from tennislab.io.hawkeye import parse_points
 from tennislab.linecall import CALLS, call_rally, call_track, check_rally, independent_bounces
-from tennislab.linecall.calls import OWN_SIDE
+from tennislab.linecall.answer import OWN_SIDE
 from tennislab.linecall.local_fit import runs_z
 from tennislab.linecall.rally import DEAD_SPEED
 from tennislab.linecall.synth_points import aim, sample_point, simulate_shot, truth_params

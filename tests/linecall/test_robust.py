@@ -120,9 +120,9 @@ def test_short_track_at_50hz_is_called_with_wider_uncertainty():
     assert res.call in ("in", "out", "review") and res.bounce is not None
     t3, x3 = sampled(shot, 340, 2e-3, seed=3, t_end=b.t + 0.1)
     long_ = call_track(t3, x3)
-    assert res.bounce["sigma_mm"] > 2 * long_.bounce["sigma_mm"]
-    err = 1e3 * np.hypot(res.bounce["x"] - b.x, res.bounce["y"] - b.y)
-    assert err < max(30.0, 4 * res.bounce["sigma_mm"])
+    assert res.bounce.sigma_mm > 2 * long_.bounce.sigma_mm
+    err = 1e3 * np.hypot(res.bounce.x - b.x, res.bounce.y - b.y)
+    assert err < max(30.0, 4 * res.bounce.sigma_mm)
 
 
 # ---------------------------------------------------------------- bounces and hits in the data
@@ -137,7 +137,7 @@ def test_second_bounce_is_reported_not_called():
     t, x = sampled(shot, 50, 2e-3, seed=1)
     res = call_track(t, x)
     b0, b1 = shot.bounces[:2]
-    assert np.hypot(res.bounce["x"] - b0.x, res.bounce["y"] - b0.y) < 0.03
+    assert np.hypot(res.bounce.x - b0.x, res.bounce.y - b0.y) < 0.03
     assert res.later_bounces and abs(res.later_bounces[0]["x"] - b1.x) < 0.3
     assert res.to_dict()["n_bounces"] == 1 + len(res.later_bounces)
 
@@ -187,7 +187,7 @@ def test_serve_touching_the_tape_into_the_box_is_a_let(rate):
     t, x = sampled(shot, rate, 2e-3, seed=2)
     res = call_track(t, x, target="ad-box", serve=True)  # served from y > 0 in the near half: the far ad box
     assert res.call == "let" and res.net["contact"] and res.net["crossed"]
-    assert np.hypot(res.bounce["x"] - b.x, res.bounce["y"] - b.y) < 0.03
+    assert np.hypot(res.bounce.x - b.x, res.bounce.y - b.y) < 0.03
 
 
 def test_rally_net_cord_is_in_play_and_clean_shots_touch_nothing(serve_shot):
@@ -224,7 +224,7 @@ def test_spin_vector_and_its_uncertainty():
     t, x = sampled(shot, 340, 1e-3, seed=9)
     res = call_track(t, x, tracker_spin_rpm=2500.0)
     sp = res.spin
-    from tennislab.linecall.calls import spin_components
+    from tennislab.linecall.answer import spin_components
 
     truth = spin_components(b.spin_in, b.velocity_in)
     for k in ("topspin", "sidespin"):

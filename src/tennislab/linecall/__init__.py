@@ -25,13 +25,15 @@ from typing import TYPE_CHECKING
 from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
-    from tennislab.linecall.calls import CALLS, TrackCall, call_detections, call_state, call_track
+    from tennislab.linecall.answer import CALLS, BounceEstimate, TrackCall
+    from tennislab.linecall.calls import call_detections, call_state, call_track
     from tennislab.linecall.detect import find_bounces, find_hits
     from tennislab.linecall.rally import RallyCall, call_rally, split_point
     from tennislab.linecall.synth import sample_serve
     from tennislab.linecall.tracker_check import TrackerCheck, check_rally, independent_bounces
 
 __all__ = [
+    "BounceEstimate",
     "CALLS",
     "RallyCall",
     "TrackerCheck",

@@ -34,18 +34,27 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce
 from tennislab.core.flight import DEFAULT_NET, FlightParams, fly_dense, with_net
-from tennislab.core.launch import describe_velocity, direction, spin_basis
-from tennislab.core.mark import BallMark, MarkParams, ball_mark
+from tennislab.core.mark import MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
 from tennislab.linecall import local_fit
+from tennislab.linecall.answer import (
+    OWN_SIDE,
+    BounceEstimate,
+    TrackCall,
+    fit_dict,
+    mark_dict,
+    no_fit,
+    review_call,
+    spin_components,
+)
 from tennislab.linecall.cameras import cameras_from_records, triangulate_detections
 from tennislab.linecall.closed_form import closed_form_from_physics
 from tennislab.linecall.decide import N_SAMPLES, call_mark
@@ -67,8 +76,6 @@ from tennislab.linecall.fit import (
 )
 from tennislab.linecall.local_fit import LocalFit, refine_bounce
 from tennislab.linecall.net import NetCheck, check_net
-from tennislab.results import Table, jsonable
-from tennislab.units import RPM
 
 MAX_SPEED = 80.0  #: [m/s] fastest credible incoming speed at a bounce (fastest serves: 73 m/s off the racket)
 SPEED_TOL = (0.35, 6.0)  #: a fitted incoming speed further than rel x |v| + abs [m/s] from the data's has diverged
@@ -84,154 +91,6 @@ DRAG_SCALE_RANGE = (0.4, 2.5)
 LIFT_SCALE_RANGE = (0.0, 3.0)
 MIN_TRACK_POINTS = 4  #: fewest samples of a track called
 SECOND_BOUNCE_GAP = 0.02  #: [s] the fit ends this long before the second bounce's lowest sample
-#: every answer: ``volley`` (hit again before it landed) and ``dead`` (after the point was over) are
-#: :func:`~tennislab.linecall.rally.call_rally`'s, for shots with no line to call
-CALLS = ("in", "out", "net", "let", "review", "volley", "dead")
-#: the reason of a first contact on the hitter's own side of the net
-OWN_SIDE = "lands before the net: first contact on the hitter's own side"
-
-
-@dataclass(frozen=True)
-class TrackCall(Table):
-    """One line call (``tennislab call --track/--position/--cameras --json`` is :meth:`to_dict`).
-
-    ``call`` is one of :data:`CALLS`; ``provisional_call`` the in/out of the numbers when the call is
-    ``review``; ``decision`` the output of :func:`~tennislab.linecall.decide.call_mark` (``p_in``,
-    ``distance_mm``, ``target``/``line``, ``lines``).  ``fit_result``, ``mark_result`` and ``track``
-    are the objects behind it (for plots; not in the JSON); their times are relative to
-    ``time_offset`` [s] (the first sample), the JSON's are absolute.  ``rows()`` / ``to_frame()``: the
-    samples the call used and the fit's residuals (:meth:`rows`; none for a state or cameras' call).
-    """
-
-    COLUMNS = ("t_s", "x_m", "y_m", "z_m", "segment", "outlier", "residual_mm", "sigma_mm")
-
-    method: str
-    call: str
-    provisional_call: str | None
-    review_reasons: tuple[str, ...]
-    decision: dict | None
-    bounce: dict | None
-    mark: dict | None
-    fit: dict
-    spin: dict | None
-    net: dict | None
-    later_bounces: tuple[dict, ...]
-    surface: str
-    physics: dict
-    extra: dict = field(default_factory=dict)
-    fit_result: TrackFit | None = field(default=None, repr=False, compare=False)
-    mark_result: BallMark | None = field(default=None, repr=False, compare=False)
-    track: tuple | None = field(default=None, repr=False, compare=False)
-    time_offset: float = field(default=0.0, repr=False, compare=False)
-    notes: tuple[str, ...] = ()  #: why a confident call is what it is, when it needs saying (``reason``)
-
-    @property
-    def p_in(self) -> float | None:
-        return None if self.decision is None else self.decision["p_in"]
-
-    @property
-    def distance_mm(self) -> float | None:
-        return None if self.decision is None else self.decision["distance_mm"]
-
-    def rows(self) -> list[dict]:
-        """One row per sample of the track the call used: time [s, absolute], position [m]; with a fit
-        its ``segment`` (``before`` / ``after`` the bounce, ``unused``: in the contact, outside the
-        window or rejected), ``outlier``, the 3-D residual of the fitted flight and the point's sigma
-        [mm] (None where no fit was made)."""
-        if self.track is None:
-            return []
-        t, xyz = self.track
-        f = self.fit_result
-        names = {M.SEG_PRE: "before", M.SEG_POST: "after", M.SEG_OFF: "unused"}
-        out: list[dict] = []
-        for i in range(len(t)):
-            row: dict = {"t_s": float(t[i]) + self.time_offset, "x_m": float(xyz[i, 0]), "y_m": float(xyz[i, 1])}
-            row["z_m"] = float(xyz[i, 2])
-            if f is None:
-                row.update(segment=None, outlier=None, residual_mm=None, sigma_mm=None)
-            else:
-                res, sig = float(f.residual[i]), float(f.sigma[i])
-                row["segment"] = names.get(int(f.segment[i]), "unused")
-                row["outlier"] = bool(f.outlier[i])
-                row["residual_mm"] = 1000.0 * res if math.isfinite(res) else None
-                row["sigma_mm"] = 1000.0 * sig if math.isfinite(sig) else None
-            out.append(row)
-        return out
-
-    def to_dict(self) -> dict:
-        d = self.decision or {}
-        out: dict = {"method": self.method}
-        out.update(self.extra)
-        out["bounce"] = self.bounce or {"x": None, "y": None, "t": None, "sigma_mm": None}
-        out["mark"] = self.mark
-        out["call"] = self.call
-        out["p_in"] = d.get("p_in")
-        out["distance_mm"] = d.get("distance_mm")
-        if "line" in d:
-            out["line"] = d["line"]
-        else:
-            out["target"] = d.get("target")
-        out["lines"] = d.get("lines", {})
-        out["provisional_call"] = self.provisional_call
-        out["review_reasons"] = list(self.review_reasons)
-        out["reason"] = "; ".join(self.review_reasons or self.notes) or None
-        out["fit"] = self.fit
-        out["spin"] = self.spin
-        out["net"] = self.net
-        out["bounces"] = list(self.later_bounces)
-        out["n_bounces"] = (0 if self.bounce is None else 1) + len(self.later_bounces)
-        out["surface"] = self.surface
-        out["physics"] = self.physics
-        return jsonable(out)
-
-
-def mark_dict(mark: BallMark) -> dict:
-    return {
-        "length": mark.length,
-        "width": mark.width,
-        "x": float(mark.center[0]),
-        "y": float(mark.center[1]),
-        "start_x": float(mark.start[0]),
-        "start_y": float(mark.start[1]),
-        "skid": mark.skid,
-        "compression": mark.compression,
-        "contact_time": mark.contact_time,
-        "direction": mark.direction,
-    }
-
-
-def spin_components(spin, velocity, cov=None, tracker_rpm: float | None = None) -> dict:
-    """Spin vector [rad/s] in the launch vocabulary of :mod:`tennislab.core.launch` relative to
-    ``velocity``: topspin (about h = unit(z x d); < 0 backspin), sidespin (about u = d x h; > 0 curves
-    the ball to its left) and along the path (about d), in rpm, with 1-sigma from ``cov``
-    (3x3 [rad^2/s^2]) and the tracker's signed rpm compared with the topspin component."""
-    w = np.asarray(spin, dtype=float)
-    _, a, b = describe_velocity(velocity)
-    h, u = spin_basis(a, b)
-    axes = np.vstack([h, u, direction(a, b)])
-    comp = axes @ w / RPM
-    out = {
-        "vector": w,
-        "rpm": float(np.linalg.norm(w) / RPM),
-        "topspin_rpm": float(comp[0]),
-        "sidespin_rpm": float(comp[1]),
-        "along_path_rpm": float(comp[2]),
-    }
-    if cov is not None:
-        c = axes @ np.asarray(cov, dtype=float) @ axes.T
-        sd = np.sqrt(np.clip(np.diag(c), 0.0, None)) / RPM
-        out["topspin_sigma_rpm"] = float(sd[0])
-        out["sidespin_sigma_rpm"] = float(sd[1])
-        out["along_path_sigma_rpm"] = float(sd[2])
-        nw = float(np.linalg.norm(w))
-        if nw > 0:
-            e = w / nw
-            out["rpm_sigma"] = float(math.sqrt(max(float(e @ np.asarray(cov) @ e), 0.0)) / RPM)
-        out["cov"] = np.asarray(cov, dtype=float)
-    if tracker_rpm is not None:
-        out["tracker_rpm"] = float(tracker_rpm)
-        out["topspin_minus_tracker_rpm"] = float(comp[0] - tracker_rpm)
-    return out
 
 
 def _check_track(t, xyz, sigma):
@@ -253,31 +112,6 @@ def _check_track(t, xyz, sigma):
             raise InputError(f"sigma: {bad:g} m is outside the allowed range (0, 1] m")
         sigma = sig
     return t, xyz, sigma
-
-
-def review_call(
-    reasons, params, surface, *, net=None, method="track-fit", extra=None, n_points=0, track=None, time_offset=0.0
-):
-    """A ``review`` answer without a bounce (the reasons say why); ``track`` times relative to ``time_offset``."""
-    surface = get_surface(surface)
-    return TrackCall(
-        method=method,
-        call="review",
-        provisional_call=None,
-        review_reasons=tuple(reasons),
-        decision=None,
-        bounce=None,
-        mark=None,
-        fit={"rms_mm": None, "outliers": 0, "n_points": n_points},
-        spin=None,
-        net=net,
-        later_bounces=(),
-        surface=surface.name,
-        physics=params.to_dict(),
-        extra=extra or {},
-        track=track,
-        time_offset=time_offset,
-    )
 
 
 def quality_reasons(fit: TrackFit, t, noise: float, local: LocalFit | None = None) -> list[str]:
@@ -339,77 +173,6 @@ def quality_reasons(fit: TrackFit, t, noise: float, local: LocalFit | None = Non
         if local.n_outliers > MAX_REJECT_FRACTION * max(local.rows.size + local.n_outliers, 1):
             reasons.append("most points rejected near the bounce: more than a quarter look like outliers")
     return reasons
-
-
-def _fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float, local: LocalFit | None = None) -> dict:
-    pre = (fit.segment == M.SEG_PRE) & np.isfinite(fit.residual)
-    out = {
-        "rms_mm": fit.rms * 1000.0,
-        "flight_rms_mm": float(math.sqrt(np.mean(fit.residual[pre] ** 2)) * 1000.0) if pre.any() else None,
-        "outliers": int(fit.outlier.sum()),
-        "outlier_rows": np.nonzero(fit.outlier)[0],
-        "n_points": int(n_points),
-        "n_used": int(np.count_nonzero(fit.segment >= 0)),
-        "n_pre": fit.n_pre,
-        "n_post": fit.n_post,
-        "has_post_bounce": fit.has_post,
-        "velocity_out_from": fit.vout_source,
-        "chi2_dof": fit.chi2_dof,
-        "sigma_mm": float(np.nanmedian(fit.sigma) * 1000),
-        "noise_mm": noise * 1000.0,
-        "drag_scale": fit.drag_scale,
-        "drag_scale_sigma": fit.param_sigma(M.P_DRAG),
-        "lift_scale": fit.lift_scale,
-        "lift_scale_sigma": fit.param_sigma(M.P_LIFT),
-        **_effective_aero(fit),
-        "contact_offset_mm": fit.contact_offset * 1000,
-        "rejection_capped": fit.rejection_capped,
-        "converged": fit.converged,
-        "evaluations": fit.n_iter,
-        "elapsed_ms": elapsed * 1000,
-    }
-    if local is not None:
-        out.update(
-            bounce_window_s=local.window,
-            bounce_rms_mm=local.rms * 1000.0,
-            bounce_n_points=int(local.rows.size),
-            bounce_windows=[
-                {"window_s": w, "x": x, "y": y, "sigma_mm": sg * 1000.0, "n_points": k}
-                for w, x, y, sg, k in local.tried
-            ],
-        )
-    return out
-
-
-def _effective_aero(fit: TrackFit) -> dict:
-    """C_D and C_L the fitted flight used at the bounce: the aero model's at the incoming speed and spin,
-    times the fitted scales (``cd_effective``, ``cl_effective``)."""
-    v = float(np.linalg.norm(fit.velocity_in))
-    w = float(np.linalg.norm(fit.spin_in))
-    if not (np.isfinite(v) and np.isfinite(w)):
-        return {"cd_effective": None, "cl_effective": None}
-    aero = fit.params.aero
-    cd, cl = aero.kernel(v, w, fit.params.ball.radius, aero.params)
-    return {"cd_effective": float(cd) * fit.drag_scale, "cl_effective": float(cl) * fit.lift_scale}
-
-
-def _bounce_dict(fit: TrackFit, t_ref: float = 0.0) -> dict:
-    sb = np.sqrt(np.clip(np.diag(fit.cov)[:3], 0, None))
-    return {
-        "x": float(fit.p[M.P_XB]),
-        "y": float(fit.p[M.P_YB]),
-        "t": fit.t_bounce + t_ref,
-        "sigma_mm": fit.sigma_bounce * 1000.0,
-        "sigma_x_mm": sb[0] * 1000,
-        "sigma_y_mm": sb[1] * 1000,
-        "sigma_t_ms": sb[2] * 1000,
-        "cov_xy_m2": fit.bounce_cov,
-        "velocity_in": fit.velocity_in,
-        "spin_in": fit.spin_in,
-        "velocity_out": fit.velocity_out,
-        "spin_out": fit.spin_out,
-        "speed_in_ms": float(np.linalg.norm(fit.velocity_in)),
-    }
 
 
 def _crosses_net(t, xyz, direction: float) -> bool | None:
@@ -496,17 +259,10 @@ def call_track(
         return TrackCall(
             method="track-fit",
             call="net",
-            provisional_call=None,
-            review_reasons=(),
-            decision=None,
-            bounce=None,
-            mark=None,
-            fit={"rms_mm": None, "outliers": 0, "n_points": int(n_all)},
-            spin=None,
-            net=net_d,
-            later_bounces=(),
             surface=surf.name,
             physics=params.to_dict(),
+            fit=no_fit(n_all),
+            net=net_d,
             track=(t, xyz),
             time_offset=t_ref,
         )
@@ -586,9 +342,9 @@ def call_track(
         review_reasons=tuple(reasons),
         notes=notes,
         decision=decision,
-        bounce=_bounce_dict(fit, t_ref),
+        bounce=BounceEstimate.from_fit(fit, t_ref),
         mark=None if mark is None else mark_dict(mark),
-        fit=_fit_dict(fit, n_all, elapsed, noise, loc),
+        fit=fit_dict(fit, n_all, elapsed, noise, loc),
         spin=spin,
         net=net_d,
         later_bounces=tuple(later),
@@ -645,31 +401,27 @@ def call_state(
     b = bounce(land.velocity, land.spin, surf, params.ball)
     mark = ball_mark(pos, land.velocity, b.velocity_out, land.spin, surf, params.ball)
     decision = call_mark(mark, court=params.court, target=target, line=line)
-    bnc = {
-        "x": float(pos[0]),
-        "y": float(pos[1]),
-        "t": float(t_land),
-        "sigma_mm": 0.0,
-        "velocity_in": land.velocity,
-        "spin_in": land.spin,
-        "velocity_out": b.velocity_out,
-        "spin_out": b.spin_out,
-        "mode": b.mode,
-    }
+    bnc = BounceEstimate(
+        x=float(pos[0]),
+        y=float(pos[1]),
+        t=float(t_land),
+        sigma_mm=0.0,
+        velocity_in=land.velocity,
+        spin_in=land.spin,
+        velocity_out=b.velocity_out,
+        spin_out=b.spin_out,
+        mode=b.mode,
+    )
     return TrackCall(
         method=method,
         call=decision["call"],
+        surface=surf.name,
+        physics=params.to_dict(),
         provisional_call=decision["call"],
-        review_reasons=(),
         decision=decision,
         bounce=bnc,
         mark=mark_dict(mark),
-        fit={"rms_mm": None, "outliers": 0, "n_points": 0},
         spin=spin_components(land.spin, land.velocity),
-        net=None,
-        later_bounces=(),
-        surface=surf.name,
-        physics=params.to_dict(),
         extra=extra,
         mark_result=mark,
     )
@@ -690,19 +442,7 @@ def _net_call(tr, params: FlightParams, surf, method: str) -> TrackCall:
         "note": f"flown into the net ({c.part})",
     }
     return TrackCall(
-        method=method,
-        call="net",
-        provisional_call="net",
-        review_reasons=(),
-        decision=None,
-        bounce=None,
-        mark=None,
-        fit={"rms_mm": None, "outliers": 0, "n_points": 0},
-        spin=None,
-        net=net,
-        later_bounces=(),
-        surface=surf.name,
-        physics=params.to_dict(),
+        method=method, call="net", surface=surf.name, physics=params.to_dict(), provisional_call="net", net=net
     )
 
 

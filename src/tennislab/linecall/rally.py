@@ -40,7 +40,8 @@ import numpy as np
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_range
 from tennislab.io.hawkeye import Point, ShotInfo, read_points
-from tennislab.linecall.calls import CALLS, call_track, review_call
+from tennislab.linecall.answer import CALLS, review_call
+from tennislab.linecall.calls import call_track
 from tennislab.linecall.detect import BOUNCE_Z, find_bounces, find_hits, travel_direction
 from tennislab.linecall.fit import WHOLE_FLIGHT
 from tennislab.results import Table, jsonable
