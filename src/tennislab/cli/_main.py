@@ -41,11 +41,12 @@ _NOT_COMMANDS = {"batch_flags", "common", "config"}
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse's own convention)
         # "argument --plot: ..." -> "--plot: ...": the same form as the errors the commands raise
-        text = _ARGUMENT.sub(r"\1: ", " ".join(str(message).split()))
-        self.exit(2, f"{self.prog}: error: {text}\n")
+        # and "argument --velocity: [0]: ..." (a value of a flag of several numbers) -> "--velocity[0]: ..."
+        text = _ARGUMENT.sub(r"\1\2: ", " ".join(str(message).split()))
+        self.exit(2, f"{self.prog}: error: {escape_text(text)}\n")
 
 
-_ARGUMENT = re.compile(r"^argument (--[\w-]+)(?:/-\w)?: ")
+_ARGUMENT = re.compile(r"^argument (--[\w-]+)(?:/-\w)?: (?:(\[\d+\]): )?")
 
 
 def _subparsers(parser: argparse.ArgumentParser) -> dict:

@@ -137,6 +137,27 @@ def finite_float(text: str) -> float:
 finite_float.__name__ = "float"
 
 
+def _finite_floats(n: int):
+    """:func:`finite_float` for a flag of ``n`` numbers (``--velocity VX VY VZ``): a refusal names the
+    value's place (``[0]: nan: ...``, shown as ``--velocity[0]: ...``).  argparse converts the ``n``
+    values of one use of the flag in order, so a counter modulo ``n`` knows the place."""
+    place = [0]
+
+    def convert(text: str) -> float:
+        i = place[0]
+        place[0] = (i + 1) % n
+        try:
+            return finite_float(text)
+        except (argparse.ArgumentTypeError, ValueError) as exc:
+            place[0] = 0
+            if isinstance(exc, argparse.ArgumentTypeError):
+                raise argparse.ArgumentTypeError(f"[{i}]: {exc}") from None
+            raise
+
+    convert.__name__ = "float"
+    return convert
+
+
 def checked_floats(parser: argparse.ArgumentParser) -> None:
     """Give every ``type=float`` flag of ``parser`` and its sub-commands :func:`finite_float`."""
     stack = [parser]
@@ -148,7 +169,8 @@ def checked_floats(parser: argparse.ArgumentParser) -> None:
         seen.add(id(p))
         for action in p._actions:
             if action.type is float:
-                action.type = finite_float
+                n = action.nargs if isinstance(action.nargs, int) else 1
+                action.type = _finite_floats(n) if n > 1 else finite_float
             if isinstance(action, argparse._SubParsersAction):
                 stack.extend(action.choices.values())
 
