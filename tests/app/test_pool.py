@@ -80,3 +80,21 @@ def test_abandoned_requests_are_cancelled_and_do_not_starve_others(live):
     assert get_json(live, "/api/launcher/drill", drill(50))["check"]["ok"] in (True, False)
     assert time.monotonic() - t0 < 30
     assert get_json(live, "/api/meta")["pool"]["free"] >= 1
+
+
+def test_a_workers_first_job_of_a_kind_may_load_its_kernels():
+    """The first aim of a fresh install compiles its Numba kernels (over 20 s on a loaded machine): a
+    worker's first job of each kind gets FIRST_RUN_EXTRA_S more; later ones keep their deadline."""
+    from types import SimpleNamespace
+
+    from tennislab.app import pool as P
+
+    p = P.Pool.__new__(P.Pool)  # the deadline rule only: no processes
+    p.deadline_s, p.deadlines_s = None, dict(P.DEADLINES_S)
+    w = SimpleNamespace(seen=set())
+    assert p.deadline_of("aim", w) == P.DEADLINES_S["aim"] + P.FIRST_RUN_EXTRA_S
+    w.seen.add("aim")
+    assert p.deadline_of("aim", w) == P.DEADLINES_S["aim"] == p.deadline_of("aim")
+    assert p.deadline_of("serve", w) == P.DEADLINES_S["serve"] + P.FIRST_RUN_EXTRA_S
+    p.deadline_s = 0.3  # one deadline for every job (the tests' setting) stays exact
+    assert p.deadline_of("serve", SimpleNamespace(seen=set())) == 0.3

@@ -19,6 +19,14 @@ from tennislab.plot import text as T
 from tennislab.serve import PlayerProfile
 
 
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
 # ------------------------------------------------------------------ words
 @pytest.mark.parametrize(
     "mm, said",

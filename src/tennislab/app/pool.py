@@ -19,8 +19,9 @@ Rules (``docs/app.md``, "How requests are run"):
 * while a request waits or computes, its connection is checked every ``poll_s``: a client that has
   gone (closed tab, aborted fetch, timed-out script) cancels its job (a job that finishes within
   ``grace_s`` of its client leaving is let finish: cheaper than a new worker);
-* every job has a deadline (seconds, per job name); past it the worker is killed and the client
-  told so (HTTP 503).
+* every job has a deadline (seconds, per job name; a worker's first job of a kind gets
+  :data:`FIRST_RUN_EXTRA_S` more, for its kernels to load or compile); past it the worker is killed
+  and the client told so (HTTP 503).
 
 Jobs are named (:data:`tennislab.app.features.JOBS`); a request never sends code.
 """
@@ -50,6 +51,10 @@ HEAVY_JOBS = frozenset({"window", "linecall", "drill"})
 #: finest step 0.1 s, a 1 MB track 0.3-1 s, a 50-shot drill 3 s; see docs/app.md)
 DEADLINES_S = {"flight": 20.0, "serve": 20.0, "aim": 20.0, "sample": 20.0, "window": 60.0, "linecall": 60.0}
 DEFAULT_DEADLINE_S = 60.0
+#: added to the deadline of a worker's first job of each kind: it loads (and, the first time after an
+#: install, compiles) the job's Numba kernels, which took over 20 s for the first aim of a fresh clone
+#: while the whole test suite ran on the shared 2-core machine; later jobs of that kind keep the deadline
+FIRST_RUN_EXTRA_S = 120.0
 
 
 class PoolError(TennisLabError):
@@ -96,6 +101,7 @@ class _Worker:
         self.proc = ctx.Process(target=_worker_main, args=(child,), daemon=True, name="tennislab-app-worker")
         self.proc.start()
         child.close()
+        self.seen: set[str] = set()  # the jobs this worker has run (their kernels are loaded)
 
     def call(self, job: str, values: dict, extra: dict):
         """Send a job and wait for its answer (blocking: runs in a thread of the pool)."""
@@ -244,10 +250,12 @@ class Pool:
             self._changed.set()
 
     # ---------------------------------------------------------------- running a job
-    def deadline_of(self, job: str) -> float:
+    def deadline_of(self, job: str, worker=None) -> float:
+        """The deadline [s] of ``job`` (on ``worker``: more for its first job of that kind)."""
         if self.deadline_s is not None:
             return self.deadline_s
-        return self.deadlines_s.get(job, DEFAULT_DEADLINE_S)
+        first = worker is not None and job not in worker.seen
+        return self.deadlines_s.get(job, DEFAULT_DEADLINE_S) + (FIRST_RUN_EXTRA_S if first else 0.0)
 
     def _take(self, heavy: bool) -> _Worker | None:
         if not self._free or (heavy and self._heavy >= self.heavy_limit):
@@ -311,7 +319,7 @@ class Pool:
             raise PoolError(f"job: unknown {job!r}", 404)
         heavy = job in HEAVY_JOBS
         w = await self._acquire(heavy, gone)
-        deadline = self.deadline_of(job)
+        deadline = self.deadline_of(job, w)  # a first job of its kind loads (or compiles) its kernels
         loop = asyncio.get_running_loop()
         fut = loop.run_in_executor(self._threads, w.call, job, values, extra or {})
         t0 = time.monotonic()
@@ -337,6 +345,7 @@ class Pool:
             except (EOFError, OSError) as exc:
                 raise PoolError(f"{job}: the worker stopped ({type(exc).__name__})", 500) from None
             reuse = True
+            w.seen.add(job)
             self.stats.done += 1
         finally:
             self.stats.running.pop(id(fut), None)
