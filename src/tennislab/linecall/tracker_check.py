@@ -119,6 +119,7 @@ def _row(s: dict, est: IndependentBounce) -> dict:
         "flight_rms_mm": (s.get("fit") or {}).get("flight_rms_mm"),
         "spin_rpm": sp.get("rpm"),
         "spin_sigma_rpm": sp.get("rpm_sigma"),
+        "spin_identified": sp.get("identified"),
         "tracker_spin_rpm": tr.get("spin_rpm"),
     }
 
@@ -163,7 +164,7 @@ def _spin_summary(rows: list[dict]) -> dict:
         [(r["spin_rpm"], abs(r["tracker_spin_rpm"]), r["spin_sigma_rpm"] or np.nan) for r in ok if r["serve"]],
         dtype=float,
     ).reshape(-1, 3)
-    told = serve[:, 0] > 2.0 * serve[:, 2] if serve.size else np.zeros(0, dtype=bool)
+    told = np.array([bool(r["spin_identified"]) for r in ok if r["serve"]], dtype=bool)
     return {
         "rally_n": int(rally.shape[0]) if rally.size else 0,
         "rally_median_ratio": float(np.median(rally[:, 0] / rally[:, 1])) if rally.size else None,
