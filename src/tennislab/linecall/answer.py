@@ -80,6 +80,13 @@ class BounceEstimate:
             speed_in_ms=float(np.linalg.norm(fit.velocity_in)),
         )
 
+    def __getitem__(self, key: str):
+        """Dictionary-style reading (``call.bounce["x"]``), as when the bounce was a dict."""
+        return self.to_dict()[key]
+
+    def get(self, key: str, default=None):
+        return self.to_dict().get(key, default)
+
     def to_dict(self) -> dict:
         out: dict = {"x": self.x, "y": self.y, "t": self.t, "sigma_mm": self.sigma_mm}
         for k in ("sigma_x_mm", "sigma_y_mm", "sigma_t_ms", "cov_xy_m2", "velocity_in", "spin_in"):
@@ -230,7 +237,8 @@ def spin_components(spin, velocity, cov=None, tracker_rpm: float | None = None) 
         out["cov"] = np.asarray(cov, dtype=float)
         # told apart from no spin: the rate beyond twice the vector's 1-sigma (root sum of the components'
         # variances; a serve's spin is often not: the tracked flight barely bends for its speed)
-        out["identified"] = bool(out["rpm"] >= 2.0 * float(np.sqrt(np.sum(sd**2))))
+        rate = float(np.linalg.norm(w) / RPM)
+        out["identified"] = bool(rate >= 2.0 * float(np.sqrt(np.sum(sd**2))))
     if tracker_rpm is not None:
         out["tracker_rpm"] = float(tracker_rpm)
         out["topspin_minus_tracker_rpm"] = float(comp[0] - tracker_rpm)
