@@ -530,9 +530,9 @@ def rk4_step(y, h, aero, ap, kd, kl, g, r, wx, wy, wz, dec, work, out):
     """One classical Runge-Kutta 4 step of size ``h`` [s] (negative: backward) from ``y`` into ``out``.
 
     The fixed-step member of the family, for integrations whose results must vary smoothly with
-    their inputs: :func:`sweep_positions` steps it for the line-calling track fit
-    (:mod:`tennislab.linecall.model`), and the track calibration (:mod:`tennislab.calibrate.tracks`)
-    steps it itself.  Arguments after ``h`` are those of
+    their inputs.  Its one caller is :func:`sweep_positions`, which steps it for the line-calling
+    track fit (:mod:`tennislab.linecall.model`) and for the track calibration's identification and
+    family fit (:mod:`tennislab.calibrate._sweeps`).  Arguments after ``h`` are those of
     :func:`tennislab.core.dynamics.derivative`; ``work`` is a (5, 9) scratch array.
 
     References
