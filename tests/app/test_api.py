@@ -318,13 +318,13 @@ def test_failing_serve_gives_its_verdict_when_the_model_does(client):
 
 # ----------------------------------------------------------------- launcher planner
 def test_aim_matches_python_api(client):
-    from tennislab.launcher.aim import aim, aim_result_dict
+    from tennislab.launcher.aim import aim
 
     body = {"target_x": 9.0, "target_y": -2.5, "speed_kmh": 95, "spin_rpm": 1200, "shot": "backspin"}
     r = client.post("/api/launcher/aim", json=body)
     assert r.status_code == 200, r.text
     out = r.json()
-    ref = aim_result_dict(aim((9.0, -2.5), 95, 1200, 180.0, 1.0))
+    ref = aim((9.0, -2.5), 95, 1200, 180.0, 1.0).to_dict()
     assert out["settings"] == ref["settings"]
     assert out["rollers"] == pytest.approx(ref["rollers"])
     assert out["miss_mm"] == pytest.approx(ref["miss_mm"], abs=1e-6)

@@ -457,7 +457,7 @@ def _court_click(pg, x: float, y: float):
 
 def test_launcher_planner_and_drill_download(wide_page, tmp_path, capsys):
     from tennislab.cli import main
-    from tennislab.launcher.aim import aim, aim_result_dict
+    from tennislab.launcher.aim import aim
 
     page = wide_page
     open_page(page, "launcher")
@@ -468,7 +468,7 @@ def test_launcher_planner_and_drill_download(wide_page, tmp_path, capsys):
         tx, ty = float(page.input_value("#aim-target_x")), float(page.input_value("#aim-target_y"))
         assert (tx, ty) == pytest.approx((x, y), abs=0.1)
         got = results(page, "aim-result")
-        ref = aim_result_dict(aim((tx, ty), 95, 1200, 0.0, 1.0))
+        ref = aim((tx, ty), 95, 1200, 0.0, 1.0).to_dict()
         for k, v in ref["settings"].items():
             assert float(got[f"settings.{k}"]) == v, k
         assert float(got["rollers.rpm1"]) == pytest.approx(ref["rollers"]["rpm1"], rel=1e-12)

@@ -12,7 +12,7 @@ from tennislab.core.flight import fly_dense
 from tennislab.errors import InputError
 from tennislab.launcher import AimResult
 from tennislab.launcher import aim as aim_workflow
-from tennislab.launcher.aim import aim, aim_all, aim_result_dict, fly_settings, launcher_params
+from tennislab.launcher.aim import aim, aim_all, fly_settings, launcher_params
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, Settings, launch_states
 from tennislab.launcher.preferences import Tolerances, spin_change_rpm
 
@@ -50,7 +50,12 @@ def test_workflow_is_exported_and_returns_a_result():
     d = res.to_dict()
     for k in ("settings", "rollers", "landing", "miss_mm", "net_clearance_m", "asked", "deviation", "tolerances"):
         assert k in d
-    assert d == aim_result_dict(res)
+    from tennislab.launcher.aim import aim_result_dict, solution_dict
+
+    with pytest.warns(DeprecationWarning, match="is now sol.to_dict"):  # the old names still answer the same
+        assert d == aim_result_dict(res)
+    with pytest.warns(DeprecationWarning, match="is now sol.to_dict"):
+        assert solution_dict(res.solution, res.spec, res.params) == res.solution.to_dict(res.spec, res.params)
 
 
 @pytest.mark.parametrize("target,kw", CASES)
@@ -132,7 +137,7 @@ def test_inputs_are_quantised_and_result_dict_keys():
         0,
         1.0,
     )
-    d = aim_result_dict(sol)
+    d = sol.to_dict()
     for k in ("height_m", "speed_kmh", "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg"):
         assert k in d["settings"]
     assert d["rollers"]["rpm1"] < d["rollers"]["rpm2"]  # topspin: roller 2 faster

@@ -400,7 +400,7 @@ def _curves_result(
         per_track=tuple(rows),
         table=_table(curves, base.ball.radius),
         spin_decay_per_s=max(curves.decay, 0.0),
-        curves=_curves_dict(curves, ident),
+        curves=_curves_entry(curves, ident),
         split={"name": split_name, "n_fit": len(fit_part), "n_held_out": len(held_part)},
         fit_part=_summary(rows, "fit"),
         held_out=_summary(rows, "held_out"),
@@ -414,7 +414,8 @@ def _curves_result(
     )
 
 
-def _curves_dict(c: Curves, ident: Identification) -> dict:
+def _curves_entry(c: Curves, ident: Identification) -> dict:
+    """The ``curves`` entry of the JSON: the identified curves and their 1-sigma."""
     sd = dict(zip(ident.names, np.sqrt(np.clip(np.diag(ident.cov), 0.0, None)))) if ident.values.size else {}
     return {
         "speed_ms": list(c.speed),

@@ -28,6 +28,7 @@ flight, outside the heading range, only into the net, every flight above ``max_a
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -143,12 +144,12 @@ class AimSolution:
 
     def to_dict(self, spec: MachineSpec | None = None, params: FlightParams | None = None) -> dict:
         """The JSON of this solution on machine ``spec`` flown with ``params`` (``launcher aim``'s keys,
-        :func:`solution_dict`)."""
-        return solution_dict(self, spec or DEFAULT_SPEC, params)
+        below)."""
+        return _solution_json(self, spec or DEFAULT_SPEC, params)
 
 
-def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None) -> dict:
-    """The JSON of one aim solution (the contract keys of ``launcher aim``).
+def _solution_json(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None) -> dict:
+    """The JSON of one aim solution (:meth:`AimSolution.to_dict`; the contract keys of ``launcher aim``).
 
     Keys (contract): ``settings.height_m``, ``settings.speed_kmh``, ``settings.elevation_deg``,
     ``settings.heading_deg``, ``settings.spin_rpm``, ``settings.spin_axis_deg``, ``rollers.rpm1``,
@@ -182,7 +183,7 @@ def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: Fl
         "height_searched": sol.height_searched,
         "net_limited": sol.net_limited,
         "deviation": sol.deviation(),
-        "machine": machine_dict(spec, sol.position),
+        "machine": machine_entry(spec, sol.position),
         "physics": params.to_dict(),
     }
 
@@ -194,7 +195,8 @@ def rollers_rpm(st: Settings, spec: MachineSpec, params: FlightParams) -> tuple[
     return float(w1) / RPM, float(w2) / RPM
 
 
-def machine_dict(spec: MachineSpec, position=None) -> dict:
+def machine_entry(spec: MachineSpec, position=None) -> dict:
+    """The ``machine`` entry of a launcher result: where it stands [m] and its rollers [m]."""
     return {
         "position": list(spec.position if position is None else position),
         "roller_radius_m": spec.roller_radius,
@@ -227,8 +229,8 @@ class AimResult(Result):
         return self.solution.miss_mm
 
     def to_dict(self) -> dict:
-        """The JSON of ``tennislab launcher aim`` (:func:`solution_dict` plus the request and the other branch)."""
-        out = solution_dict(self.solution, self.spec, self.params)
+        """The JSON of ``tennislab launcher aim``: :meth:`AimSolution.to_dict`, the request, the other branch."""
+        out = self.solution.to_dict(self.spec, self.params)
         out["trajectory"] = self.preferences.trajectory
         out["tolerances"] = self.tolerances.to_dict()
         out["preferences"] = self.preferences.to_dict()
@@ -253,10 +255,18 @@ class AimResult(Result):
 
 
 def aim_result_dict(sol, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None) -> dict:
-    """JSON of an :class:`AimResult` (its ``to_dict()``) or of a bare :class:`AimSolution`."""
+    """Deprecated: ``sol.to_dict()`` (an :class:`AimResult`) or ``sol.to_dict(spec, params)`` (an
+    :class:`AimSolution`)."""
+    warnings.warn("aim_result_dict(sol) is now sol.to_dict()", DeprecationWarning, stacklevel=2)
     if isinstance(sol, AimResult):
         return sol.to_dict()
-    return solution_dict(sol, spec, params)
+    return sol.to_dict(spec, params)
+
+
+def solution_dict(sol: AimSolution, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None) -> dict:
+    """Deprecated: ``sol.to_dict(spec, params)``."""
+    warnings.warn("solution_dict(sol, spec, params) is now sol.to_dict(spec, params)", DeprecationWarning, stacklevel=2)
+    return sol.to_dict(spec, params)
 
 
 def _net_required(spec: MachineSpec, target) -> bool:

@@ -30,7 +30,7 @@ import numpy as np
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
-from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_dict, rollers_rpm
+from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_entry, rollers_rpm
 from tennislab.launcher.machine import MachineSpec
 from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, Preferences
 from tennislab.results import Table
@@ -371,7 +371,7 @@ class CompiledDrill(Table):
             "key": d.key,
             "description": d.description,
             "source": d.source,
-            "machine": machine_dict(d.spec),
+            "machine": machine_entry(d.spec),
             "ok": self.ok,
             "n_shots": len(self.shots),
             "n_distinct": len(self.unique),

@@ -31,7 +31,7 @@ from tennislab.core.ball import Ball
 from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError
 from tennislab.io.drill import drill_format, read_drill_bytes
-from tennislab.launcher.aim import machine_dict
+from tennislab.launcher.aim import machine_entry
 from tennislab.launcher.drill_schema import (
     drill_record,
     find_drill_source,
@@ -327,7 +327,7 @@ class HitsDB:
             (x, y),
             hit,
             ms,
-            machine_dict(spec),
+            machine_entry(spec),
             _physics_summary(cfg["physics"]),
             _rollers(st, spec, ball),
             asked,
@@ -564,7 +564,7 @@ class HitsDB:
             t += interval
         with self._read() as conn:
             h = self._config(conn)[0]
-        return PlayResult(d.name, d.key, source, self.path, h, machine_dict(spec), distinct, seq)
+        return PlayResult(d.name, d.key, source, self.path, h, machine_entry(spec), distinct, seq)
 
     def _shot_lookup(self, shot: ShotSpec, max_miss_m: float) -> LookupResult:
         p = shot.preferences

@@ -27,7 +27,7 @@ import numpy as np
 import tennislab.core.shoot as shoot_mod
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_vector
-from tennislab.launcher.aim import launcher_params, machine_dict
+from tennislab.launcher.aim import launcher_params, machine_entry
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, speed_in_kmh
 from tennislab.launcher.preferences import TRAJECTORIES
 from tennislab.launcher.reach import reach_map
@@ -84,7 +84,7 @@ class InverseResult(Result):
             "net_clearance_m": self.net_clearance_m,
             "elapsed_ms": self.elapsed_ms,
             "flights": self.flights,
-            "machine": machine_dict(self.spec),
+            "machine": machine_entry(self.spec),
             "physics": self.params.to_dict(),
         }
 

@@ -192,21 +192,6 @@ class TrackCall(Table):
         return jsonable(out)
 
 
-def mark_dict(mark: BallMark) -> dict:
-    return {
-        "length": mark.length,
-        "width": mark.width,
-        "x": float(mark.center[0]),
-        "y": float(mark.center[1]),
-        "start_x": float(mark.start[0]),
-        "start_y": float(mark.start[1]),
-        "skid": mark.skid,
-        "compression": mark.compression,
-        "contact_time": mark.contact_time,
-        "direction": mark.direction,
-    }
-
-
 def spin_components(spin, velocity, cov=None, tracker_rpm: float | None = None) -> dict:
     """Spin vector [rad/s] in the launch vocabulary of :mod:`tennislab.core.launch` relative to
     ``velocity``: topspin (about h = unit(z x d); < 0 backspin), sidespin (about u = d x h; > 0 curves
@@ -269,7 +254,9 @@ def no_fit(n_points: int) -> dict:
     return {"rms_mm": None, "outliers": 0, "n_points": int(n_points)}
 
 
-def fit_dict(fit: TrackFit, n_points: int, elapsed: float, noise: float, local: LocalFit | None = None) -> dict:
+def fit_entry(fit: TrackFit, n_points: int, elapsed: float, noise: float, local: LocalFit | None = None) -> dict:
+    """The ``fit`` entry of a call made by a track fit (its residuals, scales, counts and timing; with the
+    local refits near the bounce: ``bounce_window_s`` ... ``bounce_windows``)."""
     pre = (fit.segment == M.SEG_PRE) & np.isfinite(fit.residual)
     out = {
         "rms_mm": fit.rms * 1000.0,

@@ -233,23 +233,9 @@ class FlightResult(Table):
         )
         if self.rally is not None:
             out["surface"] = self.surface
-            out["bounces"] = [_bounce_dict(b) for b in self.rally.bounces]
+            out["bounces"] = [b.to_dict() for b in self.rally.bounces]
         out["caveats"] = self.caveats
         return out
-
-
-def _bounce_dict(b) -> dict:
-    d = b.to_dict()
-    d["mark"] = {
-        "length": b.mark.length,
-        "width": b.mark.width,
-        "x": float(b.mark.center[0]),
-        "y": float(b.mark.center[1]),
-        "skid": b.mark.skid,
-        "contact_time": b.mark.contact_time,
-        "compression": b.mark.compression,
-    }
-    return d
 
 
 def fly(
