@@ -26,7 +26,7 @@ from tennislab.cli.common import (
 )
 from tennislab.cli.impact import PAPER, add_impact_flags, impact_from_args
 from tennislab.errors import InputError
-from tennislab.plot import num
+from tennislab.plot import num, player_words, spin_words
 from tennislab.serve import PEAK_SPIN_ALPHA, TABLE1, get_player, player_names
 
 if TYPE_CHECKING:
@@ -99,10 +99,139 @@ def _brush_flag(p) -> None:
     )
 
 
+#: the paper's spin classes in words (``other``: between its flat and its topspin serves)
+CLASS_WORDS = {"other": "between flat and topspin"}
+#: what alpha and beta are, in every help that takes them (docs/serve.md draws them)
+ALPHA_WORDS = "the racket's path above the face normal: 0 a flat hit, more brushes up the ball for spin"
+BETA_WORDS = "the face normal tilted below the horizontal: 0 a vertical face, more closes it and aims lower"
+ANGLES_EPILOG = (
+    "alpha (impact angle): the angle of the racket's path above the face normal (0: a flat hit; more alpha "
+    "brushes up the ball: more spin, less speed). beta (face angle): the face normal tilted below the "
+    "horizontal (0: a vertical face; more beta closes the face and sends the ball lower). Picture: "
+    "docs/serve.md."
+)
+
+
 def _angle_flags(p, alpha_help: str, beta_help: str) -> None:
-    """``--impact-angle A`` and ``--face-angle B`` [deg], both required."""
-    p.add_argument("--impact-angle", type=float, required=True, metavar="A", help=alpha_help)
-    p.add_argument("--face-angle", type=float, required=True, metavar="B", help=beta_help)
+    """``--impact-angle A`` and ``--face-angle B`` [deg]: required unless a ball launch is given."""
+    p.add_argument("--impact-angle", type=float, metavar="A", help=f"{alpha_help} ({ALPHA_WORDS}) [deg]")
+    p.add_argument("--face-angle", type=float, metavar="B", help=f"{beta_help} ({BETA_WORDS}) [deg]")
+
+
+def _ball_flags(p, *, elevation: bool = True) -> None:
+    """A ball launch instead of the racket (the racket that gives it is solved for): speed, spin, height
+    (and elevation, heading)."""
+    from tennislab.cli.common import add_speed_flags
+
+    g = p.add_argument_group(
+        "ball launch (instead of --racket-speed, --impact-angle, --face-angle: the racket that gives this ball "
+        "is solved for and printed)"
+    )
+    add_speed_flags(g, note="(the ball leaving the racket)")
+    g.add_argument("--spin-rpm", type=float, metavar="RPM", help="spin rate of the ball [rpm] (default 0)")
+    g.add_argument(
+        "--spin-axis",
+        metavar="AXIS",
+        help="topspin (default) or backspin; with --target also sidespin-left, sidespin-right or an angle [deg] "
+        "about the flight (0 topspin, +90 curving left)",
+    )
+    if elevation:
+        g.add_argument(
+            "--elevation-deg", type=float, metavar="DEG", help="launch angle above the horizontal [deg] (required)"
+        )
+    g.add_argument(
+        "--heading-deg", type=float, metavar="DEG", help="direction from +x toward +y (left) [deg] (needs --target)"
+    )
+    g.add_argument(
+        "--height",
+        type=float,
+        metavar="M",
+        help="height of the ball at impact [m] (instead of --impact-height)",
+    )
+
+
+def _ball_launch(args, elevation: float | None = None):
+    """The :class:`~tennislab.serve.from_ball.BallLaunch` of the ball flags, or None; refuses a mix with
+    the racket's flags."""
+    from tennislab.cli.common import parse_spin_axis, speed_from_args
+    from tennislab.serve import BallLaunch
+
+    speed = speed_from_args(args)
+    if speed is None:
+        for flag in ("spin_rpm", "spin_axis", "elevation_deg", "heading_deg", "height"):
+            if getattr(args, flag, None) is not None:
+                raise InputError(
+                    f"--{flag.replace('_', '-')}: a ball launch needs its speed "
+                    "(--speed-kmh, --speed-ms or --speed-mph)"
+                )
+        return None
+    for flag in ("impact_angle", "face_angle", "racket_speed", "impact_height"):
+        if getattr(args, flag, None) is not None:
+            raise InputError(
+                f"--{flag.replace('_', '-')}: a ball launch (--speed-kmh ...) replaces the racket's --racket-speed, "
+                "--impact-angle, --face-angle and --impact-height (use --height); give one or the other"
+            )
+    if getattr(args, "azimuth_deg", 0.0) or getattr(args, "brush_deg", 0.0):
+        raise InputError("--azimuth: a ball launch gives its direction with --heading-deg and --spin-axis")
+    elev = elevation if elevation is not None else getattr(args, "elevation_deg", None)
+    if elev is None:
+        raise InputError("--elevation-deg: a ball launch needs its launch angle above the horizontal [deg]")
+    axis = 0.0
+    if args.spin_axis is not None:
+        _, g = parse_spin_axis(args.spin_axis)
+        axis = math.degrees(g)
+    return BallLaunch(speed, 0.0 if args.spin_rpm is None else args.spin_rpm, elev, args.heading_deg or 0.0, axis)
+
+
+def _racket_words(r) -> str:
+    """The racket of a ball launch in words, and the ball it gives."""
+    g = r.gives
+    side = f", azimuth {num(r.azimuth_deg, 1)} deg, brush {num(r.brush_deg, 1)} deg" if r.three_d else ""
+    head = f", heading {num(g.heading_deg, 1)} deg" if r.three_d else ""
+    return (
+        f"racket for this ball: {num(r.racket_speed, 1)} m/s, alpha {num(r.alpha_deg, 1)} deg, "
+        f"beta {num(r.beta_deg, 1)} deg{side} (gives {num(g.speed_ms * 3.6, 1)} km/h, "
+        f"{spin_words(g.spin_rpm, g.spin_axis_deg)}, elevation {num(g.elevation_deg, 1)} deg{head}, "
+        f"from {num(r.height, 2)} m)"
+    )
+
+
+def _solve_racket(args, ball):
+    """The racket for ``ball`` with the command's player, physics and 3-D options."""
+    from tennislab.serve import racket_for
+
+    return racket_for(
+        get_player(args.player),
+        ball,
+        height=args.height,
+        target=args.target,
+        server_y=args.server_y,
+        toss_vz=getattr(args, "toss_vz", 0.0),
+        **_physics(args),
+    )
+
+
+def _racket_and_angles(args):
+    """(player, alpha, beta, azimuth, brush, racket-for-ball or None) of the racket's or the ball's flags."""
+    ball = _ball_launch(args)
+    if ball is None:
+        for flag in ("impact_angle", "face_angle"):
+            if getattr(args, flag) is None:
+                raise InputError(
+                    f"--{flag.replace('_', '-')}: required (or describe the ball: --speed-kmh, --spin-rpm, "
+                    "--elevation-deg)"
+                )
+        return (
+            _player(args),
+            args.impact_angle,
+            args.face_angle,
+            args.azimuth_deg,
+            getattr(args, "brush_deg", 0.0),
+            None,
+        )
+    r = _solve_racket(args, ball)
+    player = get_player(args.player).with_overrides(r.height, r.racket_speed)
+    return player, r.alpha_deg, r.beta_deg, r.azimuth_deg, r.brush_deg, r
 
 
 def _model_flags(p, func, *, plot_help: str, csv_help: str | None = None, batch: bool = False) -> None:
@@ -122,10 +251,14 @@ def register(sub) -> None:
         "serve",
         help=f"one serve: impact, flight, in or fault and why ({PAPER})",
         description="Simulate one serve of a player profile: impact, flight, whether it goes in, why not and "
-        "what would fix it. Angles in degrees.",
+        "what would fix it. Give the racket (--impact-angle, --face-angle; the player's racket speed) or the "
+        "ball (--speed-kmh, --spin-rpm, --elevation-deg, --height: the racket that gives it is solved for). "
+        "Angles in degrees.",
+        epilog=ANGLES_EPILOG,
     )
     _player_flags(p)
-    _angle_flags(p, "impact angle alpha [deg]", "racket face angle beta [deg]")
+    _angle_flags(p, "impact angle alpha", "face angle beta")
+    _ball_flags(p)
     _brush_flag(p)
     p.add_argument(
         "--toss-velocity",
@@ -143,6 +276,7 @@ def register(sub) -> None:
         help=f"all (alpha, beta) serves of a player: Table 1 of {PAPER}",
         description="Sweep alpha and beta over 0-90 deg; summarise successful flat and topspin serves next to "
         "the paper's Table 1.",
+        epilog=ANGLES_EPILOG,
     )
     _player_flags(p, allow_all=True)
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step [deg] (default 1)")
@@ -159,10 +293,13 @@ def register(sub) -> None:
         "serve-mc",
         help="Monte Carlo margin of error of a serve",
         description="Scatter alpha, beta, azimuth (--sd-angle), racket speed (--sd-speed) and "
-        "impact height (--sd-height); probability of success and landing ellipse.",
+        "impact height (--sd-height); probability of success and landing ellipse. The nominal serve is a "
+        "racket (--impact-angle, --face-angle) or a ball (--speed-kmh, --spin-rpm, --elevation-deg, --height).",
+        epilog=ANGLES_EPILOG,
     )
     _player_flags(p)
-    _angle_flags(p, "nominal alpha [deg]", "nominal beta [deg]")
+    _angle_flags(p, "nominal impact angle alpha", "nominal face angle beta")
+    _ball_flags(p)
     p.add_argument("--sd-angle", type=float, default=1.0, metavar="DEG", help="sd of alpha, beta, azimuth [deg] (1)")
     p.add_argument("--sd-azimuth", type=float, metavar="DEG", help="sd of the azimuth [deg] (default --sd-angle)")
     p.add_argument("--sd-speed", type=float, default=1.0, metavar="M/S", help="sd of racket speed [m/s] (1)")
@@ -192,13 +329,14 @@ def _print_caveats(caveats) -> None:
 def run_serve(args) -> int:
     from tennislab.serve import simulate
 
+    player, alpha, beta, azimuth, brush, racket = _racket_and_angles(args)
     res = simulate(
-        _player(args),
-        args.impact_angle,
-        args.face_angle,
+        player,
+        alpha,
+        beta,
         target=args.target,
-        azimuth_deg=args.azimuth_deg,
-        brush_deg=args.brush_deg,
+        azimuth_deg=azimuth,
+        brush_deg=brush,
         server_y=args.server_y,
         toss_vz=args.toss_vz,
         trajectory=bool(args.plot),
@@ -209,14 +347,16 @@ def run_serve(args) -> int:
         # is imported at start: plotting modules are imported only when a figure is asked for
         from tennislab.plot import plot_trajectories
 
-        label = f"alpha {args.impact_angle:g}, beta {args.face_angle:g}"
-        save_figure(plot_trajectories([res.trajectory], [label], title=f"{res.player.name} serve"), args.plot)
+        label = f"alpha {num(alpha, 1)}, beta {num(beta, 1)}"
+        save_figure(plot_trajectories([res.trajectory], [label], title=f"{player_words(res.player)} serve"), args.plot)
     if args.json:
-        emit_json(res)
+        emit_json(res if racket is None else {**res.to_dict(), "racket_for_ball": racket.to_dict()})
         return 0
+    if racket is not None:
+        print(_racket_words(racket))
     print(
-        f"{res.player.name}: {res.speed:.2f} m/s ({res.speed * 3.6:.1f} km/h), {res.spin_rpm:.0f} rpm "
-        f"({res.category}), launch {res.launch_angle:.2f} deg"
+        f"{player_words(res.player)}: {res.speed:.2f} m/s ({res.speed * 3.6:.1f} km/h), {res.spin_rpm:.0f} rpm "
+        f"({CLASS_WORDS.get(res.category, res.category)}), launch {res.launch_angle:.2f} deg"
     )
     net = f"ball centre {res.net_height:.3f} m" if math.isfinite(res.net_height) else "the ball does not reach it"
     print(
@@ -371,10 +511,11 @@ def _serves(outputs: dict) -> int:
 def run_mc(args) -> int:
     from tennislab.serve import monte_carlo
 
+    player, alpha, beta, azimuth, brush, racket = _racket_and_angles(args)
     res = monte_carlo(
-        _player(args),
-        args.impact_angle,
-        args.face_angle,
+        player,
+        alpha,
+        beta,
         n=args.n,
         seed=args.seed,
         sd_angle=args.sd_angle,
@@ -382,7 +523,8 @@ def run_mc(args) -> int:
         sd_height=args.sd_height,
         sd_azimuth=args.sd_azimuth,
         target=args.target,
-        azimuth_deg=args.azimuth_deg,
+        azimuth_deg=azimuth,
+        brush_deg=brush,
         server_y=args.server_y,
         mapper=_mc_mapper(args),
         samples=bool(args.plot),
@@ -394,11 +536,13 @@ def run_mc(args) -> int:
 
         save_figure(plot_mc(res), args.plot)
     if args.json:
-        emit_json(res)
+        emit_json(res if racket is None else {**res.to_dict(), "racket_for_ball": racket.to_dict()})
         return 0
+    if racket is not None:
+        print(_racket_words(racket))
     m = res.landing["mean"]
     print(
-        f"{res.player.name}: P(success) = {res.p_success:.4f} ± {res.p_success_se:.4f} "
+        f"{player_words(res.player)}: P(success) = {res.p_success:.4f} ± {res.p_success_se:.4f} "
         f"over {res.n} serves (judged by {_criteria(res.criteria)})"
     )
     if m[0] is not None:

@@ -111,7 +111,7 @@ def player_words(player) -> str:
     changed (named ``"professional*"`` in the JSON) by its numbers: ``"professional, 2.5 m, 35 m/s"``."""
     name = str(player.name)
     if name.endswith("*"):
-        return f"{name[:-1]}, {player.impact_height:g} m, {player.racket_speed:g} m/s"
+        return f"{name[:-1]}, {round(player.impact_height, 2):g} m, {round(player.racket_speed, 1):g} m/s"
     return name
 
 

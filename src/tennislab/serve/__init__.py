@@ -9,6 +9,8 @@ the command's ``--json``):
 * :func:`window` / :func:`windows` -> :class:`ServeWindow` / :class:`ServeWindows` (``serve-window``)
 * :func:`monte_carlo` -> :class:`MonteCarloResult` (``serve-mc``)
 * :func:`impact` -> :class:`ImpactSummary` (``tennislab impact``)
+* :func:`racket_for` -> :class:`RacketForBall`: the racket (V, alpha, beta) that gives a ball launch
+  (``serve --speed-kmh ...``)
 * :func:`default_serve` -> :class:`DefaultServe`, a serve that goes in for a player with the most room
   for error
 
@@ -24,6 +26,7 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.serve import published
+    from tennislab.serve.from_ball import BallLaunch, RacketForBall, racket_for
     from tennislab.serve.mc import MonteCarloResult, block_size, monte_carlo
     from tennislab.serve.pipeline import REASON_CODES
     from tennislab.serve.players import (
@@ -58,6 +61,9 @@ __all__ = [
     "ImpactSummary",
     "MonteCarloResult",
     "PlayerProfile",
+    "BallLaunch",
+    "RacketForBall",
+    "racket_for",
     "SeedCriteria",
     "ServeResult",
     "ServeWindow",

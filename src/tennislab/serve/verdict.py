@@ -116,7 +116,8 @@ def _scan(setup: Setup, name: str, current: float, alpha: float, beta: float, az
 
 
 def _deg(x: float) -> str:
-    return f"{x:g}"
+    """An angle [deg] for people: to 0.1 deg (the scans step by 0.5 deg)."""
+    return f"{round(x, 1) + 0.0:g}"
 
 
 def advise(setup: Setup, reason: str | None, alpha: float, beta: float, azimuth: float) -> str | None:

@@ -1,0 +1,100 @@
+"""Serves from the ball: a ball launch -> the racket (the impact model's inverse) -> the same ball."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from tennislab.cli import main
+from tennislab.errors import InputError
+from tennislab.serve import BallLaunch, racket_for, simulate
+from tennislab.serve.pipeline import make_setup
+
+BALLS = [
+    BallLaunch(50.0, 2500.0, -5.0),  # the coach's 180 km/h, 2500 rpm serve
+    BallLaunch(40.0, 4000.0, 2.0),  # a kick
+    BallLaunch(55.0, 0.0, -7.0),  # flat
+    BallLaunch(30.0, 1000.0, 0.0, 0.0, 180.0),  # backspin
+]
+
+
+@pytest.mark.parametrize("ball", BALLS)
+def test_ball_to_racket_to_the_same_ball(ball):
+    setup = make_setup("professional")
+    r = racket_for(setup, ball, height=2.9)
+    player = setup.player.with_overrides(r.height, r.racket_speed)
+    res = simulate(player, r.alpha_deg, r.beta_deg, advice=False)  # the forward workflow, not the solver's
+    assert res.speed == pytest.approx(ball.speed_ms, rel=0.01)
+    assert abs(res.spin_rpm) == pytest.approx(ball.spin_rpm, rel=0.01, abs=5.0)
+    assert res.launch_angle == pytest.approx(ball.elevation_deg, abs=0.05)
+    assert (res.spin_rpm < 0) == (ball.spin_axis_deg == 180.0)
+
+
+def test_3d_ball_with_heading_and_sidespin_round_trip():
+    setup = make_setup("professional", target="deuce", server_y=-0.5)
+    ball = BallLaunch(45.0, 3000.0, -3.0, 3.0, -30.0)
+    r = racket_for(setup, ball)
+    res = simulate(
+        setup.player.with_overrides(r.height, r.racket_speed),
+        r.alpha_deg,
+        r.beta_deg,
+        target="deuce",
+        server_y=-0.5,
+        azimuth_deg=r.azimuth_deg,
+        brush_deg=r.brush_deg,
+        advice=False,
+    )
+    import math
+
+    vx, vy, vz = res.velocity
+    assert res.speed == pytest.approx(45.0, rel=0.01)
+    assert abs(res.spin_rpm) == pytest.approx(3000.0, rel=0.01)
+    assert math.degrees(math.atan2(vy, vx)) == pytest.approx(3.0, abs=0.05)
+    assert r.gives.spin_axis_deg == pytest.approx(-30.0, abs=0.05)
+
+
+def test_a_ball_the_impact_cannot_give_is_refused_with_the_nearest():
+    with pytest.raises(InputError, match=r"ball launch: .* no racket .*nearest"):
+        racket_for(make_setup("professional"), BallLaunch(50.0, 9000.0, -5.0))
+    with pytest.raises(InputError, match="heading_deg"):
+        racket_for(make_setup("professional"), BallLaunch(50.0, 2500.0, -5.0, heading_deg=3.0))
+
+
+def test_cli_serve_from_the_ball_says_the_racket(capsys):
+    assert main(["serve", "--speed-kmh", "180", "--spin-rpm", "2500", "--elevation-deg", "-5", "--height", "2.9"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("racket for this ball: 37.8 m/s, alpha 18.1 deg, beta 11.6 deg")
+    assert "2500 rpm topspin" in out
+    assert main(["serve", "--speed-ms", "50", "--spin-rpm", "2500", "--elevation-deg", "-5", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    r = d["racket_for_ball"]
+    assert d["speed"] == pytest.approx(50.0, rel=0.01) and d["spin_rpm"] == pytest.approx(2500.0, rel=0.01)
+    assert (d["alpha"], d["beta"]) == (r["alpha_deg"], r["beta_deg"])
+    assert d["player_profile"]["racket_speed"] == pytest.approx(r["racket_speed_ms"])
+
+
+@pytest.mark.parametrize(
+    "argv, flag",
+    [
+        (["serve", "--speed-kmh", "180", "--impact-angle", "3"], "--impact-angle"),
+        (["serve", "--speed-kmh", "180", "--spin-rpm", "2500"], "--elevation-deg"),
+        (["serve", "--spin-rpm", "2500", "--elevation-deg", "-5"], "--spin-rpm"),
+        (["serve", "--player", "pro"], "--impact-angle"),
+        (["serve-mc", "--speed-kmh", "180", "--elevation-deg", "-5", "--heading-deg", "2"], "--heading-deg"),
+    ],
+)
+def test_cli_mixed_or_missing_launch_is_one_line_exit_2(capsys, argv, flag):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and flag in err
+
+
+@pytest.mark.parametrize("cmd", ["serve", "serve-mc", "serve-window", "impact"])
+def test_every_help_that_takes_alpha_and_beta_says_what_they_are(capsys, cmd):
+    with pytest.raises(SystemExit):
+        main([cmd, "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "face normal" in out and "alpha" in out
+    if cmd != "impact":
+        assert "beta" in out and "below the horizontal" in out
