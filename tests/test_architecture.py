@@ -388,11 +388,23 @@ MODEL_MODULES = (
     "core.integrators",
     "core.mark",
     "core.surfaces",
+    "core.launch",
     "linecall.closed_form",
+    "linecall.model",
+    "linecall.fit",
+    "linecall.cameras",
+    "linecall.decide",
+    "serve.pipeline",
+    "serve.racket_impact",
+    "serve.mc",
+    "launcher.machine",
     "launcher.rollers",
     "launcher.power",
     "launcher.materials",
     "calibrate.family",
+    "calibrate.identify",
+    "calibrate.stats",
+    "calibrate.surface",
 )
 
 

@@ -31,6 +31,13 @@ tracker got wrong) does not steer the curves.  Uncertainties: the sandwich covar
 flight, H^-1 (sum_k g_k g_k^T) H^-1 (H the Gauss-Newton Hessian with the priors, g_k flight k's
 gradient): a flight's residuals are correlated (a model error is systematic along it), so the
 flight, not the sample, is the independent unit (the bootstrap over flights has the same limit).
+
+References
+----------
+.. [1] Cross & Lindsey (2014), Sports Eng. 17:89 (shot-to-shot variations of C_D in flight)
+.. [2] Goodwill, Chin & Haake (2004), J. Wind Eng. Ind. Aerodyn. 92:935 (lower drag for worn balls)
+.. [3] Cross (2020), Sports Eng. 23:9 (C_L = 0.6 S: the lift anchor)
+.. [4] Golub & Pereyra (1973), SIAM J. Numer. Anal. 10:413 (variable projection)
 """
 
 from __future__ import annotations

@@ -4,6 +4,10 @@ Serves of one match share balls, air and tracker calibration, so they are not in
 confidence intervals resample whole matches (a cluster bootstrap, Efron & Tibshirani 1993,
 An Introduction to the Bootstrap, ch. 6; percentile intervals), with a fixed seed so that a study
 is reproducible.
+
+References
+----------
+.. [1] Efron & Tibshirani (1993), An Introduction to the Bootstrap, ch. 6 (percentile intervals)
 """
 
 from __future__ import annotations

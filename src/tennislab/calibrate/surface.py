@@ -12,6 +12,10 @@ The uncertainties are the Gauss-Newton covariance at the solution scaled by the 
 (``sd``); the ITF Court Pace Rating of the fitted surface (:func:`tennislab.core.bounce.court_pace_rating`)
 says where it sits among courts.  The result's :meth:`SurfaceCalibrationResult.surface_toml` is a
 surface file every command with ``--surface`` accepts (``--surface court.toml``).
+
+References
+----------
+.. [1] ITF CS 01/02, court pace rating (ITF Technical Booklet 2015)
 """
 
 from __future__ import annotations

@@ -13,6 +13,11 @@ launcher paper's (seed 002 section 2: elevation a, heading b, spin-axis rotation
 
 Spin along the path (rifle / gyro spin, no Magnus force) has no axis angle: give the spin vector.
 All angles in radians here; degrees and rpm are converted at the edges (:mod:`tennislab.units`).
+
+References
+----------
+.. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002),
+    section 2 (elevation, heading, spin-axis rotation)
 """
 
 from __future__ import annotations

@@ -33,6 +33,11 @@ Conventions (court frame of :mod:`tennislab.core.court`; the machine faces +x)
 * Default position: ``(-12.385, 0.0)``, on the centre line 0.5 m behind the
   outer edge of the near baseline (x = -11.885 m), so the machine stands off
   the court and shoots toward the far half (x > 0).  Any position is allowed.
+
+References
+----------
+.. [1] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002),
+    section 2 (settings, ranges and steps)
 """
 
 from __future__ import annotations

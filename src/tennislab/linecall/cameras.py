@@ -12,6 +12,10 @@ solution (Hartley & Zisserman, Multiple View Geometry, 2nd ed., sec. 12.2)
 refined by Gauss-Newton on the reprojection error; its 3-D covariance is
 sigma_px^2 (J^T J)^-1, and the per-axis sigma handed to the track fit is
 sqrt(trace / 3) (the fit takes an isotropic sigma per point).
+
+References
+----------
+.. [1] Hartley & Zisserman, Multiple View Geometry in Computer Vision, 2nd ed., sec. 12.2 (linear triangulation)
 """
 
 from __future__ import annotations

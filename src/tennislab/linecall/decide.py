@@ -16,6 +16,10 @@ is the union of contact discs of :mod:`tennislab.core.mark`.
 
 Without ``--line``/``--target`` the area is the singles court of the half the
 ball lands in, and each of its lines is reported.
+
+References
+----------
+.. [1] ITF, Rules of Tennis, rule 1 and Appendix I (the lines belong to the areas they bound)
 """
 
 from __future__ import annotations

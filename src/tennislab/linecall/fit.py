@@ -42,6 +42,13 @@ Procedure:
    the bounce point's gets the model floor :data:`MODEL_SIGMA` added in quadrature.
 
 The free-flight fit of the net check (:mod:`tennislab.linecall.free_flight`) uses the same solver.
+
+References
+----------
+.. [1] More, J. J. (1978). The Levenberg-Marquardt algorithm: implementation and theory. Numerical
+    Analysis, Lecture Notes in Mathematics 630, 105-116.
+.. [2] Triggs, B., McLauchlan, P., Hartley, R. & Fitzgibbon, A. (2000). Bundle adjustment - a modern
+    synthesis. Vision Algorithms: Theory and Practice, LNCS 1883, section 6.8 (robust reweighting).
 """
 
 from __future__ import annotations

@@ -36,6 +36,13 @@ integration is :func:`tennislab.core.integrators.sweep_positions` (classical RK4
 step, 16 ms in the fit, so that the residuals are smooth functions of the parameters; cubic
 Hermite positions between steps; tests/linecall/test_linecall.py checks against
 :func:`tennislab.core.flight.fly_dense`).
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), eqs 1-2 (drag, lift)
+.. [2] Wojcicki, Pucilowski & Kulesza (2010), Acta Mechanica et Automatica (seed 002), eqs 1, 3
+.. [3] Hairer, Norsett & Wanner (1993), Solving Ordinary Differential Equations I, 2nd ed., sec. II.1 (RK4)
 """
 
 from __future__ import annotations

@@ -19,9 +19,16 @@ is a pure function of (seed, stream, row) (:mod:`tennislab.batch.rng`, streams
 bit-identical whatever the scheduler and chunking.  Impacts are interpolated
 (bilinear) from one 81 x 161 table on a (V, alpha) grid spanning every value
 the draws can take (nominal +- :data:`Z_MAX` sd; :func:`scatter_table`,
-interpolation error checked in tests/test_serve_mc.py); flights use the
+interpolation error checked in tests/serve/test_mc.py); flights use the
 compiled batch integrator.  :func:`mc_blocks` is the batch worker (module
 level, for ``tennislab.batch.map_chunks`` over a ``RowRange`` of blocks).
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), sec. 4 (future work)
+.. [2] Chan, Golub & LeVeque (1979), Updating formulae and a pairwise algorithm for computing sample
+    variances, Stanford University, report STAN-CS-79-773
 """
 
 from __future__ import annotations

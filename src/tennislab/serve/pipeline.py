@@ -21,6 +21,11 @@ Every serve workflow runs the same four stages on one :class:`Setup` (everything
 :func:`serves` runs all four for arrays of angles (the single serve, the advice scans);
 :func:`flights` runs stages 2-4 on rows of racket-frame results or states (the window's and the Monte
 Carlo's per-chunk work, module level so that a process or Dask worker can run it).
+
+References
+----------
+.. [1] Grosen, Kousted & Treichel (2021), 2-dimensional tennis serves show similar successful mechanical
+    parameter across physiological differences, Aalborg University (seed 000), sec. 2.2 (the impact) and its 2-D test
 """
 
 from __future__ import annotations
