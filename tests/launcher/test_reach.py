@@ -175,3 +175,54 @@ def test_lookup_without_a_stored_speed_falls_back_to_the_inverse_map(small_db):
             db.lookup((7.0, -3.0), 120, 500, fallback=False)
         d = db.lookup((7.0, -3.0), 120, 500).to_dict()
     assert d["source"] == "inverse-map" and d["table_miss_mm"] is None and d["miss_mm"] < 50
+
+
+def test_compiled_inverse_map_inverts_the_fitted_curve():
+    """ReachMap.aim's crossing lands (on the fitted map itself) at the asked distance, on the asked side of the
+    longest flight, with the map's own phi there; no crossing gives NaN."""
+    m = R.reach_map(DEFAULT_SPEC, PARAMS)
+    d = np.array([15.0, 18.0, 24.0, 400.0])
+    h = np.array([0.5, 1.0, 2.5, 1.0])
+    for branch in ("low", "high"):
+        out = m.aim(d, h, 90.0, 800.0, -150.0, branch)
+        a = out["elevation_deg"]
+        assert np.isnan(a[3]) and np.isnan(out["phi"][3]) and out["reach"][3, 1] < 400.0
+        rho, phi = m.landing(h[:3], 90.0, a[:3], 800.0, -150.0)
+        assert np.abs(rho - d[:3]).max() < 5e-3  # linear between grid points 0.5 deg apart
+        assert np.allclose(phi, out["phi"][:3], atol=1e-12)
+        side = a[:3] <= out["split_deg"][:3] if branch == "low" else a[:3] >= out["split_deg"][:3]
+        assert side.all() and (np.sign(out["slope"][:3]) == (1 if branch == "low" else -1)).all()
+
+
+@pytest.mark.slow
+def test_inverse_aim_says_how_it_got_the_map(tmp_path, monkeypatch):
+    monkeypatch.setenv(R.CACHE_ENV, str(tmp_path))
+    inverse_aim((9.0, 2.0), 100, 1000)
+    again = inverse_aim((8.0, -1.0), 90, 500).to_dict()["reach_map"]
+    assert again["source"] == "memory" and again["seconds"] < 0.01 and again["key"] == R.map_key(DEFAULT_SPEC, PARAMS)
+    spec = MachineSpec(speed=DEFAULT_SPEC.speed.__class__(30.0, 110.0, 1.0, "km/h"))  # a machine of its own
+    R._MEMORY.pop(R.map_key(spec, PARAMS), None)
+    built = inverse_aim((9.0, 2.0), 100, 1000, spec=spec).to_dict()["reach_map"]
+    assert built["source"] == "built" and built["build_s"] > 0 and built["seconds"] >= built["build_s"]
+    R._MEMORY.pop(R.map_key(spec, PARAMS))  # read back from the file, with what its fit cost
+    read = inverse_aim((9.0, 2.0), 100, 1000, spec=spec).to_dict()["reach_map"]
+    assert read["source"] == "file" and read["build_s"] == pytest.approx(built["build_s"])
+    assert inverse_aim((9.0, 2.0), 100, 1000, spec=spec).to_dict()["reach_map"]["source"] == "memory"
+
+
+def test_inverse_aim_costs_under_a_millisecond_of_cpu():
+    """The controller's promise: any reachable target answered in < 1 ms (CPU time: the cores are shared)."""
+    import time
+
+    inverse_aim((9.0, 2.0), 100, 1000)
+    rng = np.random.default_rng(7)
+    cpu = []
+    for _ in range(40):
+        tgt = (float(rng.uniform(2.0, 11.0)), float(rng.uniform(-4.0, 4.0)))
+        c0 = time.process_time()
+        try:
+            inverse_aim(tgt, float(rng.uniform(60, 140)), float(rng.uniform(0, 2000)), float(rng.uniform(-180, 180)))
+        except InputError:
+            continue
+        cpu.append(time.process_time() - c0)
+    assert len(cpu) > 20 and np.median(cpu) < 1e-3

@@ -46,8 +46,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 
+from tennislab.core._jit import JIT
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.launch import launch_states
 from tennislab.errors import InputError
@@ -296,8 +298,6 @@ def shoot(
     reason = np.full(n, OK)
     sc = None
     flights0 = 0
-    grid = np.asarray(grid, dtype=float)
-    step = float(np.median(np.diff(grid))) if grid.size > 1 else math.radians(1.0)
     if start is not None:
         a, b = (np.array(np.broadcast_to(np.asarray(s, dtype=float), (n,)), copy=True) for s in start)
         lo, hi = (-0.5 * math.pi, 0.5 * math.pi) if bounds is None else bounds
@@ -306,6 +306,8 @@ def shoot(
         a, b = first_guess(p, v, tgt, params.atmosphere.gravity)
         lo, hi = np.full(n, -0.5 * math.pi), np.full(n, 0.5 * math.pi)
     else:
+        grid = np.asarray(grid, dtype=float)
+        step = float(np.median(np.diff(grid))) if grid.size > 1 else math.radians(1.0)
         sc = scan(p, v, w, tgt, params, branch, grid, rtol)
         flights0 = n * grid.size
         reason = sc.reason.copy()
@@ -355,31 +357,50 @@ def _newton(p, v, w, tgt, params, at, a, b, lo, hi, live, tol, max_iter, rtol):
         st = launch_states(p[idx], v[idx], aa, bb, w[idx, 0], w[idx, 1], w[idx, 2])
         pt = _point(_fly(st, params, rtol), at)
         flights += 3 * m
-        f0 = pt[:m] - tgt[ia]
-        ja = (pt[m : 2 * m] - pt[:m]) / h
-        jb = (pt[2 * m :] - pt[:m]) / h
-        jac[ia] = np.stack([ja, jb], axis=2)
-        miss = np.hypot(f0[:, 0], f0[:, 1])
-        ok = np.isfinite(miss) & np.isfinite(ja).all(axis=1) & np.isfinite(jb).all(axis=1)
-        done = ok & (miss < tol)
-        det = ja[:, 0] * jb[:, 1] - ja[:, 1] * jb[:, 0]
-        good = ok & np.isfinite(det) & (np.abs(det) > 1e-12) & ~done
-        safe = np.where(good, det, 1.0)
-        da = np.where(good, -(jb[:, 1] * f0[:, 0] - jb[:, 0] * f0[:, 1]) / safe, 0.0)
-        db = np.where(good, -(-ja[:, 1] * f0[:, 0] + ja[:, 0] * f0[:, 1]) / safe, 0.0)
-        scale = np.maximum(1.0, np.maximum(np.abs(da), np.abs(db)) / MAX_STEP)
-        an = a[ia] + da / scale
-        b[ia] += db / scale
-        lost = ~ok
-        if at == "net":
-            an[lost] += 0.02  # a launch whose flight never reached the net: aim higher and retry
-        else:  # a landing target: back into the bracket (halfway to its bound, or to its middle when lost)
-            an = np.where(an < lo[ia], 0.5 * (a[ia] + lo[ia]), an)
-            an = np.where(an > hi[ia], 0.5 * (a[ia] + hi[ia]), an)
-            an = np.where(lost | (~good & ~done), 0.5 * (a[ia] + 0.5 * (lo[ia] + hi[ia])), an)
-        a[ia] = an
+        done = _newton_update(pt, tgt, ia, a, b, lo, hi, jac, h, tol, at == "landing")
         active = ia[~done]
     return a, b, jac, it, flights
+
+
+@nb.njit(**JIT)
+def _newton_update(pt, tgt, ia, a, b, lo, hi, jac, h, tol, landing):
+    """One safeguarded Newton step of the launches ``ia`` in place (module docstring), from the target points
+    ``pt`` (3 m, 2) of (a, b), (a + h, b), (a, b + h): updates ``a``, ``b`` and ``jac``; returns the mask (m,)
+    of those already within ``tol`` (not moved)."""
+    m = ia.size
+    done = np.zeros(m, dtype=np.bool_)
+    for j in range(m):
+        i = ia[j]
+        f0x, f0y = pt[j, 0] - tgt[i, 0], pt[j, 1] - tgt[i, 1]
+        jax, jay = (pt[m + j, 0] - pt[j, 0]) / h, (pt[m + j, 1] - pt[j, 1]) / h
+        jbx, jby = (pt[2 * m + j, 0] - pt[j, 0]) / h, (pt[2 * m + j, 1] - pt[j, 1]) / h
+        jac[i, 0, 0], jac[i, 1, 0], jac[i, 0, 1], jac[i, 1, 1] = jax, jay, jbx, jby
+        miss = math.hypot(f0x, f0y)
+        ok = math.isfinite(miss) and math.isfinite(jax) and math.isfinite(jay)
+        ok = ok and math.isfinite(jbx) and math.isfinite(jby)
+        dn = ok and miss < tol
+        det = jax * jby - jay * jbx
+        good = ok and math.isfinite(det) and abs(det) > 1e-12 and not dn
+        da, db = 0.0, 0.0
+        if good:
+            da = -(jby * f0x - jbx * f0y) / det
+            db = -(-jay * f0x + jax * f0y) / det
+        scale = max(1.0, max(abs(da), abs(db)) / MAX_STEP)
+        an = a[i] + da / scale
+        b[i] += db / scale
+        if not landing:
+            if not ok:
+                an += 0.02  # a launch whose flight never reached the net: aim higher and retry
+        else:  # a landing target: back into the bracket (halfway to its bound, or to its middle when lost)
+            if an < lo[i]:
+                an = 0.5 * (a[i] + lo[i])
+            if an > hi[i]:
+                an = 0.5 * (a[i] + hi[i])
+            if not ok or (not good and not dn):
+                an = 0.5 * (a[i] + 0.5 * (lo[i] + hi[i]))
+        a[i] = an
+        done[j] = dn
+    return done
 
 
 def _neighbours(values: np.ndarray, x: np.ndarray, extra: int) -> np.ndarray:

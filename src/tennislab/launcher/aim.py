@@ -61,9 +61,17 @@ from tennislab.units import DEG, KMH, RPM
 SOLUTIONS = ("low", "high")
 
 
+_DEFAULT_PARAMS: list[FlightParams] = []
+
+
 def launcher_params(**options) -> FlightParams:
-    """:class:`FlightParams` with the launcher's preset (``seed002``: aero ``launcher2015``)."""
-    return FlightParams.from_options(preset="seed002", **options)
+    """:class:`FlightParams` with the launcher's preset (``seed002``: aero ``launcher2015``); without options
+    the one default object (built once: a frozen value, and the key of its cached reach map is found at once)."""
+    if options:
+        return FlightParams.from_options(preset="seed002", **options)
+    if not _DEFAULT_PARAMS:
+        _DEFAULT_PARAMS.append(FlightParams.from_options(preset="seed002"))
+    return _DEFAULT_PARAMS[0]
 
 
 def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: FlightParams | None = None, **fly_kw):

@@ -30,7 +30,7 @@ from tennislab.errors import InputError, check_vector
 from tennislab.launcher.aim import launcher_params, machine_entry
 from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, speed_in_kmh
 from tennislab.launcher.preferences import TRAJECTORIES
-from tennislab.launcher.reach import reach_map
+from tennislab.launcher.reach import MapUse, get_map
 from tennislab.results import Result
 from tennislab.units import DEG, KMH, RPM
 
@@ -41,7 +41,9 @@ NEWTON_STEPS = 1
 @dataclass(frozen=True)
 class InverseResult(Result):
     """The angles for a target (``to_dict()``: ``settings`` with the continuous ``elevation_deg`` and
-    ``heading_deg``, ``landing``, ``miss_mm`` of the checked flight, the map's guess, the time)."""
+    ``heading_deg``, ``landing``, ``miss_mm`` of the checked flight, the map's guess, the time, and
+    ``reach_map``: whether this call built the map, read it from the cache folder or reused it from
+    memory, what the call spent on it and what its fit cost, :class:`~.reach.MapUse`)."""
 
     solution: str
     target: tuple
@@ -62,6 +64,7 @@ class InverseResult(Result):
     flights: int
     spec: MachineSpec = field(repr=False)
     params: FlightParams = field(repr=False)
+    reach_map: MapUse | None = field(default=None, repr=False)
 
     def to_dict(self) -> dict:
         return {
@@ -84,6 +87,7 @@ class InverseResult(Result):
             "net_clearance_m": self.net_clearance_m,
             "elapsed_ms": self.elapsed_ms,
             "flights": self.flights,
+            "reach_map": None if self.reach_map is None else self.reach_map.to_dict(),
             "machine": machine_entry(self.spec),
             "physics": self.params.to_dict(),
         }
@@ -127,7 +131,8 @@ def inverse_aim(
         raise InputError(f"target: ({tx:g}, {ty:g}) m is within 0.5 m of the machine at ({px:g}, {py:g}) m")
     beta = math.atan2(ty - py, tx - px)
     top, side = w * math.cos(g * DEG), w * math.sin(g * DEG)
-    rmap = reach_map(spec, params)
+    use = get_map(spec, params)
+    rmap = use.map
     found = None
     for branch in ("low", "high") if trajectory == "any" else (trajectory,):
         m = rmap.aim(dist, h, v, top, side, branch)
@@ -180,6 +185,7 @@ def inverse_aim(
         int(s.flights),
         spec,
         params,
+        use,
     )
 
 

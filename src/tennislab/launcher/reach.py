@@ -42,18 +42,20 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import functools
 import hashlib
 import json
 import math
 import os
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import numba as nb
 import numpy as np
 
 from tennislab.core import aero as _aero
+from tennislab.core._jit import JIT
 from tennislab.core.flight import FlightParams, fly_batch
 from tennislab.core.launch import launch_states
 from tennislab.launcher.machine import MachineSpec
@@ -83,20 +85,15 @@ def _vander(u, n: int) -> np.ndarray:
 class ReachMap:
     """The fitted reach (module docstring): domain ``lo``/``hi`` (5,) in the fitted variables (sqrt of
     the height [m^0.5], speed [km/h], elevation [deg], topspin and sidespin [rpm]), coefficient
-    tensors ``rho`` [m] and ``phi`` [rad] of shape :data:`NODES`, and the ``key`` of the physics and
-    ranges it was built for."""
+    tensors ``rho`` [m] and ``phi`` [rad] of shape :data:`NODES`, the ``key`` of the physics and
+    ranges it was built for, and ``build_s`` the time its fit took [s] (NaN when unknown)."""
 
     lo: np.ndarray
     hi: np.ndarray
     rho: np.ndarray
     phi: np.ndarray
     key: str
-
-    @functools.cached_property
-    def _grid(self) -> tuple[np.ndarray, np.ndarray]:
-        """The elevation grid of the curves [deg] and its Chebyshev matrix (computed once)."""
-        grid = np.linspace(self.lo[2], self.hi[2], CURVE_POINTS)
-        return grid, _vander(self._u(2, grid), self.rho.shape[2])
+    build_s: float = math.nan
 
     def _u(self, axis: int, x) -> np.ndarray:
         x = np.asarray(x, dtype=float)
@@ -132,41 +129,140 @@ class ReachMap:
         Returns a dict of (Q,) arrays: ``elevation_deg`` (NaN where the map finds none),
         ``phi`` [rad] the landing's angle at it, ``split_deg`` the elevation of the longest flight,
         ``reach`` (Q, 2) the shortest and longest distance [m] over ``elevation`` (default: the
-        map's range), ``slope`` [m/deg] d rho / d a at the solution.
+        map's range), ``slope`` [m/deg] d rho / d a at the solution.  One compiled pass
+        (:func:`_aim_rows`): tens of microseconds a row.
         """
-        d, h, v = (np.asarray(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
-        cr, cp = self._reduce(h, v, t, s)
-        q = cr.shape[0]
-        if elevation is None:
-            grid, ta = self._grid
-        else:
-            grid = np.linspace(elevation[0], elevation[1], CURVE_POINTS)
-            ta = _vander(self._u(2, grid), cr.shape[1])
-        curve = cr @ ta.T  # (Q, G)
-        k_max = np.argmax(curve, axis=1)
-        f = curve - d[:, None]
-        rows = np.arange(q)
-        idx = np.arange(grid.size - 1)[None, :]
-        if branch == "low":
-            ok = (f[:, :-1] < 0) & (f[:, 1:] >= 0) & (idx < np.maximum(k_max, 1)[:, None])
-            k = np.where(ok.any(axis=1), np.argmax(ok, axis=1), -1)
-        else:
-            ok = (f[:, :-1] >= 0) & (f[:, 1:] < 0) & (idx >= k_max[:, None])
-            k = np.where(ok.any(axis=1), grid.size - 2 - np.argmax(ok[:, ::-1], axis=1), -1)
-        kk = np.maximum(k, 0)
-        f0, f1 = f[rows, kk], f[rows, kk + 1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            frac = np.where(f1 != f0, f0 / (f0 - f1), 0.5)
-        a = np.where(k >= 0, grid[kk] + frac * (grid[1] - grid[0]), np.nan)
-        ta1 = _vander(self._u(2, np.nan_to_num(a)), cr.shape[1])
-        slope = (curve[rows, kk + 1] - curve[rows, kk]) / (grid[1] - grid[0])
+        d, h, v = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
+        g0, g1 = (self.lo[2], self.hi[2]) if elevation is None else (float(elevation[0]), float(elevation[1]))
+        out = np.empty((d.size, 6))
+        _aim_rows(
+            self.rho,
+            self.phi,
+            self.lo,
+            self.hi,
+            d,
+            h,
+            v,
+            float(t),
+            float(s),
+            branch == "low",
+            g0,
+            g1,
+            CURVE_POINTS,
+            out,
+        )
         return {
-            "elevation_deg": a,
-            "phi": np.where(k >= 0, (cp * ta1).sum(axis=1), np.nan),
-            "split_deg": grid[k_max],
-            "reach": np.column_stack([curve.min(axis=1), curve.max(axis=1)]),
-            "slope": np.where(k >= 0, slope, np.nan),
+            "elevation_deg": out[:, 0],
+            "phi": out[:, 1],
+            "split_deg": out[:, 2],
+            "reach": out[:, 3:5],
+            "slope": out[:, 5],
         }
+
+
+@nb.njit(**JIT)
+def _cheb_into(u: float, out: np.ndarray) -> None:
+    """T_0 .. T_{n-1} at u (clipped to [-1, 1]) into ``out`` (the recurrence: the same values as :func:`_vander`)."""
+    u = min(max(u, -1.0), 1.0)
+    out[0] = 1.0
+    if out.size > 1:
+        out[1] = u
+    for k in range(2, out.size):
+        out[k] = 2.0 * u * out[k - 1] - out[k - 2]
+
+
+@nb.njit(**JIT)
+def _scaled(x: float, lo: float, hi: float) -> float:
+    return 0.0 if hi <= lo else (2.0 * x - (lo + hi)) / (hi - lo)
+
+
+@nb.njit(**JIT)
+def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, low, g0, g1, npts, out):
+    """:meth:`ReachMap.aim` for Q rows: per row the coefficients in the elevation (spin, height and speed
+    contracted), the curve rho(a) on ``npts`` elevations of [g0, g1], the crossing of the row's distance on
+    the branch's side of the longest flight (linear between grid points), phi there and the slope.
+    ``out`` (Q, 6): elevation [deg], phi [rad], split [deg], shortest and longest distance [m], slope."""
+    nh, nv, na, nt, ns = rho.shape
+    tt, ts = np.empty(nt), np.empty(ns)
+    _cheb_into(_scaled(t, lo[3], hi[3]), tt)
+    _cheb_into(_scaled(s, lo[4], hi[4]), ts)
+    spin = np.empty((nt, ns))
+    for i in range(nt):
+        for j in range(ns):
+            spin[i, j] = tt[i] * ts[j]
+    # the spin contracted once for every row: (nh, nv, na)
+    sr, sp = np.zeros((nh, nv, na)), np.zeros((nh, nv, na))
+    for i in range(nh):
+        for j in range(nv):
+            for k in range(na):
+                ar = 0.0
+                ap = 0.0
+                for m in range(nt):
+                    for n in range(ns):
+                        ar += rho[i, j, k, m, n] * spin[m, n]
+                        ap += phi[i, j, k, m, n] * spin[m, n]
+                sr[i, j, k] = ar
+                sp[i, j, k] = ap
+    th, tv, ta = np.empty(nh), np.empty(nv), np.empty(na)
+    cr, cp = np.empty(na), np.empty(na)
+    grid = np.empty(npts)
+    dg = (g1 - g0) / (npts - 1)
+    for k in range(npts):
+        grid[k] = g0 + k * dg
+    tgrid = np.empty((npts, na))
+    for k in range(npts):
+        _cheb_into(_scaled(grid[k], lo[2], hi[2]), tgrid[k])
+    curve = np.empty(npts)
+    for q in range(d.size):
+        _cheb_into(_scaled(math.sqrt(max(h[q], 0.0)), lo[0], hi[0]), th)
+        _cheb_into(_scaled(v[q], lo[1], hi[1]), tv)
+        for k in range(na):
+            ar = 0.0
+            ap = 0.0
+            for i in range(nh):
+                for j in range(nv):
+                    w = th[i] * tv[j]
+                    ar += w * sr[i, j, k]
+                    ap += w * sp[i, j, k]
+            cr[k] = ar
+            cp[k] = ap
+        k_max = 0
+        for g in range(npts):
+            c = 0.0
+            for k in range(na):
+                c += cr[k] * tgrid[g, k]
+            curve[g] = c
+            if c > curve[k_max]:
+                k_max = g
+        found = -1
+        if low:
+            for g in range(min(max(k_max, 1), npts - 1)):
+                if curve[g] - d[q] < 0.0 and curve[g + 1] - d[q] >= 0.0:
+                    found = g
+                    break
+        else:
+            for g in range(npts - 2, k_max - 1, -1):
+                if curve[g] - d[q] >= 0.0 and curve[g + 1] - d[q] < 0.0:
+                    found = g
+                    break
+        out[q, 2] = grid[k_max]
+        out[q, 3] = curve.min()
+        out[q, 4] = curve.max()
+        if found < 0:
+            out[q, 0] = np.nan
+            out[q, 1] = np.nan
+            out[q, 5] = np.nan
+            continue
+        f0, f1 = curve[found] - d[q], curve[found + 1] - d[q]
+        frac = f0 / (f0 - f1) if f1 != f0 else 0.5
+        a = grid[found] + frac * dg
+        _cheb_into(_scaled(a, lo[2], hi[2]), ta)
+        p = 0.0
+        for k in range(na):
+            p += cp[k] * ta[k]
+        out[q, 0] = a
+        out[q, 1] = p
+        out[q, 5] = (curve[found + 1] - curve[found]) / dg
 
 
 def still_air(params: FlightParams) -> FlightParams:
@@ -205,6 +301,7 @@ def map_key(spec: MachineSpec, params: FlightParams) -> str:
 
 def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
     """Fit the map for a machine and physics: one batch flight per Chebyshev node (module docstring)."""
+    t0 = time.perf_counter()
     lo, hi = domain(spec, params)
     pts = []
     for n, a, b in zip(NODES, lo, hi):
@@ -226,7 +323,7 @@ def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
     rho = np.where(tab.ok, np.hypot(x, y), np.nan).reshape(shape)
     phi = np.where(tab.ok, np.arctan2(y, x), np.nan).reshape(shape)
     coef = [np.ascontiguousarray(_coefficients(_fill(f), shape)) for f in (rho, phi)]
-    return ReachMap(lo, hi, coef[0], coef[1], map_key(spec, params))
+    return ReachMap(lo, hi, coef[0], coef[1], map_key(spec, params), time.perf_counter() - t0)
 
 
 def _fill(f: np.ndarray) -> np.ndarray:
@@ -266,29 +363,74 @@ def cache_dir() -> Path | None:
     return Path(base) / "tennislab"
 
 
-def reach_map(spec: MachineSpec, params: FlightParams) -> ReachMap:
-    """The map of a machine and physics: from memory, from the cache folder, or built (and stored there)."""
+@dataclass(frozen=True)
+class MapUse:
+    """A map as one call got it: ``source`` ``built`` (fitted now), ``file`` (read from the cache folder) or
+    ``memory`` (kept from an earlier call of this process), and the time the call took [s]."""
+
+    map: ReachMap
+    source: str
+    seconds: float
+
+    def to_dict(self) -> dict:
+        """``source``, ``seconds`` (this call), ``build_s`` (what the map's fit cost when it was built), ``key``."""
+        b = self.map.build_s
+        return {
+            "source": self.source,
+            "seconds": self.seconds,
+            "build_s": None if math.isnan(b) else b,
+            "key": self.map.key,
+        }
+
+
+#: (id(spec), id(params)) -> (spec, params, key): the keys of the machines asked lately (the objects are kept, so
+#: their ids stay theirs)
+_KEYS: dict = {}
+
+
+def _key_of(spec: MachineSpec, params: FlightParams) -> str:
+    got = _KEYS.get((id(spec), id(params)))
+    if got is not None and got[0] is spec and got[1] is params:
+        return got[2]
     key = map_key(spec, params)
+    if len(_KEYS) >= 4 * _MEMORY_MAX:
+        _KEYS.pop(next(iter(_KEYS)))
+    _KEYS[(id(spec), id(params))] = (spec, params, key)
+    return key
+
+
+def get_map(spec: MachineSpec, params: FlightParams) -> MapUse:
+    """The map of a machine and physics and how it was got (:class:`MapUse`): from memory, from the cache
+    folder, or built (and stored there)."""
+    t0 = time.perf_counter()
+    key = _key_of(spec, params)
     got = _MEMORY.get(key)
     if got is not None:
-        return got
+        return MapUse(got, "memory", time.perf_counter() - t0)
     folder = cache_dir()
     path = None if folder is None else folder / f"reach-{key}.npz"
     got = _load(path, key) if path is not None else None
+    source = "file"
     if got is None:
-        got = build(spec, params)
+        got, source = build(spec, params), "built"
         if path is not None:
             _save(path, got)
     if len(_MEMORY) >= _MEMORY_MAX:
         _MEMORY.pop(next(iter(_MEMORY)))
     _MEMORY[key] = got
-    return got
+    return MapUse(got, source, time.perf_counter() - t0)
+
+
+def reach_map(spec: MachineSpec, params: FlightParams) -> ReachMap:
+    """The map of a machine and physics: from memory, from the cache folder, or built (and stored there)."""
+    return get_map(spec, params).map
 
 
 def _load(path: Path, key: str) -> ReachMap | None:
     try:
         with np.load(path, allow_pickle=False) as z:
-            m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], str(z["key"]))
+            build_s = float(z["build_s"]) if "build_s" in z.files else math.nan
+            m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], str(z["key"]), build_s)
     except (OSError, ValueError, KeyError, EOFError):
         return None
     good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
@@ -303,7 +445,7 @@ def _save(path: Path, m: ReachMap) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=".reach-", suffix=".npz", dir=path.parent)
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, lo=m.lo, hi=m.hi, rho=m.rho, phi=m.phi, key=np.array(m.key))
+            np.savez(f, lo=m.lo, hi=m.hi, rho=m.rho, phi=m.phi, key=np.array(m.key), build_s=m.build_s)
         os.replace(tmp, path)
         tmp = None
     except OSError:
@@ -320,8 +462,10 @@ __all__ = [
     "NODES",
     "ReachMap",
     "build",
+    "MapUse",
     "cache_dir",
     "domain",
+    "get_map",
     "map_key",
     "reach_map",
     "still_air",
