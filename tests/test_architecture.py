@@ -324,6 +324,40 @@ def test_one_definition_of_the_right_hand_side():
     assert not bad, "right-hand sides outside core/dynamics.py:\n" + "\n".join(bad)
 
 
+#: core's integrator family and its right-hand side: what only core calls (everyone else calls the paths
+#: that wrap them: fly_dense, fly_batch, sweep_positions)
+_CORE_STEPPERS = {"derivative", "derivative_call", "rk4_step", "integrate_one", "batch_kernel", "serial_kernel"}
+
+
+def _is_compiled(node: ast.FunctionDef) -> bool:
+    return any("njit" in ast.unparse(d) or "jit" == ast.unparse(d).split(".")[-1] for d in node.decorator_list)
+
+
+def test_flights_are_integrated_only_by_core():
+    """One integrator family: outside ``core/`` no code steps the right-hand side itself (a call of
+    ``derivative`` or ``rk4_step``) and no compiled function evaluates an aero model's kernel (a call of
+    an argument named ``aero...`` or of ``.kernel``): that is the start of a copy of the equations of motion."""
+    bad = []
+    for m, path in MODS.items():
+        if _part(m) == "core":
+            continue
+        for fn in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(fn, ast.FunctionDef):
+                continue
+            args = {a.arg for a in fn.args.args}
+            for node in ast.walk(fn):
+                if not isinstance(node, ast.Call):
+                    continue
+                name = getattr(node.func, "id", getattr(node.func, "attr", ""))
+                if name in _CORE_STEPPERS:
+                    bad.append(f"{m}:{node.lineno} {fn.name} calls {name}")
+                elif _is_compiled(fn) and (
+                    (isinstance(node.func, ast.Name) and name in args and "aero" in name) or name == "kernel"
+                ):
+                    bad.append(f"{m}:{node.lineno} compiled {fn.name} evaluates the aero model ({name})")
+    assert not bad, "flights integrated outside core:\n" + "\n".join(bad)
+
+
 def test_one_name_one_thing_across_the_package_apis():
     """A function or class exported by two packages is one object (a re-export), never two doing different
     things (``core.flight.fly`` is ``fly_dense``: ``trajectory.fly`` is the workflow).  (Tables of words,
