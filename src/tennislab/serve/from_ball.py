@@ -22,7 +22,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from tennislab.core.launch import frame
+from tennislab.core.flight import MAX_SPEED_MS, MAX_SPIN_RPM
+from tennislab.core.launch import describe_spin, describe_velocity
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, jsonable
 from tennislab.serve.pipeline import Setup, impacts, launch, make_setup
@@ -100,11 +101,10 @@ def _ball(setup: Setup, x: np.ndarray, three_d: bool) -> np.ndarray:
         imp = impacts(s, np.array([a]), np.array([b]), np.array([psi]), speed=np.array([V]))
         st = launch(s, imp["v_n"], imp["v_t"], imp["omega"], np.array([b]), np.array([psi]))[0]
         v, w = st[3:6], st[6:9]
-        elev = math.atan2(v[2], math.hypot(v[0], v[1]))
-        head = math.atan2(v[1], v[0])
-        _, h, u = frame(elev, head)
-        axis = math.degrees(math.atan2(float(w @ u), float(w @ h)))
-        out[k] = (np.linalg.norm(v), np.linalg.norm(w) / RPM, math.degrees(elev), math.degrees(head), axis)
+        speed, elev, head = describe_velocity(v)  # (the launch vocabulary of core.launch)
+        d = describe_spin(w, v)
+        axis = math.degrees(math.atan2(d["sidespin"], d["topspin"]))
+        out[k] = (speed, d["rate"] / RPM, math.degrees(elev), math.degrees(head), axis)
     return out
 
 
@@ -140,8 +140,8 @@ def racket_for(setup, ball: BallLaunch, *, height: float | None = None, **option
     or backspin (180).  Refused (:class:`InputError`) when the impact model gives no such ball."""
     if not isinstance(setup, Setup):
         setup = make_setup(setup, **options)
-    check_range("speed", ball.speed_ms, 1.0, 100.0, "m/s")
-    check_range("spin_rpm", ball.spin_rpm, 0.0, 10000.0, "rpm")
+    check_range("speed", ball.speed_ms, 1.0, MAX_SPEED_MS, "m/s")  # (the guard rails of every flight)
+    check_range("spin_rpm", ball.spin_rpm, 0.0, MAX_SPIN_RPM, "rpm")
     check_range("elevation_deg", ball.elevation_deg, -60.0, 60.0, "deg")
     check_range("heading_deg", ball.heading_deg, -60.0, 60.0, "deg")
     three_d = setup.target is not None
