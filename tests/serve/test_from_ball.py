@@ -98,3 +98,34 @@ def test_every_help_that_takes_alpha_and_beta_says_what_they_are(capsys, cmd):
     assert "face normal" in out and "alpha" in out
     if cmd != "impact":
         assert "beta" in out and "below the horizontal" in out
+
+
+# ---------------------------------------------------------------- serve-window: the empty window, the spin classes
+def test_an_empty_window_says_why_and_the_azimuth_that_lets_serves_in(capsys):
+    argv = ["serve-window", "--target", "deuce", "--server-y", "-0.5", "--step", "6"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    hint = next(line for line in out.splitlines() if line.startswith("hint: "))
+    assert "no serve of the window goes in (" in hint and "wide" in hint
+    psi = float(hint.split("--azimuth ")[1].split(")")[0])
+    n = int(hint.split("), ")[1].split(" serves go in")[0])
+    assert n > 0
+    # the hint is checked: the window at that azimuth has serves that go in
+    assert main([*argv, "--azimuth", str(psi), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["n_success"] > 0 and "hint" not in d
+
+
+def test_the_window_summary_has_every_spin_class_and_its_bands(capsys):
+    assert main(["serve-window", "--step", "6", "--spin-bands", "1000", "4000", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert set(d["summary"]) == {"flat", "other", "topspin"}
+    assert d["spin_bands_rpm"] == {"flat": [0.0, 1000.0], "other": [1000.0, 4000.0], "topspin": [4000.0, None]}
+    assert d["summary"]["other"]["n"] > 0
+    lo, hi = d["summary"]["other"]["spin_rpm"]
+    assert 1000 <= lo <= hi <= 4000
+    assert sum(c["n"] for c in d["summary"].values()) == d["n_success"]
+    assert main(["serve-window", "--step", "6"]) == 0
+    out = capsys.readouterr().out
+    assert any(line.startswith("other ") for line in out.splitlines())
+    assert "spin classes: flat < 1200 rpm, other 1200-3200 rpm, topspin > 3200 rpm" in out

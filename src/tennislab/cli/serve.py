@@ -99,6 +99,14 @@ def _brush_flag(p) -> None:
     )
 
 
+#: a failing serve's reason in words (the window's counts)
+REASON_WORDS = {
+    "net": "into the net",
+    "short": "short of the net",
+    "long": "long",
+    "wide": "wide",
+    "no-landing": "without landing",
+}
 #: the paper's spin classes in words (``other``: between its flat and its topspin serves)
 CLASS_WORDS = {"other": "between flat and topspin"}
 #: what alpha and beta are, in every help that takes them (docs/serve.md draws them)
@@ -280,6 +288,14 @@ def register(sub) -> None:
     )
     _player_flags(p, allow_all=True)
     p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step [deg] (default 1)")
+    p.add_argument(
+        "--spin-bands",
+        type=float,
+        nargs=2,
+        metavar=("FLAT_BELOW", "TOPSPIN_ABOVE"),
+        help="spin classes of the summary [rpm]: flat below the first, topspin above the second, 'other' between "
+        "(default the paper's 1200 3200)",
+    )
     _brush_flag(p)
     _model_flags(
         p,
@@ -392,12 +408,52 @@ def comparison_table(win) -> list[str]:
         f"judged by {_criteria(win.mode)})",
         f"{'':9s}{'n':>5s}" + "".join(f"{k:>18s}" for k, _ in keys),
     ]
-    for cat in ("flat", "topspin"):
+    for cat in ("flat", "other", "topspin"):
         lines.append(f"{cat:9s}{s[cat]['n']:5d}" + "".join(f"{_fmt_range(s[cat][k], nd):>18s}" for k, nd in keys))
-        if pub:
+        if pub and cat in pub:
             p = pub[cat]
             lines.append(f"{'  paper':9s}{p['n']:5d}" + "".join(f"{_fmt_range(p[k], nd):>18s}" for k, nd in keys))
+    b = win.bands()
+    lines.append(
+        f"spin classes: flat < {b['flat'][1]:g} rpm, other {b['other'][0]:g}-{b['other'][1]:g} rpm, "
+        f"topspin > {b['topspin'][0]:g} rpm (--spin-bands)"
+    )
     return lines
+
+
+def empty_window_hint(win, args) -> str | None:
+    """For a window where nothing goes in: why the serves fail and, in 3-D, the azimuth toward the box
+    that lets serves in (checked on a coarser window of the same physics); None if some go in."""
+    if win.success.any():
+        return None
+    fails = win.failures()
+    words = ", ".join(f"{n} {REASON_WORDS.get(k, k)}" for k, n in sorted(fails.items(), key=lambda kv: -kv[1]))
+    hint = f"no serve of the window goes in ({words})"
+    other = "; try another player (--racket-speed, --impact-height) or a finer --step"
+    if args.target is None:
+        return hint + other
+    from tennislab.serve import window
+
+    flight = _physics(args)["flight"]
+    x0, x1, y0, y1 = flight.court.area_bounds(f"{args.target}-box")
+    psi = math.degrees(math.atan2(0.5 * (y0 + y1) - args.server_y, 0.5 * (x0 + x1) - win.criteria.server_x))
+    psi = round(psi * 2) / 2
+    if abs(psi - args.azimuth_deg) < 0.5:
+        return hint + other
+    step = max(args.step, 2.0)
+    check = window(
+        win.player,
+        step=step,
+        target=args.target,
+        server_y=args.server_y,
+        azimuth_deg=psi,
+        brush_deg=args.brush_deg,
+        **_physics(args),
+    )
+    n = int(check.success.sum())
+    if n:
+        return hint + f"; turned toward the box's centre (--azimuth {psi:g}), {n} serves go in ({step:g}-deg grid)"
+    return hint + f"; even turned toward the box's centre (--azimuth {psi:g}) none goes in ({step:g}-deg grid)"
 
 
 def _mapper(args):
@@ -412,8 +468,19 @@ def _mapper(args):
 def run_window(args) -> int:
     from tennislab.serve import simulate, window, windows
 
+    criteria = None
+    if args.spin_bands is not None:
+        from dataclasses import replace
+
+        from tennislab.serve import SeedCriteria
+
+        lo, hi = args.spin_bands
+        if not (0 <= lo <= hi <= 10000):
+            raise InputError(f"--spin-bands: expected 0 <= FLAT_BELOW <= TOPSPIN_ABOVE <= 10000 rpm, got {lo:g} {hi:g}")
+        criteria = replace(SeedCriteria(), flat_max_rpm=lo, topspin_min_rpm=hi)
     kw = dict(
         step=args.step,
+        criteria=criteria,
         mapper=_mapper(args),
         target=args.target,
         server_y=args.server_y,
@@ -463,11 +530,16 @@ def run_window(args) -> int:
             for w in wins
         ]
         save_figure(plot_window(wins, optimum_trajectories=trs), args.plot)
+    hints = {w.player.name: h for w in wins if (h := empty_window_hint(w, args))}
     if args.json:
-        emit_json(res)
+        emit_json(
+            res if not hints else {**res.to_dict(), "hint": hints if len(wins) > 1 else hints[wins[0].player.name]}
+        )
         return 0
     for win in wins:
         print("\n".join(comparison_table(win)))
+        if win.player.name in hints:
+            print(f"hint: {hints[win.player.name]}")
         name = win.player.name
         print(
             f"peak spin at alpha = {win.peak_spin_alpha:g} deg"

@@ -32,7 +32,7 @@ from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, Table, jsonable
-from tennislab.serve.pipeline import Setup, flights, impacts, launch_3d, make_setup
+from tennislab.serve.pipeline import REASON_CODES, Setup, flights, impacts, launch_3d, make_setup
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile
 from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
 from tennislab.serve.setup import CATEGORIES, SeedCriteria
@@ -85,6 +85,7 @@ class ServeWindow(Table):
     criteria: SeedCriteria = field(repr=False, default_factory=SeedCriteria)
     mode: str = "seed-2d"  #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
     caveats: tuple[str, ...] = ()  #: model caveats shown next to the numbers
+    reason: np.ndarray | None = None  #: why each serve fails (index into REASON_CODES; 0 in)
 
     def grid(self, name: str) -> np.ndarray:
         """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
@@ -100,9 +101,10 @@ class ServeWindow(Table):
         return self.success & (self.grid("category") == CATEGORIES.index(category))
 
     def summary(self) -> dict:
-        """``flat`` and ``topspin``: ``n`` and [min, max] of :data:`SUMMARY_KEYS` over the successes."""
+        """``flat``, ``topspin`` and ``other`` (the spins between them): ``n`` and [min, max] of
+        :data:`SUMMARY_KEYS` over the successes of each class."""
         out: dict[str, dict] = {}
-        for cat in ("flat", "topspin"):
+        for cat in ("flat", "topspin", "other"):
             m = self.mask(cat)
             d: dict = {"n": int(m.sum())}
             for k in SUMMARY_KEYS:
@@ -110,6 +112,23 @@ class ServeWindow(Table):
                 d[k] = [float(v.min()), float(v.max())] if v.size else None
             out[cat] = d
         return out
+
+    def bands(self) -> dict:
+        """The spin classes' bounds [rpm]: ``flat`` [0, flat_max), ``other`` [flat_max, topspin_min],
+        ``topspin`` (topspin_min, inf)."""
+        c = self.criteria
+        return {
+            "flat": [0.0, c.flat_max_rpm],
+            "other": [c.flat_max_rpm, c.topspin_min_rpm],
+            "topspin": [c.topspin_min_rpm, None],
+        }
+
+    def failures(self) -> dict[str, int]:
+        """How many serves of the grid fail, by reason (``net``, ``short``, ``long``, ``wide``, ``no-landing``)."""
+        if self.reason is None:
+            return {}
+        counts = np.bincount(np.asarray(self.reason, int).ravel(), minlength=len(REASON_CODES))
+        return {REASON_CODES[k]: int(n) for k, n in enumerate(counts) if k and n}
 
     def serve(self, i_beta: int, i_alpha: int) -> dict:
         """One serve of the grid as a dict of its quantities."""
@@ -162,6 +181,8 @@ class ServeWindow(Table):
             "n_serves": int(self.success.size),
             "n_success": int(self.success.sum()),
             "summary": self.summary(),
+            "spin_bands_rpm": self.bands(),
+            "failures": self.failures(),
             "peak_spin_alpha": self.peak_spin_alpha,
             "optimum": {"flat": self.optimum("flat"), "topspin": self.optimum("topspin")},
             "widest_beta": {"flat": self.widest_beta("flat"), "topspin": self.widest_beta("topspin")},
@@ -306,6 +327,7 @@ def window(
         setup.criteria,
         setup.mode,
         setup.caveats(),
+        np.asarray(out["reason"]).astype(np.int8).reshape(shape),
     )
 
 
