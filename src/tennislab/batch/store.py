@@ -338,14 +338,14 @@ class ChunkStore:
         lock_path = os.path.join(self.path, LOCK)
         flags = os.O_WRONLY | os.O_CREAT | os.O_APPEND | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
         if os.path.lexists(lock_path) and not os.path.isfile(lock_path):
-            raise InputError(f"out: {lock_path} is not a regular file; remove it or use another --out-dir")
+            raise InputError(f"out: {lock_path} is not a regular file; remove it or use another output folder")
         try:
             fd = os.open(lock_path, flags, 0o666)  # non-blocking: a FIFO named .lock cannot hang the run
         except OSError as exc:
             raise InputError(f"out: cannot write in {self.path}: {exc.strerror or exc}") from None
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             os.close(fd)
-            raise InputError(f"out: {lock_path} is not a regular file; remove it or use another --out-dir")
+            raise InputError(f"out: {lock_path} is not a regular file; remove it or use another output folder")
         fh = os.fdopen(fd, "a")
         try:
             fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)

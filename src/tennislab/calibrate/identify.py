@@ -54,6 +54,7 @@ from tennislab.calibrate import _sweeps
 from tennislab.calibrate.flights import Flight
 from tennislab.core.aero import AeroModel, curves_model
 from tennislab.core.flight import FlightParams
+from tennislab.core.launch import describe_velocity, spin_basis
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
@@ -154,14 +155,8 @@ class ShotFit:
         self.drag_sigma = drag_sigma
         self.np = 9 if drag_sigma is not None else 8
         pos, vel = _start(self.t, self.x)
-        u = vel / max(float(np.linalg.norm(vel)), 1e-9)
-        e1 = np.cross([0.0, 0.0, 1.0], u)
-        if np.linalg.norm(e1) < 1e-6:  # a vertical path: any horizontal axis
-            e1 = np.array([1.0, 0.0, 0.0])
-        e1 /= np.linalg.norm(e1)
-        if np.cross(e1, u)[2] > 0.0:  # e1 = the topspin axis: w x v points down
-            e1 = -e1
-        self.axes = np.stack([e1, np.cross(u, e1)], axis=1)
+        _, elevation, heading = describe_velocity(vel)
+        self.axes = np.stack(spin_basis(elevation, heading), axis=1)  # (topspin h, up u) of core.launch
         spin0 = (flight.spin_rpm or 0.0) * RPM
         self.p0 = np.concatenate([pos, vel, [np.clip(spin0, -MAX_SPIN / 2, MAX_SPIN / 2), 0.0]])
         if drag_sigma is not None:

@@ -560,7 +560,7 @@ def table(speed=None, spin=None, cd=None, cl=None) -> AeroModel:
     .. [1] the calibrated family of :mod:`tennislab.calibrate.family` writes such tables (docs/validation.md).
     """
     if speed is None or spin is None or cd is None or cl is None:
-        raise InputError("aero_table: the table model needs speed, spin, cd and cl arrays (a CSV via --aero-table)")
+        raise InputError("aero_table: the table model needs speed, spin, cd and cl arrays (from io.read_aero_table)")
     try:
         v: np.ndarray = np.asarray(speed, dtype=float).ravel()
         w: np.ndarray = np.asarray(spin, dtype=float).ravel()
