@@ -25,6 +25,9 @@ Wojcicki, Pucilowski & Kulesza (2010), Acta Mech. Autom. 4(4) (seed 002: spin ra
 
 from __future__ import annotations
 
+import math
+
+import numba as nb
 import numpy as np
 
 from tennislab.launcher.machine import Range
@@ -98,6 +101,141 @@ def variants(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances
     (:func:`axis_steps`) the best rate on it under the linear model, clipped to the rates allowed on
     that axis and rounded down and up to the rate steps, and the rounding of the asked spin.
     Returns (rate (n, k), axis (n, k), predicted miss (n, k) [m]); a variant outside the tolerances
+    has miss inf.  One compiled pass (:func:`_variants_kernel`; :func:`variants_reference` in NumPy).
+    """
+    L0, J, omega_b = (np.ascontiguousarray(x, dtype=float) for x in (L0, J, omega_b))
+    n = L0.shape[0]
+    w0, g0 = float(asked[0]), float(asked[1])
+    g = axis_steps(asked, tol, gr)
+    if g.size > MAX_AXES:  # the disc holds the origin (a slow asked spin): the axes near each optimum
+        tx, ty = float(target[0]), float(target[1])
+        r0x = L0[:, 0] - J[:, 0, 0] * omega_b[:, 0] - J[:, 0, 1] * omega_b[:, 1] - tx
+        r0y = L0[:, 1] - J[:, 1, 0] * omega_b[:, 0] - J[:, 1, 1] * omega_b[:, 1] - ty
+        g = np.ascontiguousarray(_near_axes(J, r0x, r0y, w0, g0, tol.spin_rpm, gr))
+    else:
+        g = np.ascontiguousarray(g.reshape(1, -1))
+    k = 1 + 2 * g.shape[1]
+    W, G, miss = np.empty((n, k)), np.empty((n, k)), np.empty((n, k))
+    _variants_kernel(
+        L0,
+        J,
+        omega_b,
+        float(target[0]),
+        float(target[1]),
+        w0,
+        g0,
+        float(tol.spin_rpm),
+        float(tol.spin_axis_deg),
+        float(wr.lo),
+        float(wr.hi),
+        float(wr.step),
+        float(wr.quantise(w0)),
+        float(gr.quantise(g0)),
+        g,
+        W,
+        G,
+        miss,
+    )
+    return W, G, miss
+
+
+_RAD = math.pi / 180.0
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _wrap(x: float) -> float:
+    return (x + 180.0) % 360.0 - 180.0
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _round9(x: float) -> float:
+    return np.rint(x * 1e9) / 1e9  # NumPy's round(x, 9)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _intervals(g, w0, g0, tol_w, tol_g, w_lo, w_hi, out):
+    """The rates allowed on axis g [deg] (the disc's interval, the box's; clipped to the machine's rates,
+    NaN if none), cos g, sin g and whether g is within the axis tolerance into ``out`` (7,)."""
+    dg = _wrap(g - g0) * _RAD
+    c, s = math.cos(dg), math.sin(dg)
+    disc = tol_w * tol_w - (w0 * s) ** 2
+    root = math.sqrt(max(disc, 0.0))
+    in_box = tol_g > 0 and w0 > 0 and abs(dg * (180.0 / math.pi)) <= tol_g + 1e-9
+    out[0], out[1] = (max(w0 * c - root, w_lo), min(w0 * c + root, w_hi)) if disc >= 0 else (np.nan, np.nan)
+    out[2], out[3] = (max(w0 - tol_w, w_lo), min(w0 + tol_w, w_hi)) if in_box else (np.nan, np.nan)
+    out[4], out[5] = math.cos(g * _RAD), math.sin(g * _RAD)
+    out[6] = 1.0 if abs(_wrap(g - g0)) <= tol_g + 1e-9 else 0.0
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _best_rate(w_opt, iv):
+    """The allowed rate (intervals ``iv`` of :func:`_intervals`) nearest w_opt, NaN if none."""
+    best = np.nan
+    for k in (0, 2):
+        lo, hi = iv[k], iv[k + 1]
+        if math.isnan(lo) or math.isnan(hi):
+            continue
+        w_c = min(max(w_opt, lo), hi)
+        if math.isfinite(w_c) and lo <= hi and (not math.isfinite(best) or abs(w_c - w_opt) < abs(best - w_opt)):
+            best = w_c
+    return best
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _variants_kernel(L0, J, om, tx, ty, w0, g0, tol_w, tol_g, w_lo, w_hi, w_step, w_q, g_q, axes, W, G, miss):
+    """:func:`variants` for n candidates and their axes ((n, m), or (1, m) shared by all): fills W, G, miss
+    (n, 1 + 2 m) (no fast-math: the rounding to the steps is NumPy's, bit for bit)."""
+    n = L0.shape[0]
+    na, m = axes.shape
+    iv = np.empty((na, m, 7))
+    for r in range(na):
+        for j in range(m):
+            _intervals(axes[r, j], w0, g0, tol_w, tol_g, w_lo, w_hi, iv[r, j])
+    a0x, a0y = w0 * math.cos(g0 * _RAD), w0 * math.sin(g0 * _RAD)
+    cq, sq = math.cos(g_q * _RAD), math.sin(g_q * _RAD)
+    near_q = abs(_wrap(g_q - g0)) <= tol_g + 1e-9
+    box = tol_g > 0 and w0 > 0
+    tol2 = (tol_w + 1e-9) ** 2
+    for i in range(n):
+        r = i if na > 1 else 0
+        j00, j01, j10, j11 = J[i, 0, 0], J[i, 0, 1], J[i, 1, 0], J[i, 1, 1]
+        r0x = L0[i, 0] - j00 * om[i, 0] - j01 * om[i, 1] - tx
+        r0y = L0[i, 1] - j10 * om[i, 0] - j11 * om[i, 1] - ty
+        for j in range(1 + 2 * m):
+            if j == 0:
+                w, g, cg, sg, near = w_q, g_q, cq, sq, near_q
+            else:
+                jj = (j - 1) % m
+                g, cg, sg, near = axes[r, jj], iv[r, jj, 4], iv[r, jj, 5], iv[r, jj, 6] > 0.5
+                jx, jy = j00 * cg + j01 * sg, j10 * cg + j11 * sg
+                w_opt = -(jx * r0x + jy * r0y) / (jx * jx + jy * jy)
+                if not math.isfinite(w_opt):
+                    w_opt = w0
+                best = _best_rate(w_opt, iv[r, jj])
+                k = math.floor(((best if math.isfinite(best) else w0) - w_lo) / w_step) + (0 if j <= m else 1)
+                w = w_lo + k * w_step
+            w = _round9(min(max(w, w_lo), w_hi))
+            if w == 0.0:
+                g, cg, sg, near = g_q, cq, sq, near_q  # zero spin: one axis (the same flight)
+            W[i, j], G[i, j] = w, g
+            ox, oy = w * cg, w * sg
+            ok = (ox - a0x) ** 2 + (oy - a0y) ** 2 <= tol2
+            ok = ok or (box and near and abs(w - w0) <= tol_w + 1e-9) or (w == w_q and g == g_q)
+            if ok:
+                ex, ey = r0x + j00 * ox + j01 * oy, r0y + j10 * ox + j11 * oy
+                miss[i, j] = math.sqrt(ex * ex + ey * ey)
+            else:
+                miss[i, j] = np.inf
+
+
+def variants_reference(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances, wr: Range, gr: Range):
+    """:func:`variants` in NumPy, the reference of its compiled kernel (tests/launcher/test_aim.py).
+
+    ``L0`` (n, 2) [m] landings with the spin ``omega_b`` (n, 2) [rpm components], ``J`` (n, 2, 2)
+    [m/rpm]; ``asked`` (rate [rpm], axis [deg]) as asked (not rounded).  For every allowed axis step
+    (:func:`axis_steps`) the best rate on it under the linear model, clipped to the rates allowed on
+    that axis and rounded down and up to the rate steps, and the rounding of the asked spin.
+    Returns (rate (n, k), axis (n, k), predicted miss (n, k) [m]); a variant outside the tolerances
     has miss inf.
     """
     L0, J, omega_b = (np.asarray(x, dtype=float) for x in (L0, J, omega_b))
@@ -152,4 +290,4 @@ def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -
     return sigma * radius
 
 
-__all__ = ["axis_steps", "reach", "variants"]
+__all__ = ["axis_steps", "reach", "variants", "variants_reference"]

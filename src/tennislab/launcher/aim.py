@@ -397,14 +397,16 @@ def aim_all(
     need_net = _net_required(spec, (tx, ty))
     c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
     branch = np.array([live[i].branch for i in c.row])
-    out = {}
+    picked = {}
     for name in SOLUTIONS:
         if name in reasons:
             continue
         try:
-            out[name] = _quantised(spec, params, ask, live, c.take(branch == name), name, need_net, preferences)
+            picked[name] = _quantised(spec, ask, live, c.take(branch == name), name, need_net, preferences)
         except InputError as exc:
             reasons[name] = str(exc)
+    exact = _exact(spec, params, ask, [live[p[0].row[p[1]]] for p in picked.values()])
+    out = {name: _solution(spec, ask, name, *p, *e) for (name, p), e in zip(picked.items(), exact)}
     return out, reasons
 
 
@@ -438,8 +440,9 @@ def _missing(name: str, failed: list, spec: MachineSpec, target, dist: float, de
     )
 
 
-def _quantised(spec, params, ask, rows, c, name, need_net, prefs) -> AimSolution:
-    """The best flown candidate of a branch (:mod:`._search`), or InputError why not."""
+def _quantised(spec, ask, rows, c, name, need_net, prefs) -> tuple:
+    """The best flown candidate of a branch (:mod:`._search`): (candidates, its index, net-limited), or
+    InputError why not."""
     asked = {"speed_kmh": ask.speed_kmh, "spin_rpm": ask.spin_rpm, "spin_axis_deg": ask.spin_axis_deg}
     ref = _search.REFERENCE_HEIGHT_M if ask.height_free else None
     target = ask.target
@@ -475,6 +478,12 @@ def _quantised(spec, params, ask, rows, c, name, need_net, prefs) -> AimSolution
         raise InputError(prefs.violation(c.apex_z_m[near], c.clearance_m[near], c.flight_time_s[near], what))
     i_any = _search.choose(c, asked, c.landed, ref)
     net_limited = bool(need_net and c.miss_m[i] > c.miss_m[i_any] + 0.01)
+    return c, i, net_limited
+
+
+def _solution(spec, ask, name, c, i, net_limited, a, b, bound) -> AimSolution:
+    """The :class:`AimSolution` of candidate ``i`` of ``c``, with the exact angles and bound of :func:`_exact`."""
+    target = ask.target
     st = Settings(
         float(c.height_m[i]),
         float(c.speed_kmh[i]),
@@ -484,7 +493,6 @@ def _quantised(spec, params, ask, rows, c, name, need_net, prefs) -> AimSolution
         float(c.spin_axis_deg[i]),
     )
     spec.validate(st, require_steps=True)
-    a, b, bound = _exact(spec, params, ask, rows[c.row[i]])
     net_result = ("none", "over", "net")[int(c.net_status[i])]
     return AimSolution(
         name,
@@ -506,32 +514,45 @@ def _quantised(spec, params, ask, rows, c, name, need_net, prefs) -> AimSolution
     )
 
 
-def _exact(spec: MachineSpec, params: FlightParams, ask, row) -> tuple[float, float, float]:
-    """The exact (continuous) elevation and heading [deg] at the asked speed and spin and the row's height
-    (:func:`tennislab.core.shoot.shoot` from the row's solution), and the first-order bound [m] of the miss
-    from rounding the two angles alone."""
-    om = np.radians(ask.spin_axis_deg)
+def _exact(spec: MachineSpec, params: FlightParams, ask, rows: list) -> list[tuple[float, float, float]]:
+    """Per row, the exact (continuous) elevation and heading [deg] at the asked speed and spin and the row's
+    height (one batched :func:`tennislab.core.shoot.shoot` of every row, from the rows' solutions), and the
+    first-order bound [m] of the miss from rounding the two angles alone."""
+    if not rows:
+        return []
+    om = math.radians(ask.spin_axis_deg)
     w = ask.spin_rpm * RPM
-    side = (
-        (-0.5 * math.pi, math.radians(row.split)) if row.branch == "low" else (math.radians(row.split), 0.5 * math.pi)
-    )
+    lo, hi = [], []
+    for row in rows:
+        side = (
+            (-0.5 * math.pi, math.radians(row.split))
+            if row.branch == "low"
+            else (math.radians(row.split), 0.5 * math.pi)
+        )
+        lo.append(min(side[0], math.radians(row.a)))
+        hi.append(max(side[1], math.radians(row.a)))
     s = shoot_mod.shoot(
-        (spec.position[0], spec.position[1], row.height),
+        [(spec.position[0], spec.position[1], row.height) for row in rows],
         ask.speed_kmh * KMH,
         ask.target,
         params,
         spin=(w * math.cos(om), w * math.sin(om), 0.0),
-        branch=row.branch,
-        start=(math.radians(row.a), math.radians(row.b)),
-        bounds=(min(side[0], math.radians(row.a)), max(side[1], math.radians(row.a))),
+        start=(np.radians([row.a for row in rows]), np.radians([row.b for row in rows])),
+        bounds=(np.array(lo), np.array(hi)),
     )
-    a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
-    J = s.jacobian[0] * DEG  # [m/deg]
-    if not s.converged[0] or not np.isfinite(J).all():
-        a, b = row.a, row.b
-        dist = math.hypot(ask.target[0] - spec.position[0], ask.target[1] - spec.position[1])
-        return a, b, 0.5 * spec.elevation.step * abs(row.slope) + 0.5 * spec.heading.step * DEG * dist
-    return a, b, 0.5 * spec.elevation.step * np.hypot(*J[:, 0]) + 0.5 * spec.heading.step * np.hypot(*J[:, 1])
+    dist = math.hypot(ask.target[0] - spec.position[0], ask.target[1] - spec.position[1])
+    out = []
+    for k, row in enumerate(rows):
+        J = s.jacobian[k] * DEG  # [m/deg]
+        if not s.converged[k] or not np.isfinite(J).all():
+            bound = 0.5 * spec.elevation.step * abs(row.slope) + 0.5 * spec.heading.step * DEG * dist
+            out.append((row.a, row.b, bound))
+            continue
+        a, b = math.degrees(s.elevation[k]), math.degrees(s.heading[k])
+        out.append(
+            (a, b, 0.5 * spec.elevation.step * np.hypot(*J[:, 0]) + 0.5 * spec.heading.step * np.hypot(*J[:, 1]))
+        )
+    return out
 
 
 def pick_solution(sols: dict, reasons: dict, trajectory: str) -> AimSolution:
