@@ -250,11 +250,12 @@ def _exported(part: str) -> set[str]:
 
 
 def test_front_ends_import_only_exported_names():
-    """cli/, app/ and report/ use a package only through the names its ``__all__`` exports."""
+    """cli/, app/ and report/ (and plot/, which draws their results) use a package only through the names
+    its ``__all__`` exports."""
     bad = []
     for m, path in MODS.items():
         pm = _part(m)
-        if pm not in FRONT_ENDS | ENTRY_POINTS:
+        if pm not in FRONT_ENDS | ENTRY_POINTS | {"plot"}:
             continue
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Import):
