@@ -397,7 +397,7 @@ def aim_all(
     need_net = _net_required(spec, (tx, ty))
     c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
     branch = np.array([live[i].branch for i in c.row])
-    picked = {}
+    picked: dict[str, tuple[_search.Candidates, int, bool]] = {}
     for name in SOLUTIONS:
         if name in reasons:
             continue
@@ -440,7 +440,7 @@ def _missing(name: str, failed: list, spec: MachineSpec, target, dist: float, de
     )
 
 
-def _quantised(spec, ask, rows, c, name, need_net, prefs) -> tuple:
+def _quantised(spec, ask, rows, c, name, need_net, prefs) -> tuple[_search.Candidates, int, bool]:
     """The best flown candidate of a branch (:mod:`._search`): (candidates, its index, net-limited), or
     InputError why not."""
     asked = {"speed_kmh": ask.speed_kmh, "spin_rpm": ask.spin_rpm, "spin_axis_deg": ask.spin_axis_deg}
