@@ -510,22 +510,27 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     fin = np.isfinite(pr["pred"])
     parent_ok = _parent_ok(pr["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    keys = _settings_key(spec, *(pr[c] for c in cols))
-    chosen = []
     pools = [(fin, TOP), (fin & parent_ok, TOP // 2)]
     if ask.height_free:
         ref = _full_rows(ask, rows)[pr["row"]]
         pools += [(fin & ref, TOP), (fin & ref & parent_ok, TOP // 2)]
+    ranked = []
     for name in ("low", "high"):
         for mask, top in pools:
             idx = np.flatnonzero(mask & (branch == name))
             if idx.size > 8 * top:  # the best few first (a partition), then in order
                 idx = idx[np.argpartition(pr["pred"][idx], 8 * top)[: 8 * top]]
-            idx = idx[np.argsort(pr["pred"][idx], kind="stable")]
-            _, first = np.unique(keys[idx], return_index=True)
-            chosen.append(idx[np.sort(first)][:top])
+            ranked.append((idx[np.argsort(pr["pred"][idx], kind="stable")], top))
+    some = np.unique(np.concatenate([r[0] for r in ranked]))  # the keys of these only
+    sub = _settings_key(spec, *(pr[c][some] for c in cols))
+    keys = np.empty(pr["pred"].size, dtype=sub.dtype)
+    keys[some] = sub
+    chosen = []
+    for idx, top in ranked:
+        _, first = np.unique(keys[idx], return_index=True)
+        chosen.append(idx[np.sort(first)][:top])
     pick = np.unique(np.concatenate(chosen))
-    seen = {k.item() if keys.dtype == np.int64 else k.tobytes() for k in keys[pick]}
+    seen = set(keys[pick].tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys[pick]}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr["row"][pick], [pr[c][pick] for c in cols])]
     extra = _clearing_parents(spec, ask, rows, flown, flown_c[0], need_net, prefs, seen)
     if extra is not None:
@@ -598,38 +603,48 @@ def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_ne
         spec, c.height_m[rep], c.speed_kmh[rep], c.elevation_deg[rep], c.heading_deg[rep], W.ravel(), G.ravel()
     ).reshape(n, k)
     order = np.argsort(miss, axis=1, kind="stable")[:, : 4 * PER_REFINE]
-    out = []
-    for j in range(n):
+    ks = keys.tolist() if keys.dtype == np.int64 else [[k.tobytes() for k in r] for r in keys]
+    fin = np.isfinite(miss).tolist()
+    rows_out, cols_out = [], []
+    for j, ranks in enumerate(order.tolist()):  # in order: a key taken by one candidate is not flown again
         got = 0
-        for kk in order[j].tolist():
-            if got >= PER_REFINE or not np.isfinite(miss[j, kk]):
+        for kk in ranks:
+            if got >= PER_REFINE or not fin[j][kk]:
                 break
-            key = keys[j, kk].item() if keys.dtype == np.int64 else keys[j, kk].tobytes()
+            key = ks[j][kk]
             if key in seen:
                 continue
             seen.add(key)
-            out.append((idx[j], W[j, kk], G[j, kk]))
+            rows_out.append(j)
+            cols_out.append(kk)
             got += 1
-    if not out:
+    if not rows_out:
         return None
-    i = np.array([o[0] for o in out])
-    w = np.array([o[1] for o in out])
-    g = np.array([o[2] for o in out])
+    jj, kk = np.array(rows_out), np.array(cols_out)
+    i, w, g = idx[jj], W[jj, kk], G[jj, kk]
     return [c.row[i], c.height_m[i], c.speed_kmh[i], c.elevation_deg[i], c.heading_deg[i], w, g]
+
+
+def ranking(c: Candidates, asked: dict, ref_height: float | None = None) -> np.ndarray:
+    """Every candidate in the order of preference of :func:`choose` (a stable sort: restricted to a mask, the
+    order of the masked candidates among themselves)."""
+    miss = np.round(c.miss_m * 1e5)  # 0.01 mm
+    dh = np.zeros(miss.size) if ref_height is None else np.abs(c.height_m - ref_height)
+    dv = np.abs(c.speed_kmh - asked["speed_kmh"])
+    dw = spin_change_rpm(c.spin_rpm, c.spin_axis_deg, asked["spin_rpm"], asked["spin_axis_deg"])
+    return np.lexsort((np.round(dw, 9), np.round(dv, 9), np.round(dh, 9), miss))
+
+
+def first(order: np.ndarray, mask: np.ndarray) -> int:
+    """The first candidate of ``order`` (:func:`ranking`) in ``mask``, -1 if none."""
+    hit = order[mask[order]]
+    return int(hit[0]) if hit.size else -1
 
 
 def choose(c: Candidates, asked: dict, mask: np.ndarray, ref_height: float | None = None) -> int:
     """Index of the best candidate among ``mask``: smallest miss; ties (0.01 mm) to the smaller change of
     height (when searched, from ``ref_height``), speed, spin, then angles from the exact solution."""
-    idx = np.flatnonzero(mask)
-    if idx.size == 0:
-        return -1
-    miss = np.round(c.miss_m[idx] * 1e5)  # 0.01 mm
-    dh = np.zeros(idx.size) if ref_height is None else np.abs(c.height_m[idx] - ref_height)
-    dv = np.abs(c.speed_kmh[idx] - asked["speed_kmh"])
-    dw = spin_change_rpm(c.spin_rpm[idx], c.spin_axis_deg[idx], asked["spin_rpm"], asked["spin_axis_deg"])
-    order = np.lexsort((np.round(dw, 9), np.round(dv, 9), np.round(dh, 9), miss))
-    return int(idx[order[0]])
+    return first(ranking(c, asked, ref_height), np.asarray(mask, bool))
 
 
 def acceptable(c: Candidates, need_net: bool, prefs: Preferences) -> tuple[np.ndarray, np.ndarray]:

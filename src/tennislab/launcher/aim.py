@@ -458,7 +458,8 @@ def _quantised(spec, ask, rows, c, name, need_net, prefs) -> tuple[_search.Candi
             f"into the net{where} (clearance {c.clearance_m[i]:.3f} m); try the other solution or another "
             f"speed/spin"
         )
-    i_net = _search.choose(c, asked, net_ok, ref)
+    order = _search.ranking(c, asked, ref)
+    i_net = _search.first(order, net_ok)
     r = rows[c.row[i_net]]
     dist = math.hypot(target[0] - spec.position[0], target[1] - spec.position[1])
     bound = 0.5 * spec.elevation.step * abs(r.slope) + 0.5 * math.radians(spec.heading.step) * dist
@@ -472,11 +473,11 @@ def _quantised(spec, ask, rows, c, name, need_net, prefs) -> tuple[_search.Candi
             f"another speed/spin"
         )
     near = net_ok & (c.miss_m <= near_m)
-    i = _search.choose(c, asked, pref_ok & near, ref)
+    i = _search.first(order, pref_ok & near)
     if i < 0:
         what = f"{name} flights to ({target[0]:g}, {target[1]:g}) m"
         raise InputError(prefs.violation(c.apex_z_m[near], c.clearance_m[near], c.flight_time_s[near], what))
-    i_any = _search.choose(c, asked, c.landed, ref)
+    i_any = _search.first(order, c.landed)
     net_limited = bool(need_net and c.miss_m[i] > c.miss_m[i_any] + 0.01)
     return c, i, net_limited
 
