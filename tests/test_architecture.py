@@ -286,6 +286,20 @@ def test_matplotlib_only_in_plot_and_argparse_only_in_cli(library, home):
     assert not bad, f"{library} imported outside {home}/: {bad}"
 
 
+def test_the_backend_is_chosen_only_by_the_entry_points():
+    """Only the command line (``cli/_main.py``) and the entry points choose Matplotlib's backend: importing
+    ``tennislab.plot`` in a notebook keeps the notebook's."""
+    words = ("MPLBACKEND", "matplotlib.use(", "mpl.use(", "switch_backend(")
+    bad = [
+        f"{m}: {w}"
+        for m, path in MODS.items()
+        if m != "cli._main" and _part(m) not in ENTRY_POINTS
+        for w in words
+        if w in path.read_text(encoding="utf-8")
+    ]
+    assert not bad, bad
+
+
 def test_the_command_line_loads_no_physics_to_parse():
     """Building every command's parser (``tennislab --help``) loads none of the heavy libraries: each
     command imports what it uses when it runs (start-up timed by benchmarks/bench_startup.py)."""
