@@ -489,11 +489,13 @@ def _plain(obj):
     return repr(obj)
 
 
-def physics_dict(params) -> dict:
-    """The physics constants of a :class:`~tennislab.core.flight.FlightParams` as plain data.
+def _stored_physics(params) -> dict:
+    """The physics constants of a :class:`~tennislab.core.flight.FlightParams` as the database stores them.
 
     Ball, atmosphere, aero model (name and parameter array), spin decay, court
-    (net profile), the longest flight and the fill's integration tolerances.
+    (net profile), the longest flight and the fill's integration tolerances.  This is the file's
+    format, not a second JSON of the parameters (results report :meth:`FlightParams.to_dict`): its
+    hash (:func:`config_hash`) identifies the tables already written, so its keys never change.
     """
     return {
         "ball": _plain(params.ball),
@@ -516,7 +518,7 @@ def config_dict(spec, params, position=None) -> dict:
     return {
         "machine": _plain(spec),
         "position": [float(pos[0]), float(pos[1])],
-        "physics": physics_dict(params),
+        "physics": _stored_physics(params),
         "format": {"hits_format": HITS_FORMAT},
     }
 
