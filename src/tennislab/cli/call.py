@@ -29,7 +29,7 @@ from tennislab.cli.common import (
     save_figure,
     surface_from_arg,
 )
-from tennislab.core import NET_MODES
+from tennislab.core import DEFAULT_NET, NET_MODES
 from tennislab.errors import InputError, escape_text
 from tennislab.plot import in_out_by, plus_minus, spin_fit_words
 
@@ -67,7 +67,7 @@ def register(sub) -> None:
     p.add_argument(
         "--net",
         choices=NET_MODES,
-        default="obstacle",
+        default=DEFAULT_NET,
         help="--position: obstacle (default, as `tennislab fly`): a ball that meets the net is called net; "
         "through: it passes (the seeds' models)",
     )

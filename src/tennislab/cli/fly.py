@@ -15,7 +15,7 @@ from tennislab.cli.common import (
     save_figure,
     surface_from_arg,
 )
-from tennislab.core import NET_MODES
+from tennislab.core import DEFAULT_NET, NET_MODES
 from tennislab.errors import InputError
 
 #: where a ball starts when --position is not given: a groundstroke from the centre of the near
@@ -70,7 +70,7 @@ def register(sub) -> None:
     p.add_argument(
         "--net",
         choices=NET_MODES,
-        default="obstacle",
+        default=DEFAULT_NET,
         help="obstacle (default): the flight ends where the ball meets the net; through: it passes (the seeds' models)",
     )
     add_physics_flags(p)
