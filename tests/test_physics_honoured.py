@@ -102,3 +102,14 @@ def test_launcher_aim_flies_its_wind_and_court():
     high = aim((8.0, 0.0), speed_kmh=80, params=dataclasses.replace(base, court=Court(net_center_height=1.2)))
     assert high.to_dict()["physics"]["court"]["net_center_height"] == 1.2
     assert high.solution.net_clearance_m < calm["net_clearance_m"] - 0.2
+
+
+def test_the_command_line_s_net_rule_is_the_library_s():
+    """``fly`` and ``call --position`` default to the one net rule (``core.events.DEFAULT_NET``)."""
+    from tennislab.cli import build_parser
+    from tennislab.core import DEFAULT_NET
+
+    parser = build_parser()
+    fly_args = parser.parse_args(["fly", "--speed-kmh", "120", "--elevation-deg", "6"])
+    call_args = parser.parse_args(["call", "--position", "-11.885", "0", "1", "--velocity", "30", "0", "1"])
+    assert fly_args.net == call_args.net == DEFAULT_NET == "obstacle"
