@@ -6,15 +6,18 @@
    given and searched, against one reference flight with ``fly`` (SciPy DOP853, rtol 1e-10) of the
    same shot measured in this run ("an aim costs X reference flights"), and against an exhaustive
    search of the same neighbourhood of steps (every elevation floor-2 .. ceil+2, heading floor-1 ..
-   ceil+1, speed within 3 km/h and every spin step within the tolerances: ~700,000 flights a target,
-   a few targets): how far the answer is from the lattice's best, and the time ratio.
+   ceil+1, speed within 3 km/h and every spin step (rate and axis) within the tolerances: ~1,000,000
+   flights a target, a few targets): how far the answer is from the lattice's best, and the time ratio.
 3. Aiming on the machine's steps over a grid of court targets (x 1.5-11.5 m, y -4.5-4.5 m, 1 m apart):
    the issue's machine owner (100 km/h, 1000 rpm topspin) and every drill shot type, default
    tolerances, height searched and, as the baseline of the same run, at 1 m and with exact tolerances
-   (angles only): miss median / p95 [mm], with the net-limited targets apart, and time per aim.
+   (angles only): miss median / p95 [mm], with the net-limited targets apart, and time per aim; then the
+   worst target of the worst shot types (height searched) against the exhaustive search of item 2 at every
+   0.3 m of height: whether a nearer on-step setting exists (the search's fault) or the steps allow no better.
 4. The inverse map (``launcher.inverse_aim``): random reachable targets, speeds, spins and heights;
-   time per answer and miss of its checked flight, against ``core.shoot`` from an elevation scan (the
-   primitive without the map) measured in this run.
+   time per answer (wall and CPU) and miss of its checked flight, against ``core.shoot`` from an elevation
+   scan (the primitive without the map) measured in this run; whether the answers reused the map, and what
+   its first build costs.
 5. Drill compilation time of every shipped drill.
 
 Run: ``python benchmarks/bench_launcher.py [--quick]``.
@@ -118,12 +121,15 @@ def bench_aim(n_targets):
         )
 
 
-def _exhaustive(target, v0, w0, g0, height, params):
-    """The best landing among every on-step setting of aim's neighbourhood (default tolerances): the baseline."""
+def _exhaustive(target, v0, w0, g0, height, params, branch="low"):
+    """The best landing among every on-step setting of aim's neighbourhood (default tolerances): every elevation
+    floor-2 .. ceil+2 and heading floor-1 .. ceil+1 of the exact solution, every speed within 3 km/h and every
+    spin step (rate and axis) within the tolerances, at the given height: the baseline."""
     import math
 
     from tennislab.core.flight import fly_batch
     from tennislab.core.shoot import shoot
+    from tennislab.launcher._spin import axis_steps
     from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
     from tennislab.launcher.preferences import Tolerances
     from tennislab.units import KMH, RPM
@@ -131,14 +137,16 @@ def _exhaustive(target, v0, w0, g0, height, params):
     spec, tol = DEFAULT_SPEC, Tolerances()
     px, py = spec.position
     g = math.radians(g0)
-    s = shoot((px, py, height), v0 * KMH, target, params, spin=(w0 * RPM * math.cos(g), w0 * RPM * math.sin(g), 0))
+    spin = (w0 * RPM * math.cos(g), w0 * RPM * math.sin(g), 0)
+    s = shoot((px, py, height), v0 * KMH, target, params, spin=spin, branch=branch)
     if not s.converged[0]:
         return None
     a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
     A = np.arange(math.floor(a) - 2, math.ceil(a) + 3)
     B = np.arange(math.floor(b) - 1, math.ceil(b) + 2)
     V = np.arange(v0 - 3, v0 + 4)
-    W, G = np.meshgrid(np.arange(max(0, w0 - 100), min(2000, w0 + 100) + 1), np.arange(g0 - 10, g0 + 11))
+    axes = axis_steps((w0, g0), tol, spec.spin_axis)  # every axis step some allowed spin has
+    W, G = np.meshgrid(np.arange(max(0, w0 - 100), min(2000, w0 + 100) + 1), axes)
     ok = tol.allows(W, G, w0, g0)
     W, G = W[ok], G[ok]
     best = math.inf
@@ -199,6 +207,7 @@ def bench_aiming_grid(step: float):
     exact = dict(speed_tolerance_kmh=0, spin_tolerance_rpm=0, spin_axis_tolerance_deg=0)
     variants = {"height searched": ({}, False), "height 1 m (baseline)": ({}, True), "exact, 1 m": (exact, True)}
     aim((9.0, 2.0), 80, 1500)  # compile / warm up
+    tail: dict = {}  # shot type -> its worst reachable target with the height searched
     for vname, (kw, fixed) in variants.items():
         allm, alln, times, refused = [], [], [], 0
         lines = []
@@ -216,6 +225,10 @@ def bench_aiming_grid(step: float):
                         continue
                     times.append(dt)
                     (lim if r.solution.net_limited else miss).append(r.miss_mm)
+                    if vname == "height searched" and not r.solution.net_limited:
+                        worst = tail.get(name)
+                        if worst is None or r.miss_mm > worst[0]:
+                            tail[name] = (r.miss_mm, (float(x), float(y)), v, w, g, traj, height, r.settings.height_m)
             miss, lim = np.array(miss), np.array(lim)
             allm += list(miss)
             alln += list(lim)
@@ -234,12 +247,44 @@ def bench_aiming_grid(step: float):
             f"{1e3 * np.median(times):.1f} ms per aim"
         )
         print("\n".join(lines))
+    return sorted(((m, name, *rest) for name, (m, *rest) in tail.items()), reverse=True)
+
+
+def bench_tail(tail, n: int):
+    """The grid's worst targets (the worst of each shot type, the n worst of those, height searched) against the
+    exhaustive search of their neighbourhood at every 0.3 m of height and at the height aim chose (a shot type
+    with its own height: at that height): is the miss the search's fault (a nearer on-step setting exists) or
+    the steps' limit?"""
+    from tennislab.launcher.aim import launcher_params
+
+    params = launcher_params()
+    print(
+        f"the grid's worst targets (height searched) vs the exhaustive search of their neighbourhood, "
+        f"heights {TAIL_HEIGHTS} m:"
+    )
+    gaps = []
+    for miss, name, t, v, w, g, traj, asked_h, h in tail[:n]:
+        hs = [asked_h] if asked_h is not None else sorted({round(float(x), 1) for x in (*TAIL_HEIGHTS, h)})
+        t0 = time.perf_counter()
+        best = [(_exhaustive(t, v, w, g, hh, params, traj), hh) for hh in hs]
+        ref, at = min((b for b in best if b[0] is not None), default=(math.nan, math.nan))
+        gaps.append(miss - ref)
+        print(
+            f"    {name:<24} ({t[0]:g}, {t[1]:g}) m: aim {miss:6.1f} mm (height {h:g} m), exhaustive best "
+            f"{ref:6.1f} mm (height {at:g} m); {time.perf_counter() - t0:.0f} s"
+        )
+    print(f"  aim - exhaustive over these {len(gaps)}: max {max(gaps):.1f} mm")
+
+
+#: Heights of the exhaustive search of the grid's worst targets [m] (with the height aim chose)
+TAIL_HEIGHTS = (0.1, 0.4, 0.7, 1.0, 1.3, 1.6, 1.9, 2.2, 2.5, 2.8, 3.0)
 
 
 def bench_inverse(n):
     """The inverse map: random reachable requests; time and checked miss vs core.shoot from a scan."""
     from tennislab.core.shoot import shoot
     from tennislab.errors import InputError
+    from tennislab.launcher import reach
     from tennislab.launcher.aim import launcher_params
     from tennislab.launcher.inverse import inverse_aim
     from tennislab.launcher.machine import DEFAULT_SPEC
@@ -247,8 +292,9 @@ def bench_inverse(n):
 
     params = launcher_params()
     inverse_aim((9.0, 2.0), 100, 1000)  # the map, compiled kernels
+    build, t_build, c_build = _timed(reach.build, DEFAULT_SPEC, params)  # what a first use costs (not cached)
     rng = np.random.default_rng(4)
-    t_map, t_scan, miss, ref = [], [], [], 0
+    t_map, c_map, t_scan, miss, ref, sources = [], [], [], [], 0, set()
     px, py = DEFAULT_SPEC.position
     for _ in range(n):
         tgt = (float(rng.uniform(0.0, 11.9)), float(rng.uniform(-5.5, 5.5)))
@@ -260,11 +306,13 @@ def bench_inverse(n):
         )
         branch = str(rng.choice(["low", "high"]))
         try:
-            r, dt, _ = _timed(inverse_aim, tgt, v, w, g, h, trajectory=branch)
+            r, dt, dc = _timed(inverse_aim, tgt, v, w, g, h, trajectory=branch)
         except InputError:
             ref += 1
             continue
         t_map.append(dt)
+        c_map.append(dc)
+        sources.add(r.reach_map.source)
         miss.append(r.miss_mm)
         spin = (w * RPM * np.cos(g * DEG), w * RPM * np.sin(g * DEG), 0.0)
         t_scan.append(_timed(shoot, (px, py, h), v * KMH, tgt, params, spin=spin, branch=branch)[1])
@@ -275,6 +323,12 @@ def bench_inverse(n):
         f"from a scan (baseline, this run): x{np.median(t_scan) / np.median(t_map):.1f}; miss of the checked flight "
         f"median {np.median(m):.4f} mm, p95 {np.percentile(m, 95):.3f} mm, max {m.max():.2f} mm; over 20 mm: "
         f"{int((m > 20).sum())}"
+    )
+    print(
+        f"inverse map CPU time per answer: median {1e3 * np.median(c_map):.2f} ms, p95 "
+        f"{1e3 * np.percentile(c_map, 95):.2f} ms; the map {'/'.join(sorted(sources))} in every answer; its first "
+        f"build {t_build:.2f} s wall, {c_build:.2f} s CPU ({np.prod(reach.NODES):,} flights), then kept in memory "
+        f"and on disk ({build.key})"
     )
 
 
@@ -298,7 +352,8 @@ def main(argv=None):
     bench_states(200_000 if args.quick else 1_000_000)
     bench_aim(10 if args.quick else 40)
     bench_exhaustive(2 if args.quick else 6)
-    bench_aiming_grid(2.0 if args.quick else 1.0)
+    tail = bench_aiming_grid(2.0 if args.quick else 1.0)
+    bench_tail(tail, 1 if args.quick else 4)
     bench_inverse(50 if args.quick else 300)
     bench_drills()
 

@@ -53,7 +53,7 @@ from tennislab.launcher.preferences import (
     spin_change_rpm,
     wrap_deg,
 )
-from tennislab.launcher.reach import reach_map
+from tennislab.launcher.reach import MapUse, get_map
 from tennislab.launcher.rollers import roller_geometry, roller_speeds
 from tennislab.results import Result
 from tennislab.units import DEG, KMH, RPM
@@ -223,6 +223,8 @@ class AimResult(Result):
     params: FlightParams = field(repr=False)
     tolerances: Tolerances
     preferences: Preferences
+    #: how this aim got the machine's reach map (built, read from the cache folder, or kept in memory)
+    reach_map: MapUse | None = field(default=None, repr=False)
 
     @property
     def settings(self) -> Settings:
@@ -242,6 +244,7 @@ class AimResult(Result):
         out["trajectory"] = self.preferences.trajectory
         out["tolerances"] = self.tolerances.to_dict()
         out["preferences"] = self.preferences.to_dict()
+        out["reach_map"] = None if self.reach_map is None else self.reach_map.to_dict()
         name = "high" if self.solution.solution == "low" else "low"
         if self.other is not None:
             o = self.other
@@ -312,7 +315,7 @@ def _heights(spec: MachineSpec, params: FlightParams, height_m, prefs: Preferenc
     return hs
 
 
-def aim_all(
+def _aim_all(
     target,
     speed_kmh: float | None = None,
     spin_rpm: float = 0.0,
@@ -326,7 +329,8 @@ def aim_all(
     speed_ms: float | None = None,
     speed_mph: float | None = None,
 ):
-    """Every aim solution that exists for a target: ``({"low"|"high": AimSolution}, {name: reason})``.
+    """Every aim solution that exists for a target, why the others are missing, and how the reach map was got:
+    ``({"low"|"high": AimSolution}, {name: reason}, MapUse)``.
 
     ``target`` (x, y) [m] on the court; speed [km/h] (or ``speed_ms``/``speed_mph``), spin [rpm],
     spin axis [deg] and height [m] are range-checked (InputError naming the parameter); ``height_m``
@@ -375,7 +379,8 @@ def aim_all(
         tolerances,
     )
     shoot5 = _search.Shooter(spec, params)
-    rows, flown = _search.rows_of(shoot5, spec, params, reach_map(spec, params), ask)
+    use = get_map(spec, params)
+    rows, flown = _search.rows_of(shoot5, spec, params, use.map, ask)
     reasons = {}
     for name in SOLUTIONS:
         if not any(r.branch == name for r in rows):
@@ -393,7 +398,7 @@ def aim_all(
     if not live:
         if not reasons:  # pragma: no cover - every missing branch has its reason
             raise InputError(f"target: no shot lands at ({tx:g}, {ty:g}) m with {desc}")
-        return {}, reasons
+        return {}, reasons, use
     need_net = _net_required(spec, (tx, ty))
     c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
     branch = np.array([live[i].branch for i in c.row])
@@ -407,7 +412,39 @@ def aim_all(
             reasons[name] = str(exc)
     exact = _exact(spec, params, ask, [live[p[0].row[p[1]]] for p in picked.values()])
     out = {name: _solution(spec, ask, name, *p, *e) for (name, p), e in zip(picked.items(), exact)}
-    return out, reasons
+    return out, reasons, use
+
+
+def aim_all(
+    target,
+    speed_kmh: float | None = None,
+    spin_rpm: float = 0.0,
+    spin_axis_deg: float = 0.0,
+    height_m: float | None = None,
+    spec: MachineSpec = DEFAULT_SPEC,
+    params: FlightParams | None = None,
+    *,
+    tolerances: Tolerances | None = None,
+    preferences: Preferences | None = None,
+    speed_ms: float | None = None,
+    speed_mph: float | None = None,
+):
+    """Every aim solution that exists for a target: ``({"low"|"high": AimSolution}, {name: reason})``
+    (:func:`_aim_all`, whose docstring says how)."""
+    sols, reasons, _ = _aim_all(
+        target,
+        speed_kmh,
+        spin_rpm,
+        spin_axis_deg,
+        height_m,
+        spec,
+        params,
+        tolerances=tolerances,
+        preferences=preferences,
+        speed_ms=speed_ms,
+        speed_mph=speed_mph,
+    )
+    return sols, reasons
 
 
 def _missing(name: str, failed: list, spec: MachineSpec, target, dist: float, desc: str) -> str:
@@ -612,7 +649,7 @@ def aim(
     if spin_axis is not None:
         spin_axis_deg = spin_axis_deg_of(spin_axis)
     params = params or launcher_params()
-    sols, reasons = aim_all(
+    sols, reasons, use = _aim_all(
         target,
         speed_kmh,
         spin_rpm,
@@ -627,7 +664,7 @@ def aim(
     )
     chosen = pick_solution(sols, reasons, traj)
     other_name = "high" if chosen.solution == "low" else "low"
-    return AimResult(chosen, sols.get(other_name), reasons.get(other_name, ""), spec, params, tols, prefs)
+    return AimResult(chosen, sols.get(other_name), reasons.get(other_name, ""), spec, params, tols, prefs, use)
 
 
 __all__ = [
