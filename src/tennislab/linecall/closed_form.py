@@ -264,7 +264,7 @@ def closed_form_study(
     spins=(0.0, 150.0),
     height: float = 1.0,
 ) -> list[dict]:
-    """Drop-point error of the closed form against the numerical model (:func:`fly`) over a grid.
+    """Drop-point error of the closed form over a grid, against :func:`~tennislab.core.flight.fly_dense`.
 
     Shots start at (-11.885, 0, height) toward +x with the given speeds [m/s],
     elevation angles [deg] and spins about the vertical axis [rad/s]; the same
