@@ -129,3 +129,54 @@ def test_the_window_summary_has_every_spin_class_and_its_bands(capsys):
     out = capsys.readouterr().out
     assert any(line.startswith("other ") for line in out.splitlines())
     assert "spin classes: flat < 1200 rpm, other 1200-3200 rpm, topspin > 3200 rpm" in out
+
+
+# ---------------------------------------------------------------- the physics, stated in every output
+@pytest.mark.parametrize(
+    "argv, preset",
+    [
+        (["fly", "--speed-kmh", "180", "--elevation-deg", "-5"], "standard"),
+        (["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21"], "seed000"),
+        (
+            ["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21", "--preset", "standard"],
+            "standard",
+        ),
+        pytest.param(
+            ["serve-mc", "--impact-angle", "36", "--face-angle", "21", "--n", "500"], "seed000", marks=pytest.mark.slow
+        ),
+        (["serve-window", "--step", "10"], "seed000"),
+    ],
+)
+def test_every_output_states_its_physics_and_preset(capsys, argv, preset):
+    from tennislab.core.flight import FlightParams
+
+    want = FlightParams.from_options(preset=preset).to_dict()
+    assert main(argv) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("physics: "))
+    assert line.startswith(f"physics: {want['aero']} aero, air {want['air_density']:g} kg/m^3")
+    assert f"ball {round(want['mass'] * 1e3, 2):g} g" in line and line.endswith(f"(preset {preset})")
+    if argv[0] != "fly":  # fly's JSON is FlightResult.to_dict(), whose `physics` is the same dict
+        assert main([*argv, "--json"]) == 0
+        d = json.loads(capsys.readouterr().out)
+        assert d["physics"] == want and d["physics_preset"] == preset
+
+
+# ---------------------------------------------------------------- serve-window of a ball: its launch directions
+@pytest.mark.slow
+def test_ball_window_agrees_with_single_serves_of_that_ball(capsys):
+    from tennislab.serve import ball_window
+
+    w = ball_window("professional", BallLaunch(50.0, 2500.0, 0.0), height=2.9, step=1.0)
+    assert w.success.any() and not w.success.all()
+    for row in w.rows()[::4]:  # each launch direction, served as a ball by `simulate` through its racket
+        r = racket_for(make_setup("professional"), BallLaunch(50.0, 2500.0, row["elevation_deg"]), height=2.9)
+        res = simulate(
+            make_setup("professional").player.with_overrides(2.9, r.racket_speed), r.alpha_deg, r.beta_deg, advice=False
+        )
+        assert res.success == row["success"], row
+    assert main(["serve-window", "--speed-kmh", "180", "--spin-rpm", "2500", "--height", "2.9", "--step", "1"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("ball: 180.0 km/h, 2500 rpm topspin from 2.90 m; racket 37.8 m/s, alpha 18.1 deg")
+    assert out[1].startswith(f"in: {int(w.success.sum())} of {w.success.size} launch directions: elevation ")
+    assert main(["serve-window", "--speed-kmh", "180", "--spin-rpm", "2500", "--elevation-range", "5", "10"]) == 0
+    assert "in: none of the 11 launch directions (hint:" in capsys.readouterr().out

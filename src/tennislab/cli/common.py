@@ -286,6 +286,39 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
     for dest in PHYSICS_DESTS:
         if dest in chosen:
             g.add_argument("--" + dest.replace("_", "-"), **specs[dest])  # type: ignore[arg-type]
+    g.add_argument(
+        "--preset",
+        dest="physics_preset",
+        default=preset,
+        choices=PRESET_WORDS,
+        help="base set of the physics the flags above change: "
+        + "; ".join(f"{k} {v}" for k, v in PRESET_WORDS.items())
+        + f" (default {preset})",
+    )
+
+
+#: the named physics presets (tennislab.core.flight.PRESETS) in words, for --help and the outputs
+PRESET_WORDS = {
+    "standard": "(tennislab's ball and air: choppin2018 aero, ITF ball, sea-level air)",
+    "seed000": "(the serve paper's constants: stepanek1988 aero, 59 g, 33 mm, air 1.22 kg/m^3, g 9.82)",
+    "seed002": "(the launcher paper's aero: launcher2015)",
+}
+
+
+def physics_words(flight, preset: str | None = None) -> str:
+    """The physics a command flew, in one line: aero model, air density, ball (and wind, spin decay when on),
+    and the preset it started from."""
+    d = flight.to_dict()
+    extra = ""
+    if any(d["wind"]):
+        extra += ", wind " + " ".join(f"{w:g}" for w in d["wind"]) + " m/s"
+    if d["spin_decay"]:
+        extra += f", spin decay {d['spin_decay']:g} /s"
+    base = f" (preset {preset})" if preset else ""
+    return (
+        f"physics: {d['aero']} aero, air {d['air_density']:g} kg/m^3, g {d['gravity']:g} m/s^2, "
+        f"ball {round(d['mass'] * 1e3, 2):g} g, radius {round(d['radius'] * 1e3, 2):g} mm{extra}{base}"
+    )
 
 
 def add_machine_flags(p, position: bool = True) -> None:

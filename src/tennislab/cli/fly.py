@@ -12,6 +12,7 @@ from tennislab.cli.common import (
     figure_file,
     launch_from_args,
     physics_from_args,
+    physics_words,
     save_figure,
     surface_from_arg,
 )
@@ -137,6 +138,7 @@ def run(args) -> int:
             f"t = {bo['t']:.3f} s, out {np.linalg.norm(bo['velocity_out']):.2f} m/s; "
             f"mark {bo['mark']['length'] * 1000:.0f} x {bo['mark']['width'] * 1000:.0f} mm"
         )
+    print(physics_words(params, args.physics_preset))
     for c in out["caveats"]:
         print(f"note: {c}")
     if args.plot:

@@ -22,6 +22,7 @@ from tennislab.cli.common import (
     atomic_write,
     emit_json,
     physics_from_args,
+    physics_words,
     save_figure,
 )
 from tennislab.cli.impact import PAPER, add_impact_flags, impact_from_args
@@ -287,7 +288,7 @@ def register(sub) -> None:
         epilog=ANGLES_EPILOG,
     )
     _player_flags(p, allow_all=True)
-    p.add_argument("--step", type=float, default=1.0, metavar="DEG", help="angle step [deg] (default 1)")
+    p.add_argument("--step", type=float, metavar="DEG", help="angle step [deg] (default 1; 0.5 for a ball launch)")
     p.add_argument(
         "--spin-bands",
         type=float,
@@ -297,6 +298,24 @@ def register(sub) -> None:
         "(default the paper's 1200 3200)",
     )
     _brush_flag(p)
+    _ball_flags(p, elevation=False)
+    g = [a for a in p._action_groups if a.title and a.title.startswith("ball launch")][0]
+    g.add_argument(
+        "--elevation-range",
+        type=float,
+        nargs=2,
+        default=(-15.0, 15.0),
+        metavar=("LO", "HI"),
+        help="launch elevations swept for a ball launch [deg] (default -15 15; at --step, default 0.5 for a ball)",
+    )
+    g.add_argument(
+        "--heading-range",
+        type=float,
+        nargs=2,
+        default=(-15.0, 15.0),
+        metavar=("LO", "HI"),
+        help="headings swept for a ball launch with --target [deg] (default -15 15)",
+    )
     _model_flags(
         p,
         run_window,
@@ -330,6 +349,11 @@ def _physics(args) -> dict:
     flight = physics_from_args(args)
     params, method, dt = impact_from_args(args, flight.ball)
     return {"flight": flight, "impact_params": params, "method": method, "dt": dt}
+
+
+def _physics_json(args) -> dict:
+    """The JSON's statement of the flight physics: every setting, and the preset it started from."""
+    return {"physics": physics_from_args(args).to_dict(), "physics_preset": args.physics_preset}
 
 
 def _criteria(mode: str) -> str:
@@ -366,7 +390,8 @@ def run_serve(args) -> int:
         label = f"alpha {num(alpha, 1)}, beta {num(beta, 1)}"
         save_figure(plot_trajectories([res.trajectory], [label], title=f"{player_words(res.player)} serve"), args.plot)
     if args.json:
-        emit_json(res if racket is None else {**res.to_dict(), "racket_for_ball": racket.to_dict()})
+        extra = {} if racket is None else {"racket_for_ball": racket.to_dict()}
+        emit_json({**res.to_dict(), **extra, **_physics_json(args)})
         return 0
     if racket is not None:
         print(_racket_words(racket))
@@ -382,6 +407,7 @@ def run_serve(args) -> int:
     print(res.verdict.line())
     if res.verdict.advice:
         print(f"advice: {res.verdict.advice}")
+    print(physics_words(physics_from_args(args), args.physics_preset))
     _print_caveats(res.caveats)
     return 0
 
@@ -465,8 +491,77 @@ def _mapper(args):
     return functools.partial(map_chunks, unit="serves", **opts)
 
 
+def run_ball_window(args, ball) -> int:
+    """``serve-window`` of a ball launch: its launch directions (elevation; heading with a target) that go in."""
+    from tennislab.serve import ball_window
+
+    if args.player == "all" or args.spin_bands is not None or args.plot:
+        flag = "--player all" if args.player == "all" else "--spin-bands" if args.spin_bands else "--plot"
+        raise InputError(f"{flag}: not with a ball launch (its window is over launch directions of one ball)")
+    res = ball_window(
+        get_player(args.player),
+        ball,
+        height=args.height,
+        step=0.5 if args.step is None else args.step,
+        elevation_deg=tuple(args.elevation_range),
+        heading_deg=tuple(args.heading_range),
+        target=args.target,
+        server_y=args.server_y,
+        **_physics(args),
+    )
+    if args.csv:
+
+        def _w(fh):
+            w = csv.DictWriter(fh, fieldnames=res.COLUMNS, lineterminator="\n")
+            w.writeheader()
+            w.writerows(res.rows())
+
+        atomic_write(args.csv, _w)
+    if args.json:
+        emit_json({**res.to_dict(), **_physics_json(args)})
+        return 0
+    r, a = res.racket, ball
+    print(
+        f"ball: {num(a.speed_ms * 3.6, 1)} km/h, {spin_words(a.spin_rpm, a.spin_axis_deg)} from {num(r.height, 2)} m; "
+        f"racket {num(r.racket_speed, 1)} m/s, alpha {num(r.alpha_deg, 1)} deg"
+        + (f", brush {num(r.brush_deg, 1)} deg" if r.three_d else "")
+        + f" (judged by {_criteria(res.criteria)})"
+    )
+    rg = res.ranges()
+    n, total = int(res.success.sum()), int(res.success.size)
+    if n:
+        where = f"elevation {num(rg['elevation_deg'][0], 1)} to {num(rg['elevation_deg'][1], 1)} deg"
+        where += f" (beta {num(rg['beta_deg'][0], 1)} to {num(rg['beta_deg'][1], 1)} deg)"
+        if r.three_d:
+            where += f", heading {num(rg['heading_deg'][0], 1)} to {num(rg['heading_deg'][1], 1)} deg"
+            where += f" (azimuth {num(rg['azimuth_deg'][0], 1)} to {num(rg['azimuth_deg'][1], 1)} deg)"
+        print(f"in: {n} of {total} launch directions: {where}")
+    else:
+        print(
+            f"in: none of the {total} launch directions "
+            "(hint: widen --elevation-range or --heading-range, or change the ball)"
+        )
+    fails = res.failures()
+    if fails:
+        print(
+            "fails: "
+            + ", ".join(f"{k_n} {REASON_WORDS.get(k, k)}" for k, k_n in sorted(fails.items(), key=lambda kv: -kv[1]))
+        )
+    print(physics_words(physics_from_args(args), args.physics_preset))
+    _print_caveats(res.caveats)
+    if args.csv:
+        print(f"wrote {args.csv}")
+    return 0
+
+
 def run_window(args) -> int:
     from tennislab.serve import simulate, window, windows
+
+    ball = _ball_launch(args, elevation=0.0)
+    if ball is not None:
+        return run_ball_window(args, ball)
+    if args.step is None:
+        args.step = 1.0
 
     criteria = None
     if args.spin_bands is not None:
@@ -532,9 +627,8 @@ def run_window(args) -> int:
         save_figure(plot_window(wins, optimum_trajectories=trs), args.plot)
     hints = {w.player.name: h for w in wins if (h := empty_window_hint(w, args))}
     if args.json:
-        emit_json(
-            res if not hints else {**res.to_dict(), "hint": hints if len(wins) > 1 else hints[wins[0].player.name]}
-        )
+        extra = {} if not hints else {"hint": hints if len(wins) > 1 else hints[wins[0].player.name]}
+        emit_json({**res.to_dict(), **extra, **_physics_json(args)})
         return 0
     for win in wins:
         print("\n".join(comparison_table(win)))
@@ -554,6 +648,7 @@ def run_window(args) -> int:
                     f"gamma {opt['launch_angle']:.1f} deg"
                 )
         print()
+    print(physics_words(physics_from_args(args), args.physics_preset))
     _print_caveats(wins[0].caveats)
     for f in (args.csv, args.plot):
         if f:
@@ -608,7 +703,8 @@ def run_mc(args) -> int:
 
         save_figure(plot_mc(res), args.plot)
     if args.json:
-        emit_json(res if racket is None else {**res.to_dict(), "racket_for_ball": racket.to_dict()})
+        extra = {} if racket is None else {"racket_for_ball": racket.to_dict()}
+        emit_json({**res.to_dict(), **extra, **_physics_json(args)})
         return 0
     if racket is not None:
         print(_racket_words(racket))
@@ -628,5 +724,6 @@ def run_mc(args) -> int:
                 f"{num(e['angle_deg'], 1)} deg"
             )
         )
+    print(physics_words(physics_from_args(args), args.physics_preset))
     _print_caveats(res.caveats)
     return 0

@@ -26,7 +26,7 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.serve import published
-    from tennislab.serve.from_ball import BallLaunch, RacketForBall, racket_for
+    from tennislab.serve.from_ball import BallLaunch, BallWindow, RacketForBall, ball_window, racket_for
     from tennislab.serve.mc import MonteCarloResult, block_size, monte_carlo
     from tennislab.serve.pipeline import REASON_CODES
     from tennislab.serve.players import (
@@ -62,6 +62,8 @@ __all__ = [
     "MonteCarloResult",
     "PlayerProfile",
     "BallLaunch",
+    "BallWindow",
+    "ball_window",
     "RacketForBall",
     "racket_for",
     "SeedCriteria",

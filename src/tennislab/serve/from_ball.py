@@ -25,11 +25,11 @@ import numpy as np
 from tennislab.core.flight import MAX_SPEED_MS, MAX_SPIN_RPM
 from tennislab.core.launch import describe_spin, describe_velocity
 from tennislab.errors import InputError, check_range
-from tennislab.results import Result, jsonable
-from tennislab.serve.pipeline import Setup, impacts, launch, make_setup
+from tennislab.results import Result, Table, jsonable
+from tennislab.serve.pipeline import REASON_CODES, Setup, flights, impacts, launch, make_setup
 from tennislab.units import KMH, RPM
 
-__all__ = ["BallLaunch", "RacketForBall", "racket_for"]
+__all__ = ["BallLaunch", "BallWindow", "RacketForBall", "ball_window", "racket_for"]
 
 #: largest relative miss of an answer [-]: speed, spin (of max(spin, 100 rpm)); angles within 0.05 deg
 TOLERANCE = 1e-3
@@ -190,3 +190,112 @@ def racket_for(setup, ball: BallLaunch, *, height: float | None = None, **option
         )
     az, br = (float(x[3]), float(x[4])) if three_d else (0.0, 0.0)
     return RacketForBall(float(x[0]), float(x[1]), float(x[2]), az + 0.0, br + 0.0, float(h), ball, gives, three_d)
+
+
+@dataclass(frozen=True)
+class BallWindow(Table):
+    """Every launch direction of one ball (speed, spin, axis fixed): the launch elevations (and in 3-D
+    headings) that go in, with the racket that gives each (``serve-window --speed-kmh ...``).  ``rows()``
+    / ``to_frame()``: one launch per row."""
+
+    COLUMNS = ("elevation_deg", "heading_deg", "beta_deg", "azimuth_deg", "success", "reason", "land_x_m", "land_y_m")
+
+    racket: RacketForBall  #: the racket at the reference launch (V, alpha, brush are the window's)
+    elevation_deg: np.ndarray  #: (n,) launch elevation of each launch [deg]
+    heading_deg: np.ndarray  #: (n,) [deg]
+    beta_deg: np.ndarray  #: (n,) face angle that gives it [deg]
+    azimuth_deg: np.ndarray  #: (n,) face azimuth [deg]
+    success: np.ndarray  #: (n,) bool
+    reason: np.ndarray  #: (n,) index into REASON_CODES
+    land_x: np.ndarray  #: (n,) court x [m]
+    land_y: np.ndarray  #: (n,) court y [m]
+    criteria: str = "seed-2d"
+    caveats: tuple[str, ...] = ()
+
+    def ranges(self) -> dict:
+        """[min, max] over the launches that go in of elevation, heading, beta, azimuth [deg] (None if none)."""
+        m = self.success
+        keys = ("elevation_deg", "heading_deg", "beta_deg", "azimuth_deg")
+        return {
+            k: ([float(getattr(self, k)[m].min()), float(getattr(self, k)[m].max())] if m.any() else None) for k in keys
+        }
+
+    def failures(self) -> dict[str, int]:
+        counts = np.bincount(np.asarray(self.reason, int), minlength=len(REASON_CODES))
+        return {REASON_CODES[k]: int(n) for k, n in enumerate(counts) if k and n}
+
+    def rows(self) -> list[dict]:
+        return [
+            {
+                "elevation_deg": float(e),
+                "heading_deg": float(h),
+                "beta_deg": float(b),
+                "azimuth_deg": float(z),
+                "success": bool(s),
+                "reason": REASON_CODES[int(r)],
+                "land_x_m": float(x),
+                "land_y_m": float(y),
+            }
+            for e, h, b, z, s, r, x, y in zip(
+                self.elevation_deg, self.heading_deg, self.beta_deg, self.azimuth_deg, self.success, self.reason,
+                self.land_x, self.land_y,
+            )
+        ]  # fmt: skip
+
+    def to_dict(self) -> dict:
+        return jsonable(
+            {
+                "ball": self.racket.asked.to_dict(),
+                "racket_for_ball": self.racket.to_dict(),
+                "criteria": self.criteria,
+                "n_launches": int(self.success.size),
+                "n_success": int(self.success.sum()),
+                "in": self.ranges(),
+                "failures": self.failures(),
+                "caveats": list(self.caveats),
+            }
+        )
+
+
+def ball_window(
+    player,
+    ball: BallLaunch,
+    *,
+    height: float | None = None,
+    step: float = 0.5,
+    elevation_deg: tuple[float, float] = (-15.0, 15.0),
+    heading_deg: tuple[float, float] = (-15.0, 15.0),
+    **options,
+) -> BallWindow:
+    """Every launch direction of ``ball`` (its speed, spin and axis; its elevation and heading are swept over
+    ``elevation_deg`` and, in 3-D, ``heading_deg`` [deg] at ``step``): which go in.  The racket speed, the
+    impact angle (and the brush) are solved once (:func:`racket_for` at the middle of the sweep); each launch
+    direction is a face angle beta (and azimuth), flown and judged by the serve pipeline."""
+    setup = make_setup(player, **options)
+    step = check_range("step", step, 0.05, 10.0, "deg")
+    e0, e1 = (check_range("elevation_deg", e, -60.0, 60.0, "deg") for e in elevation_deg)
+    h0, h1 = (check_range("heading_deg", h, -60.0, 60.0, "deg") for h in heading_deg)
+    if e1 < e0 or h1 < h0:
+        raise InputError("elevation_deg: give the lower bound first")
+    three_d = setup.target is not None
+    mid = replace(ball, elevation_deg=0.5 * (e0 + e1), heading_deg=0.5 * (h0 + h1) if three_d else 0.0)
+    r = racket_for(setup, mid, height=height)
+    setup = replace(
+        setup, player=setup.player.with_overrides(r.height, r.racket_speed), brush=math.radians(r.brush_deg)
+    )
+    de = np.arange(e0, e1 + 1e-9, step) - mid.elevation_deg
+    dh = np.arange(h0, h1 + 1e-9, step) - mid.heading_deg if three_d else np.zeros(1)
+    grid_b, grid_z = np.meshgrid(r.beta_deg - de, r.azimuth_deg + dh, indexing="ij")
+    keep = np.abs(grid_b.ravel()) <= 89.0
+    B, Z = grid_b.ravel()[keep], grid_z.ravel()[keep]
+    Br, Zr = np.radians(B), np.radians(Z)
+    imp = impacts(setup, np.full(B.size, math.radians(r.alpha_deg)), Br, Zr)
+    states = launch(setup, imp["v_n"], imp["v_t"], imp["omega"], Br, Zr)
+    out = flights({"state": states}, setup=setup)
+    v = states[:, 3:6]
+    elev = np.degrees(np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1])))
+    head = np.degrees(np.arctan2(v[:, 1], v[:, 0]))
+    return BallWindow(
+        r, elev, head, B, Z, np.asarray(out["success"], bool), np.asarray(out["reason"], np.int8),
+        np.asarray(out["land_x"]), np.asarray(out["land_y"]), setup.mode, setup.caveats(),
+    )  # fmt: skip
