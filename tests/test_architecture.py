@@ -478,3 +478,16 @@ def test_every_registered_aero_model_cites_its_sources():
         if factory.__module__ != aero.__name__:
             continue  # registered by a user (or a test), not one of tennislab's models
         assert _has_references(factory.__doc__), f"aero model {name!r}: no References in {factory.__name__}'s docstring"
+
+
+def test_the_launcher_s_old_spin_vector_is_core_s_launch_spin():
+    """``tennislab.launcher.spin_vector`` (rate, elevation, heading, axis angle) was a second public
+    ``spin_vector`` beside ``core.launch.spin_vector`` (launch-frame components): it is now core's
+    ``launch_spin``, exported by both packages; the old name still works."""
+    import tennislab.core
+    import tennislab.launcher
+
+    assert tennislab.launcher.launch_spin is tennislab.core.launch_spin
+    assert "spin_vector" not in tennislab.launcher.__all__
+    with pytest.warns(DeprecationWarning, match="is now launch_spin"):
+        assert tennislab.launcher.spin_vector is tennislab.core.launch_spin

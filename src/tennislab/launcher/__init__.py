@@ -20,11 +20,14 @@ Modules: :mod:`.machine` (spec, settings, launch states), :mod:`.aim`, :mod:`.pr
 
 from __future__ import annotations
 
+import importlib
+import warnings
 from typing import TYPE_CHECKING
 
 from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
+    from tennislab.core.launch import launch_spin
     from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
     from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
     from tennislab.launcher.drills import (
@@ -49,7 +52,6 @@ if TYPE_CHECKING:
         launch_states,
         settings_states,
         speed_in_kmh,
-        spin_vector,
     )
     from tennislab.launcher.materials import SEED_BALL_RADIUS, SEED_CONTACT_AREA, friction_coefficient, young_modulus
     from tennislab.launcher.power import DEFAULT_MOTOR_POWER, DEFAULT_ROLLER_MASS, DEFAULT_THROW_TIME, power_report
@@ -108,6 +110,7 @@ __all__ = [
     "fly_settings",
     "friction_coefficient",
     "inverse_aim",
+    "launch_spin",
     "launch_states",
     "launcher_params",
     "load_drill",
@@ -119,7 +122,17 @@ __all__ = [
     "settings_states",
     "shipped_drills",
     "speed_in_kmh",
-    "spin_vector",
     "young_modulus",
 ]
-__getattr__, __dir__ = attach_stub(__name__, __file__)
+_getattr, __dir__ = attach_stub(__name__, __file__)
+
+
+def __getattr__(name: str):
+    if name == "spin_vector":  # the old name: core.launch.spin_vector builds a spin from launch-frame components
+        warnings.warn(
+            "tennislab.launcher.spin_vector is now launch_spin (tennislab.core.launch_spin, the same arguments)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return importlib.import_module("tennislab.core.launch").launch_spin
+    return _getattr(name)
