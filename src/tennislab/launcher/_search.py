@@ -213,8 +213,7 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     er = spec.elevation
     om_q = _components(ask.q_spin_rpm, ask.q_spin_axis_deg)
     found = []  # (height, branch, a_map, phi, split)
-    for branch in ("low", "high"):
-        m = rmap.aim(D, ask.heights, ask.q_speed_kmh, om_q[0], om_q[1], branch)
+    for branch, m in zip(("low", "high"), rmap.aim_both(D, ask.heights, ask.q_speed_kmh, om_q[0], om_q[1])):
         for i, h in enumerate(ask.heights):
             if np.isfinite(m["elevation_deg"][i]):
                 found.append((float(h), branch, m["elevation_deg"][i], m["phi"][i], m["split_deg"][i]))
@@ -397,10 +396,8 @@ def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarr
 
 
 def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
-    """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring).
-
-    Returns a dict of flat arrays: ``row``, ``height``, ``speed``, ``elevation``, ``heading``, ``rate``,
-    ``axis``, ``pred`` [m] and the parent's ``info`` (n, 4)."""
+    """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring):
+    a :class:`Predicted`."""
     hr = spec.heading
     P = np.asarray(spec.position, float)
     T = np.asarray(ask.target, float)
@@ -439,19 +436,36 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, nee
     keep = np.unique(np.concatenate(parts))
     par, B, L0, Jc, om_b = par[keep], B[keep], L0[keep], Jc[keep], om_b[keep]
     W, G, miss = _spin.variants(L0, Jc, om_b, T, asked, ask.tolerances, spec.spin, spec.spin_axis)
-    k = W.shape[1]
-    pp = np.repeat(par, k)
-    return {
-        "row": ri[pp],
-        "height": np.array([rows[i].height for i in ri])[pp],
-        "speed": speed[pp],
-        "elevation": elev[pp],
-        "heading": np.repeat(B, k),
-        "rate": W.reshape(-1),
-        "axis": G.reshape(-1),
-        "pred": miss.reshape(-1),
-        "info": info[pp],
+    r = ri[par]
+    entries = {
+        "row": r,
+        "height": np.array([row.height for row in rows])[r],
+        "speed": speed[par],
+        "elevation": elev[par],
+        "heading": B,
+        "info": info[par],
     }
+    return Predicted(entries, W, G, miss)
+
+
+class Predicted:
+    """The candidates of :func:`_predicted`: n (parent flight, heading step) entries (``entries``: ``row``,
+    ``height``, ``speed``, ``elevation``, ``heading``, ``info`` (n, 4)) times k spin variants each (``W``,
+    ``G``, ``miss`` (n, k)); candidate j (flat) is variant j % k of entry j // k."""
+
+    def __init__(self, entries: dict, W: np.ndarray, G: np.ndarray, miss: np.ndarray):
+        self.entries, self.k = entries, W.shape[1]
+        self.rate, self.axis, self.pred = W.reshape(-1), G.reshape(-1), miss.reshape(-1)
+
+    def at(self, name: str, idx: np.ndarray) -> np.ndarray:
+        """Column ``name`` (an entry's, or ``rate``, ``axis``, ``pred``) of the candidates ``idx``."""
+        if name in ("rate", "axis", "pred"):
+            return getattr(self, name)[idx]
+        return self.entries[name][idx // self.k]
+
+    def spread(self, per_entry: np.ndarray) -> np.ndarray:
+        """A mask of the entries as a mask of their candidates."""
+        return np.repeat(per_entry, self.k)
 
 
 _KEY_FIELDS = ("height", "speed", "elevation", "heading", "spin", "spin_axis")
@@ -506,24 +520,26 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     """Stages 2 and 3 (module docstring) on the rows of :func:`rows_of`: every candidate flown."""
     flown = _combos(shoot5, spec, ask, rows, flown)
     pr = _predicted(spec, ask, rows, flown, need_net, prefs)
-    branch = np.array([r.branch for r in rows])[pr["row"]]
-    fin = np.isfinite(pr["pred"])
-    parent_ok = _parent_ok(pr["info"], need_net, prefs)
+    rows_e = pr.entries["row"]
+    branch = np.array([r.branch for r in rows])[rows_e]  # per entry
+    fin = np.isfinite(pr.pred)
+    parent_ok = _parent_ok(pr.entries["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    pools = [(fin, TOP), (fin & parent_ok, TOP // 2)]
+    pools = [(fin, TOP), (fin & pr.spread(parent_ok), TOP // 2)]
     if ask.height_free:
-        ref = _full_rows(ask, rows)[pr["row"]]
-        pools += [(fin & ref, TOP), (fin & ref & parent_ok, TOP // 2)]
+        ref = _full_rows(ask, rows)[rows_e]
+        pools += [(fin & pr.spread(ref), TOP), (fin & pr.spread(ref & parent_ok), TOP // 2)]
     ranked = []
     for name in ("low", "high"):
+        on = pr.spread(branch == name)
         for mask, top in pools:
-            idx = np.flatnonzero(mask & (branch == name))
+            idx = np.flatnonzero(mask & on)
             if idx.size > 8 * top:  # the best few first (a partition), then in order
-                idx = idx[np.argpartition(pr["pred"][idx], 8 * top)[: 8 * top]]
-            ranked.append((idx[np.argsort(pr["pred"][idx], kind="stable")], top))
+                idx = idx[np.argpartition(pr.pred[idx], 8 * top)[: 8 * top]]
+            ranked.append((idx[np.argsort(pr.pred[idx], kind="stable")], top))
     some = np.unique(np.concatenate([r[0] for r in ranked]))  # the keys of these only
-    sub = _settings_key(spec, *(pr[c][some] for c in cols))
-    keys = np.empty(pr["pred"].size, dtype=sub.dtype)
+    sub = _settings_key(spec, *(pr.at(c, some) for c in cols))
+    keys = np.empty(pr.pred.size, dtype=sub.dtype)
     keys[some] = sub
     chosen = []
     for idx, top in ranked:
@@ -531,7 +547,7 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
         chosen.append(idx[np.sort(first)][:top])
     pick = np.unique(np.concatenate(chosen))
     seen = set(keys[pick].tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys[pick]}
-    flown_c = [_fly_candidates(shoot5, spec, ask, pr["row"][pick], [pr[c][pick] for c in cols])]
+    flown_c = [_fly_candidates(shoot5, spec, ask, pr.at("row", pick), [pr.at(c, pick) for c in cols])]
     extra = _clearing_parents(spec, ask, rows, flown, flown_c[0], need_net, prefs, seen)
     if extra is not None:
         flown_c.append(_fly_candidates(shoot5, spec, ask, extra[0], extra[1:]))

@@ -132,32 +132,24 @@ class ReachMap:
         map's range), ``slope`` [m/deg] d rho / d a at the solution.  One compiled pass
         (:func:`_aim_rows`): tens of microseconds a row.
         """
+        return self.aim_both(distance, h, v, t, s, elevation)[0 if branch == "low" else 1]
+
+    def aim_both(self, distance, h, v, t: float, s: float, elevation=None) -> tuple[dict, dict]:
+        """:meth:`aim` of both branches in one pass: (low, high)."""
         d, h, v = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
         g0, g1 = (self.lo[2], self.hi[2]) if elevation is None else (float(elevation[0]), float(elevation[1]))
-        out = np.empty((d.size, 6))
-        _aim_rows(
-            self.rho,
-            self.phi,
-            self.lo,
-            self.hi,
-            d,
-            h,
-            v,
-            float(t),
-            float(s),
-            branch == "low",
-            g0,
-            g1,
-            CURVE_POINTS,
-            out,
+        out = np.empty((2, d.size, 6))
+        _aim_rows(self.rho, self.phi, self.lo, self.hi, d, h, v, float(t), float(s), g0, g1, CURVE_POINTS, out)
+        return tuple(  # type: ignore[return-value]
+            {
+                "elevation_deg": o[:, 0],
+                "phi": o[:, 1],
+                "split_deg": o[:, 2],
+                "reach": o[:, 3:5],
+                "slope": o[:, 5],
+            }
+            for o in out
         )
-        return {
-            "elevation_deg": out[:, 0],
-            "phi": out[:, 1],
-            "split_deg": out[:, 2],
-            "reach": out[:, 3:5],
-            "slope": out[:, 5],
-        }
 
 
 @nb.njit(**JIT)
@@ -177,11 +169,12 @@ def _scaled(x: float, lo: float, hi: float) -> float:
 
 
 @nb.njit(**JIT)
-def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, low, g0, g1, npts, out):
-    """:meth:`ReachMap.aim` for Q rows: per row the coefficients in the elevation (spin, height and speed
+def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, g0, g1, npts, out):
+    """:meth:`ReachMap.aim_both` for Q rows: per row the coefficients in the elevation (spin, height and speed
     contracted), the curve rho(a) on ``npts`` elevations of [g0, g1], the crossing of the row's distance on
-    the branch's side of the longest flight (linear between grid points), phi there and the slope.
-    ``out`` (Q, 6): elevation [deg], phi [rad], split [deg], shortest and longest distance [m], slope."""
+    each branch's side of the longest flight (linear between grid points), phi there and the slope.
+    ``out`` (2, Q, 6), low then high: elevation [deg], phi [rad], split [deg], shortest and longest distance
+    [m], slope."""
     nh, nv, na, nt, ns = rho.shape
     tt, ts = np.empty(nt), np.empty(ns)
     _cheb_into(_scaled(t, lo[3], hi[3]), tt)
@@ -234,35 +227,37 @@ def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, low, g0, g1, npts, out):
             curve[g] = c
             if c > curve[k_max]:
                 k_max = g
-        found = -1
-        if low:
-            for g in range(min(max(k_max, 1), npts - 1)):
-                if curve[g] - d[q] < 0.0 and curve[g + 1] - d[q] >= 0.0:
-                    found = g
-                    break
-        else:
-            for g in range(npts - 2, k_max - 1, -1):
-                if curve[g] - d[q] >= 0.0 and curve[g + 1] - d[q] < 0.0:
-                    found = g
-                    break
-        out[q, 2] = grid[k_max]
-        out[q, 3] = curve.min()
-        out[q, 4] = curve.max()
-        if found < 0:
-            out[q, 0] = np.nan
-            out[q, 1] = np.nan
-            out[q, 5] = np.nan
-            continue
-        f0, f1 = curve[found] - d[q], curve[found + 1] - d[q]
-        frac = f0 / (f0 - f1) if f1 != f0 else 0.5
-        a = grid[found] + frac * dg
-        _cheb_into(_scaled(a, lo[2], hi[2]), ta)
-        p = 0.0
-        for k in range(na):
-            p += cp[k] * ta[k]
-        out[q, 0] = a
-        out[q, 1] = p
-        out[q, 5] = (curve[found + 1] - curve[found]) / dg
+        for side in range(2):  # 0: low, the first crossing rising; 1: high, the last one falling
+            found = -1
+            if side == 0:
+                for g in range(min(max(k_max, 1), npts - 1)):
+                    if curve[g] - d[q] < 0.0 and curve[g + 1] - d[q] >= 0.0:
+                        found = g
+                        break
+            else:
+                for g in range(npts - 2, k_max - 1, -1):
+                    if curve[g] - d[q] >= 0.0 and curve[g + 1] - d[q] < 0.0:
+                        found = g
+                        break
+            o = out[side, q]
+            o[2] = grid[k_max]
+            o[3] = curve.min()
+            o[4] = curve.max()
+            if found < 0:
+                o[0] = np.nan
+                o[1] = np.nan
+                o[5] = np.nan
+                continue
+            f0, f1 = curve[found] - d[q], curve[found + 1] - d[q]
+            frac = f0 / (f0 - f1) if f1 != f0 else 0.5
+            a = grid[found] + frac * dg
+            _cheb_into(_scaled(a, lo[2], hi[2]), ta)
+            p = 0.0
+            for k in range(na):
+                p += cp[k] * ta[k]
+            o[0] = a
+            o[1] = p
+            o[5] = (curve[found + 1] - curve[found]) / dg
 
 
 def still_air(params: FlightParams) -> FlightParams:
