@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 
 import tennislab.launcher._spin as _spin
@@ -124,25 +125,37 @@ class Candidates:
 
 class Parents:
     """The flights at each row's heading b0 with the rounded asked spin, the parents of the candidates:
-    keyed by (row index, speed [km/h], elevation [deg]); the landing in the launch-direction frame (n, 2) [m]
-    and (:func:`_info`) net clearance, net status, apex and flight time."""
+    keyed by (row index, speed step, elevation step) of machine ``spec``; the landing in the
+    launch-direction frame (n, 2) [m] and (:func:`_info`) net clearance, net status, apex and flight time."""
 
-    def __init__(self):
-        self.keys: set = set()
+    def __init__(self, spec: MachineSpec):
+        self.spec = spec
         self.parts: list = []
+        self.keys: list[np.ndarray] = []
 
-    def __contains__(self, key) -> bool:
-        return key in self.keys
+    def _key(self, ri, v, a) -> np.ndarray:
+        sr, er = self.spec.speed, self.spec.elevation
+        nv = int(round((sr.hi - sr.lo) / sr.step)) + 3
+        na = int(round((er.hi - er.lo) / er.step)) + 3
+        iv = np.rint((np.asarray(v, float) - sr.lo) / sr.step).astype(np.int64) + 1
+        ia = np.rint((np.asarray(a, float) - er.lo) / er.step).astype(np.int64) + 1
+        return (np.asarray(ri, np.int64) * nv + iv) * na + ia
+
+    def new(self, ri, v, a) -> np.ndarray:
+        """Mask of the (row, speed, elevation) not flown yet (to a landing)."""
+        if not self.keys:
+            return np.ones(np.shape(ri), bool)
+        return ~np.isin(self._key(ri, v, a), np.concatenate(self.keys))
 
     def __len__(self) -> int:
-        return len(self.keys)
+        return sum(k.size for k in self.keys)
 
     def add(self, ri, v, a, ell, info) -> None:
         ri, v, a = (np.broadcast_to(np.asarray(x), (len(ell),)) for x in (ri, v, a))
         ok = np.isfinite(ell[:, 0])
         part = (ri[ok].astype(int), v[ok].astype(float), a[ok].astype(float), ell[ok], info[ok])
         self.parts.append(part)
-        self.keys.update(zip(part[0].tolist(), part[1].tolist(), part[2].tolist()))
+        self.keys.append(self._key(part[0], part[1], part[2]))
 
     def arrays(self):
         """(row, speed, elevation, landing (n, 2), info (n, 4)) of every parent."""
@@ -218,7 +231,7 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
             if np.isfinite(m["elevation_deg"][i]):
                 found.append((float(h), branch, m["elevation_deg"][i], m["phi"][i], m["split_deg"][i]))
     if not found:
-        return [], Parents()
+        return [], Parents(spec)
     n = len(found)
     H = np.array([f[0] for f in found])
     b0 = beta - np.degrees([f[3] for f in found])
@@ -244,7 +257,7 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     dv = (ell[3 * n : 4 * n] - base) / (v_fd - vq)
     J = np.stack([ell[4 * n : 5 * n] - base, ell[5 * n :] - base], axis=2) / SPIN_FD_RPM
     good = np.isfinite(a) & np.isfinite(dv).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
-    rows, flown = [], Parents()
+    rows, flown = [], Parents(spec)
     gi = np.flatnonzero(good)
     for i in gi.tolist():
         h, branch, _, _, split = found[i]
@@ -274,20 +287,34 @@ def probe(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, branch: str
 
 def _brackets(E, le, D, beta, low):
     """Per row, the exact elevation [deg] between two of its three flown steps (rho - D changes sign on the
-    branch's side: rising for ``low``), its heading [deg] and d rho / d a [m/deg]; NaN where none."""
-    f = np.hypot(le[..., 0], le[..., 1]) - D
-    n = f.shape[0]
-    a, b, slope = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
-    for k in (1, 0):  # the first interval that brackets wins
-        f0, f1, e0, e1 = f[:, k], f[:, k + 1], E[:, k], E[:, k + 1]
-        with np.errstate(invalid="ignore"):
-            ok = np.isfinite(f0) & np.isfinite(f1) & (e1 != e0) & (f0 * f1 <= 0) & ((f1 > f0) == low)
-        t = np.where(ok, f0 / np.where(f0 != f1, f0 - f1, 1.0), 0.0)
-        ell = le[:, k] + t[:, None] * (le[:, k + 1] - le[:, k])
-        a = np.where(ok, e0 + t * (e1 - e0), a)
-        b = np.where(ok, beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0])), b)
-        slope = np.where(ok, (f1 - f0) / np.where(e1 != e0, e1 - e0, 1.0), slope)
-    return a, b, slope
+    branch's side: rising for ``low``), its heading [deg] and d rho / d a [m/deg]; NaN where none (the lower
+    interval wins when both bracket).  Compiled: :func:`_brackets_kernel`."""
+    n = E.shape[0]
+    out = np.empty((n, 3))
+    _brackets_kernel(
+        np.ascontiguousarray(E, dtype=float), np.ascontiguousarray(le, dtype=float), float(D), float(beta), low, out
+    )
+    return out[:, 0], out[:, 1], out[:, 2]
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _brackets_kernel(E, le, D, beta, low, out):
+    for i in range(E.shape[0]):
+        out[i, 0] = out[i, 1] = out[i, 2] = np.nan
+        for k in (0, 1):
+            e0, e1 = E[i, k], E[i, k + 1]
+            f0 = math.hypot(le[i, k, 0], le[i, k, 1]) - D
+            f1 = math.hypot(le[i, k + 1, 0], le[i, k + 1, 1]) - D
+            ok = math.isfinite(f0) and math.isfinite(f1) and e1 != e0 and f0 * f1 <= 0 and (f1 > f0) == low[i]
+            if not ok:
+                continue
+            t = f0 / (f0 - f1 if f0 != f1 else 1.0)
+            x = le[i, k, 0] + t * (le[i, k + 1, 0] - le[i, k, 0])
+            y = le[i, k, 1] + t * (le[i, k + 1, 1] - le[i, k, 1])
+            out[i, 0] = e0 + t * (e1 - e0)
+            out[i, 1] = beta - math.atan2(y, x) * (180.0 / math.pi)
+            out[i, 2] = (f1 - f0) / (e1 - e0)
+            break
 
 
 def _solve_row(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, h: float, branch: str, split: float):
@@ -358,19 +385,13 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents
     A[..., 0] = np.where(none, np.clip(np.round((a_v - er.lo) / er.step) * er.step + er.lo, er.lo, er.hi), A[..., 0])
     keep[..., 0] |= none
     ri, mi, _ = np.nonzero(keep)
-    todo = [key for key in zip(ri.tolist(), speeds[mi].tolist(), A[keep].tolist()) if key not in flown]
-    if todo:
-        ri = np.array([t[0] for t in todo])
+    vv, aa = speeds[mi], A[keep]
+    todo = flown.new(ri, vv, aa)
+    if todo.any():
+        ri, vv, aa = ri[todo], vv[todo], aa[todo]
         b0 = np.array([r.b0 for r in rows])[ri]
-        tab = shoot5(
-            np.array([r.height for r in rows])[ri],
-            np.array([t[1] for t in todo]),
-            np.array([t[2] for t in todo]),
-            b0,
-            ask.q_spin_rpm,
-            ask.q_spin_axis_deg,
-        )
-        flown.add(ri, np.array([t[1] for t in todo]), np.array([t[2] for t in todo]), _polar(tab, P, b0), _info(tab))
+        tab = shoot5(np.array([r.height for r in rows])[ri], vv, aa, b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
+        flown.add(ri, vv, aa, _polar(tab, P, b0), _info(tab))
     return flown
 
 
