@@ -388,7 +388,14 @@ def run_serve(args) -> int:
         from tennislab.plot import plot_trajectories
 
         label = f"alpha {num(alpha, 1)}, beta {num(beta, 1)}"
-        save_figure(plot_trajectories([res.trajectory], [label], title=f"{player_words(res.player)} serve"), args.plot)
+        fl = physics_from_args(args).to_dict()
+        title = (
+            f"{player_words(res.player)} serve, α {num(alpha, 1)}°, β {num(beta, 1)}°: {num(res.speed * 3.6, 1)} km/h, "
+            f"{num(res.spin_rpm, 0)} rpm; {'IN' if res.success else f'FAULT ({res.verdict.reason})'} by "
+            f"{_criteria(res.criteria)}\n"
+            f"aero {fl['aero']}, air {fl['air_density']:g} kg/m³, ball {fl['mass'] * 1e3:g} g"
+        )
+        save_figure(plot_trajectories([res.trajectory], [label], title=title), args.plot)
     if args.json:
         extra = {} if racket is None else {"racket_for_ball": racket.to_dict()}
         emit_json({**res.to_dict(), **extra, **_physics_json(args)})

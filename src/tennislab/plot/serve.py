@@ -20,10 +20,11 @@ PLAYER_COLORS = {"professional": "tab:blue", "recreational": "tab:orange", "juni
 WINDOW_COLORS = ("#e6e6e6", "#1f77b4", "#2ca02c", "#ff9f1c")
 #: degrees shown around the successes of a window in its heat map
 WINDOW_PAD_DEG = 4.0
-#: Monte Carlo landing points by reason (:data:`tennislab.serve.REASON_CODES`): colour, label
+#: Monte Carlo landing points by reason (:data:`tennislab.serve.REASON_CODES`): colour, label (colours and
+#: the net's cross chosen apart from every surface's court colours: a hard court is blue, clay red-brown)
 MC_STYLE = {
     "in": ("#ffe600", "in"),
-    "net": ("#1565c0", "net (drawn where it would land)"),
+    "net": ("#ff6f00", "net (drawn where it would land)"),
     "short": ("#6d4c41", "short (before the net)"),
     "long": ("#d32f2f", "long"),
     "wide": ("#ab47bc", "wide"),
@@ -303,9 +304,14 @@ def plot_mc(res, max_points: int = 20000):
         if not m.any():
             continue
         color, label = MC_STYLE[name]
-        ax.plot(x[m], y[m], ".", ms=2, color=color, zorder=3 if name == "in" else 4)
+        marker, ms = ("x", 2.5) if name == "net" else (".", 2)
+        ax.plot(x[m], y[m], marker, ms=ms, mew=0.8, color=color, zorder=3 if name == "in" else 4)
         share = 100.0 * m.sum() / reason.size
-        handles.append(Line2D([], [], ls="", marker="o", ms=5, color=color, label=f"{label}: {share:.1f} %"))
+        handles.append(
+            Line2D(
+                [], [], ls="", marker="x" if name == "net" else "o", ms=5, color=color, label=f"{label}: {share:.1f} %"
+            )
+        )
     e = res.landing.get("ellipse_95")
     if e:
         mx, my = res.landing["mean"]
