@@ -96,8 +96,7 @@ def test_every_help_that_takes_alpha_and_beta_says_what_they_are(capsys, cmd):
         main([cmd, "--help"])
     out = " ".join(capsys.readouterr().out.split())
     assert "face normal" in out and "alpha" in out
-    if cmd != "impact":
-        assert "beta" in out and "below the horizontal" in out
+    assert "beta" in out and "below the horizontal" in out
 
 
 # ---------------------------------------------------------------- serve-window: the empty window, the spin classes

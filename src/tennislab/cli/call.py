@@ -26,6 +26,7 @@ from tennislab.cli.common import (
     figure_file,
     output_file,
     physics_from_args,
+    physics_words,
     save_figure,
     surface_from_arg,
 )
@@ -174,7 +175,7 @@ def _single(args, params) -> TrackCall:
     return call_detections(cams, det, **opts)
 
 
-def _print_single(res: TrackCall, plot: str | None) -> None:
+def _print_single(res: TrackCall, plot: str | None, physics: str = "") -> None:
     out = res.to_dict()
     b = out["bounce"]
     if b.get("x") is not None:
@@ -215,6 +216,8 @@ def _print_single(res: TrackCall, plot: str | None) -> None:
         print(f"later bounce (not called): x = {lb['x']:.3f} m, y = {lb['y']:.3f} m at t = {lb['t']:.3f} s")
     if "closed_form_error_mm" in out:
         print(f"closed form vs numeric: {out['closed_form_error_mm']:.1f} mm")
+    if physics:
+        print(physics)
     if plot:
         print(f"figure: {plot}")
 
@@ -295,6 +298,7 @@ def run(args) -> int:
             emit_json(rally)
         else:
             _print_rally(rally, args.csv, args.plot)
+            print(physics_words(params, args.physics_preset))
         return 0
     res = _single(args, params)
     if args.plot and res.mark_result is not None and res.decision is not None:
@@ -304,5 +308,5 @@ def run(args) -> int:
     if args.json:
         emit_json(res)
     else:
-        _print_single(res, args.plot)
+        _print_single(res, args.plot, physics_words(params, args.physics_preset))
     return 0

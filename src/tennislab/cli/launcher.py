@@ -28,6 +28,7 @@ from tennislab.cli.common import (
     atomic_write,
     emit_json,
     physics_from_args,
+    physics_words,
 )
 from tennislab.errors import InputError, escape_text
 from tennislab.io.drill import write_csv
@@ -202,6 +203,7 @@ def run_aim(args) -> int:
             f"  {o['solution']} solution: elevation {o['elevation_deg']:g} deg, heading {o['heading_deg']:g} deg, "
             f"miss {o['miss_mm']:.0f} mm, apex {o['apex_z_m']:.1f} m"
         )
+    print(f"  {physics_words(params, args.physics_preset)}")
     if args.plot:
         print(f"figure: {args.plot}")
     return 0

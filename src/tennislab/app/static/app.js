@@ -31,7 +31,11 @@ function spinAxisName(deg) {
   return `${Math.abs(a) < 90 ? "topspin" : "backspin"} and sidespin to the ${a > 0 ? "left" : "right"}`;
 }
 function $(sel) { return document.querySelector(sel); }
-function fmt(x, d = 2) { return (x === null || x === undefined || Number.isNaN(x)) ? "–" : Number(x).toFixed(d); }
+function fmt(x, d = 2) {
+  if (x === null || x === undefined || Number.isNaN(x)) return "–";
+  const s = Number(x).toFixed(d);
+  return /^-0(\.0+)?$/.test(s) ? s.slice(1) : s;   /* -0.00 is said 0.00 (plot.text.num) */
+}
 
 /* ---------- field validation (mirrors tennislab.app.fields.Field.parse and errors.check_range) ---------- */
 function fmtG(v) {            /* Python's format(v, "g") */
