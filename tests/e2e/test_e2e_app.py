@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import re
 import struct
 import urllib.error
 import urllib.request
@@ -595,6 +596,8 @@ def test_the_page_uses_its_width_and_labels_stay_readable(page):
         ):
             assert abs(canvas[0] - canvas[1]) <= 2, (name, canvas)  # a canvas is drawn at its shown size
         assert page.locator(f"#page-{name} .plot-legend .legend-entry").count() >= 3, name  # every marker named
+        shown = page.inner_text(f"#page-{name}")
+        assert not re.search(r"(?<![\d.])-0\.0+(?!\d)", shown), (name, "a negative zero is shown")
         page.snap(f"width-{name}")
 
 
