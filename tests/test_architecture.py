@@ -314,6 +314,74 @@ def test_the_command_line_loads_no_physics_to_parse():
     assert out.stdout.strip() == "", f"building the parser imported {out.stdout.strip()}"
 
 
+#: commands that run without a flight: they must load neither Numba nor SciPy (their arguments)
+_NO_FLIGHT_RUNS = (
+    ("launcher", "rollers", "--speed-kmh", "80"),
+    ("launcher", "power", "--speed-kmh", "80"),
+)
+
+#: a child process that asks every command for its --help (and runs the flightless commands), one after the
+#: other, and prints the first command after which a heavy library was loaded
+_HELP_PROBE = """
+import argparse, contextlib, io, os, sys
+os.environ["MPLBACKEND"] = "Agg"
+from tennislab.cli import build_parser, main
+
+HEAVY = ("numba", "scipy")
+def commands(p, path):
+    for a in p._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            for name, sub in a.choices.items():
+                yield path + [name]
+                yield from commands(sub, path + [name])
+
+todo = [c + ["--help"] for c in commands(build_parser(), [])] + [list(c) for c in RUNS]
+for argv in todo:
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+        main(argv)
+    heavy = [m for m in HEAVY if m in sys.modules]
+    if heavy:
+        print(" ".join(argv), "->", ",".join(heavy))
+        break
+print("checked", len(todo))
+"""
+
+
+def test_help_and_flightless_commands_load_no_numba_or_scipy():
+    """Every command's ``--help`` loads only what its text needs (the aero models' names from
+    ``core.names``, not the compiled models), and a command without a flight (``launcher rollers``,
+    ``launcher power``: the ball only) loads neither Numba nor SciPy.  One process asks them all in turn
+    (modules stay loaded, so the first command that loads one is named)."""
+    import subprocess
+    import sys
+
+    code = f"RUNS = {_NO_FLIGHT_RUNS!r}\n" + _HELP_PROBE
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    lines = out.stdout.strip().splitlines()
+    assert lines[-1].startswith("checked ") and int(lines[-1].split()[1]) > 30, out.stdout + out.stderr
+    assert len(lines) == 1, f"loaded a heavy library: {lines[0]}"
+
+
+@pytest.mark.slow
+def test_the_command_lines_static_names_are_the_registries():
+    """The names a command line lists without importing their modules (so that --help loads no
+    compiled kernel) are the registries' own."""
+    from tennislab import core, serve
+    from tennislab.calibrate import registered_models
+    from tennislab.cli.calibrate import _models_help
+    from tennislab.cli.impact import IMPACT_CHOICES
+    from tennislab.cli.report import SECTION_KEYS
+    from tennislab.report import SECTION_KEYS as report_keys
+
+    assert IMPACT_CHOICES == {
+        "impact_scheme": tuple(serve.IMPACT_SCHEMES),
+        "friction_model": tuple(core.FRICTION_MODELS),
+        "tangential_damping": tuple(core.TANGENTIAL_DAMPING),
+    }
+    assert SECTION_KEYS == report_keys
+    assert _models_help().endswith(f"(default all: {', '.join(registered_models())})")
+
+
 #: functions that compute the flight's equations of motion: only core/dynamics.py may define them
 _RHS_NAMES = ("derivative", "rhs", "_rhs", "deriv", "_deriv", "accel", "_accel", "eom", "_eom")
 #: (module, function) of right-hand sides of other physics (the racket-ball contact), not the flight's

@@ -29,15 +29,16 @@ from tennislab.errors import InputError
 
 
 def _default_aero() -> str:
-    from tennislab.core import DEFAULT_AERO
+    from tennislab.core.names import DEFAULT_AERO
 
     return DEFAULT_AERO
 
 
-def _models_help() -> str:
-    from tennislab.calibrate import registered_models
+def _models_help() -> str:  # tennislab.calibrate.registered_models() from the names alone: no aero kernel compiled
+    from tennislab.core.names import AERO_ALIASES, AERO_MODEL_NAMES
 
-    return f"comma-separated aero models (default all: {', '.join(registered_models())})"
+    models = [n for n in AERO_MODEL_NAMES if n not in AERO_ALIASES and n != "table"]
+    return f"comma-separated aero models (default all: {', '.join(models)})"
 
 
 def _physics_flags(p) -> None:

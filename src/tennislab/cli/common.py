@@ -30,6 +30,7 @@ from tennislab.io.files import atomic_write, check_output_dir, check_output_path
 from tennislab.plot import FIGURE_SUFFIXES, save_figure
 
 if TYPE_CHECKING:
+    from tennislab.core.ball import Ball
     from tennislab.core.flight import FlightParams
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "add_physics_flags",
     "add_speed_flags",
     "atomic_write",
+    "ball_from_args",
     "check_io",
     "checked_floats",
     "emit_json",
@@ -257,14 +259,14 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
     g = p.add_argument_group("physics")
 
     def preset_value(key: str, value: object) -> object:
-        from tennislab.core.flight import PRESETS
+        from tennislab.core.names import PRESETS
 
         return PRESETS[preset].get(key, value)
 
-    def aero_help() -> str:
-        from tennislab.core.aero import DEFAULT_AERO, aero_model_names
+    def aero_help() -> str:  # the built-in names (core.names): no aero kernel compiled to show the help
+        from tennislab.core.names import AERO_MODEL_NAMES, DEFAULT_AERO
 
-        return f"aero model: {', '.join(aero_model_names())} (default {preset_value('aero', DEFAULT_AERO)})"
+        return f"aero model: {', '.join(AERO_MODEL_NAMES)} (default {preset_value('aero', DEFAULT_AERO)})"
 
     def with_default(text: str, key: str, value: float) -> LazyHelp:
         return LazyHelp(lambda: f"{text} (default {preset_value(key, value)})")
@@ -397,6 +399,15 @@ def physics_from_args(args) -> FlightParams:
     from tennislab.core.flight import FlightParams
 
     return FlightParams.from_options(preset=getattr(args, "physics_preset", "standard"), **physics_options(args))
+
+
+def ball_from_args(args) -> Ball:
+    """The ball of the physics flags ``--mass`` / ``--radius`` on top of the command's preset, the one
+    :func:`physics_from_args` would build, without the flight physics (no aero model, no Numba)."""
+    from tennislab.core.ball import Ball
+
+    preset = getattr(args, "physics_preset", "standard")
+    return Ball.from_options(mass=getattr(args, "mass", None), radius=getattr(args, "radius", None), preset=preset)
 
 
 def emit_json(obj) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from tennislab.cli.common import LazyChoices, LazyHelp, emit_json, figure_file, save_figure
+from tennislab.cli.common import LazyHelp, emit_json, figure_file, save_figure
 
 if TYPE_CHECKING:
     from tennislab.core import ImpactParams
@@ -32,7 +32,7 @@ def add_impact_flags(p) -> None:
     g.add_argument(
         "--impact-scheme",
         default="converged",
-        choices=LazyChoices(_impact_schemes),
+        choices=IMPACT_CHOICES["impact_scheme"],
         help="converged (default: the physical model, converged integration) or seed-literal (the paper's "
         "equations read literally: friction clamp, eq-6 damper with the ball's mass, racket starting 0.02 m "
         "behind the ball, Euler at 1e-4 s); the flags below override single parts",
@@ -40,14 +40,14 @@ def add_impact_flags(p) -> None:
     g.add_argument(
         "--friction-model",
         default=None,
-        choices=LazyChoices(_friction_models),
+        choices=IMPACT_CHOICES["friction_model"],
         help="stick-slip rule: elastoplastic (never creates energy) or seed-clamp (the paper's eq 20 read "
         "literally: the force is clamped while the spring keeps stretching; can create energy)",
     )
     g.add_argument(
         "--tangential-damping",
         default=None,
-        choices=LazyChoices(_tangential_damping),
+        choices=IMPACT_CHOICES["tangential_damping"],
         help="tangential damper: oscillator (restitutes 1.04 x COR, as the paper states) or ball (the paper's "
         "eq 6 with the ball's mass and contact time)",
     )
@@ -83,22 +83,14 @@ def _ball_model_help() -> str:
     )
 
 
-def _impact_schemes() -> tuple[str, ...]:
-    from tennislab.serve import IMPACT_SCHEMES
-
-    return tuple(IMPACT_SCHEMES)
-
-
-def _friction_models() -> tuple[str, ...]:
-    from tennislab.core import FRICTION_MODELS
-
-    return tuple(FRICTION_MODELS)
-
-
-def _tangential_damping() -> tuple[str, ...]:
-    from tennislab.core import TANGENTIAL_DAMPING
-
-    return tuple(TANGENTIAL_DAMPING)
+#: The names the impact flags accept, as the command line lists them without loading the impact's
+#: compiled kernels: the keys of :data:`tennislab.serve.IMPACT_SCHEMES`, :data:`tennislab.core.FRICTION_MODELS`
+#: and :data:`tennislab.core.TANGENTIAL_DAMPING` (tests/test_architecture.py checks that they are).
+IMPACT_CHOICES: dict[str, tuple[str, ...]] = {
+    "impact_scheme": ("converged", "seed-literal"),
+    "friction_model": ("elastoplastic", "seed-clamp"),
+    "tangential_damping": ("oscillator", "ball"),
+}
 
 
 def impact_from_args(args, ball) -> tuple[ImpactParams, str, float]:

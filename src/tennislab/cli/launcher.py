@@ -26,6 +26,7 @@ from tennislab.cli.common import (
     add_output_flags,
     add_physics_flags,
     atomic_write,
+    ball_from_args,
     emit_json,
     physics_from_args,
     physics_words,
@@ -216,7 +217,7 @@ def _checked_speed_spin(args):
 
 
 def run_rollers(args) -> int:
-    params = physics_from_args(args)
+    ball = ball_from_args(args)  # the ball only: no flight physics (no Numba)
     spec = spec_from_args(args)
     v, w = _checked_speed_spin(args)
     kw = {}
@@ -226,7 +227,7 @@ def run_rollers(args) -> int:
         kw["young_modulus"] = args.young_modulus_mpa * 1e6
     if args.contact_area_m2 is not None:
         kw["contact_area"] = args.contact_area_m2
-    rep = roller_report(v, w, spec, params.ball, **kw)
+    rep = roller_report(v, w, spec, ball, **kw)
     out = rep.to_dict()
     if args.json:
         emit_json(out)
@@ -248,7 +249,7 @@ def run_rollers(args) -> int:
 
 
 def run_power(args) -> int:
-    params = physics_from_args(args)
+    ball = ball_from_args(args)  # the ball only: no flight physics (no Numba)
     spec = spec_from_args(args)
     v, w = _checked_speed_spin(args)
     rep = power_report(
@@ -258,7 +259,7 @@ def run_power(args) -> int:
         DEFAULT_MOTOR_POWER if args.motor_power is None else args.motor_power,
         DEFAULT_THROW_TIME if args.throw_time is None else args.throw_time,
         spec,
-        params.ball,
+        ball,
         slip=args.slip,
     )
     out = rep.to_dict()

@@ -4,16 +4,13 @@ from __future__ import annotations
 
 import argparse
 
-from tennislab.cli.common import LazyChoices, LazyHelp
 from tennislab.cli.config import load_player_file
 from tennislab.errors import InputError
 from tennislab.io.files import check_output_dir, check_output_path
 
-
-def _section_keys() -> tuple[str, ...]:
-    from tennislab.report import SECTION_KEYS
-
-    return SECTION_KEYS
+#: The report's sections as ``--section`` accepts them, without importing the sections (and the physics
+#: they run): :data:`tennislab.report.SECTION_KEYS` (tests/test_architecture.py checks that they are).
+SECTION_KEYS = ("serve-windows", "peak-spin", "optimum-serves", "line-calling", "launcher-drill", "flight")
 
 
 def _out_path(value: str) -> str:
@@ -53,8 +50,8 @@ def register(sub) -> None:
         "--section",
         action="append",
         metavar="KEY",
-        choices=LazyChoices(_section_keys),
-        help=LazyHelp(lambda: f"build only this section (repeatable); keys: {', '.join(_section_keys())}"),
+        choices=SECTION_KEYS,
+        help=f"build only this section (repeatable); keys: {', '.join(SECTION_KEYS)}",
     )
     p.add_argument(
         "--strict",

@@ -10,7 +10,7 @@ The primitives every workflow composes (docs/architecture.md shows which uses wh
   right-hand side is :mod:`~tennislab.core.dynamics`, the events :mod:`~tennislab.core.events`;
 * the ball, the air and the court: :class:`Ball`, :class:`Atmosphere`, :class:`Court` /
   :data:`ITF_COURT`; aero models by name (:func:`get_aero_model`, :func:`register_aero`,
-  :data:`DEFAULT_AERO`);
+  :data:`DEFAULT_AERO`; the names as plain data, for a help text: :mod:`~tennislab.core.names`);
 * the launch vocabulary (:mod:`~tennislab.core.launch`): speeds, angles and spin axes to vectors and back;
 * the bounce: :func:`bounce` / :func:`bounce_batch` on a :class:`Surface` (:func:`get_surface`), a flight
   through bounces (:func:`fly_bounces`) and the ball's mark (:func:`ball_mark`);
@@ -29,7 +29,6 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.core.aero import (
-        DEFAULT_AERO,
         AeroModel,
         aero_model_names,
         callable_model,
@@ -45,7 +44,6 @@ if TYPE_CHECKING:
         MAX_DISTANCE_M,
         MAX_SPEED_MS,
         MAX_SPIN_RPM,
-        PRESETS,
         FlightParams,
         FlightTable,
         Trajectory,
@@ -71,10 +69,13 @@ if TYPE_CHECKING:
         spin_axis_angle,
     )
     from tennislab.core.mark import BallMark, MarkParams, ball_mark
+    from tennislab.core.names import AERO_ALIASES, AERO_MODEL_NAMES, DEFAULT_AERO, PRESETS
     from tennislab.core.rally import Bounce, Rally, fly_bounces
     from tennislab.core.surfaces import Surface, get_surface, register_surface, surface_names
 
 __all__ = [
+    "AERO_ALIASES",
+    "AERO_MODEL_NAMES",
     "DEFAULT_AERO",
     "DEFAULT_NET",
     "FRICTION_MODELS",

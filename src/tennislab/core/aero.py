@@ -70,6 +70,7 @@ from numba import types
 from numba.extending import overload
 
 from tennislab.core._jit import JIT, JIT_DYNAMIC
+from tennislab.core.names import DEFAULT_AERO  # the default model (stated there, for --help)
 from tennislab.errors import InputError, check_range
 
 #: Numba signature of every aero kernel: (v [m/s], w [rad/s], r [m], params) -> (C_D, C_L)
@@ -320,10 +321,6 @@ def _curves_kernel(v, w, r, p):
 
 
 # ---------------------------------------------------------------- registry
-#: The default aero model of every command and workflow (stated here only; see docs/validation.md
-#: for the evidence behind the choice).
-DEFAULT_AERO = "choppin2018"
-
 _REGISTRY: dict[str, Callable[..., AeroModel]] = {}
 
 

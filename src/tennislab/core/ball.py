@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from tennislab.errors import check_range
+from tennislab.errors import InputError, check_range
 
 ITF_MASS_RANGE = (0.0560, 0.0594)  #: [kg] ITF Rules, Appendix I
 ITF_DIAMETER_RANGE = (0.0654, 0.0686)  #: [m] type 2 ball, ITF Rules, Appendix I
@@ -75,3 +75,18 @@ class Ball:
         return (
             ITF_MASS_RANGE[0] <= self.mass <= ITF_MASS_RANGE[1] and ITF_DIAMETER_RANGE[0] <= d <= ITF_DIAMETER_RANGE[1]
         )
+
+    @classmethod
+    def from_options(cls, mass=None, radius=None, inertia_factor=None, preset: str = "standard") -> Ball:
+        """The ball :meth:`FlightParams.from_options` builds from the same options: the ball of
+        ``preset`` (:data:`tennislab.core.names.PRESETS`), each option that is not ``None`` overriding
+        it.  It builds no flight physics (no aero model, no compiled kernel): for a computation that
+        needs only the ball (the launcher's rollers and power)."""
+        from tennislab.core.names import PRESETS
+
+        if preset not in PRESETS:
+            raise InputError(f"preset: unknown physics preset {preset!r}; allowed: {', '.join(sorted(PRESETS))}")
+        given = {"mass": mass, "radius": radius, "inertia_factor": inertia_factor}
+        kw = {k: v for k, v in PRESETS[preset].items() if k in given}
+        kw.update({k: v for k, v in given.items() if v is not None})
+        return cls(**kw)

@@ -64,6 +64,7 @@ from tennislab.core.integrators import (
     serial_kernel,
     serial_kernel_fp,
 )
+from tennislab.core.names import PRESETS  # the named base sets (plain data, for --help)
 from tennislab.errors import InputError, check_range, check_vector
 from tennislab.results import OldAsDict
 from tennislab.units import RPM
@@ -85,16 +86,6 @@ MAX_DISTANCE_M = 1000.0
 MAX_STEPS = 100_000
 #: Most evaluations of the right-hand side in one :func:`fly_dense` (a flight takes ~1,000-3,000 at rtol 1e-10)
 MAX_RHS_EVALS = 200_000
-
-#: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
-#: keep the dataclass defaults: ITF type-2 ball, ISA sea-level moist air, DEFAULT_AERO).
-PRESETS: dict[str, dict] = {
-    "standard": {},
-    # seed 000 sec. 2.3: rho 1.22 kg/m^3, g 9.82 m/s^2, r 0.033 m, m 0.059 kg; Stepanek 1988 aero (eqs 3-4)
-    "seed000": {"aero": "stepanek1988", "mass": 0.059, "radius": 0.033, "air_density": 1.22, "gravity": 9.82},
-    # seed 002 eqs 1, 3 (Wojcicki et al. 2010): constant c_d, Magnus linear in spin
-    "seed002": {"aero": "launcher2015"},
-}
 
 
 @dataclass(frozen=True)
