@@ -314,6 +314,36 @@ def test_the_command_line_loads_no_physics_to_parse():
     assert out.stdout.strip() == "", f"building the parser imported {out.stdout.strip()}"
 
 
+def test_help_and_version_load_no_numpy():
+    """``tennislab --help`` and ``--version`` import no command's module: the top-level parser names
+    the commands from ``cli/_commands.py`` (no NumPy, let alone the physics)."""
+    import subprocess
+    import sys
+
+    for flag in ("--help", "--version"):
+        code = (
+            "import contextlib, io, sys\nfrom tennislab.cli import main\n"
+            f"with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit): main([{flag!r}])\n"
+            "print(','.join(m for m in ('numpy', 'scipy', 'numba', 'matplotlib', 'pandas') if m in sys.modules))"
+        )
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+        assert out.stdout.strip() == "", f"tennislab {flag} imported {out.stdout.strip()}"
+
+
+def test_the_command_table_is_what_the_modules_register():
+    """``cli/_commands.py`` names every command with the help and the module that registers it: the
+    top-level help without any command built is the full parser's, and a parser built for one command
+    has that command's full parser (a command added or renamed in a module: add it to the table)."""
+    from tennislab.cli._commands import COMMANDS
+    from tennislab.cli._main import _subparsers, build_parser
+
+    full = build_parser()
+    assert list(_subparsers(full)) == list(COMMANDS), "cli/_commands.py lists other commands than the modules"
+    assert build_parser(commands=()).format_help() == full.format_help()
+    for name, sub in _subparsers(full).items():
+        assert _subparsers(build_parser(commands=(name,)))[name].format_help() == sub.format_help(), name
+
+
 #: commands that run without a flight: they must load neither Numba nor SciPy (their arguments)
 _NO_FLIGHT_RUNS = (
     ("launcher", "rollers", "--speed-kmh", "80"),

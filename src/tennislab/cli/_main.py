@@ -27,9 +27,11 @@ import os
 import pkgutil
 import re
 import sys
+from collections.abc import Collection
 
 from tennislab import __version__
 from tennislab.cli import config as cfgmod
+from tennislab.cli._commands import COMMANDS
 from tennislab.cli.common import check_io, checked_floats
 from tennislab.errors import InputError, escape_text
 from tennislab.io.files import command_files
@@ -73,19 +75,31 @@ def _config_flags(p: argparse.ArgumentParser, top: bool) -> None:
     )
 
 
-def build_parser(config: cfgmod.Config | None = None) -> argparse.ArgumentParser:
-    """The full parser; with ``config``, its values are the defaults of the matching flags."""
+def build_parser(
+    config: cfgmod.Config | None = None, commands: Collection[str] | None = None
+) -> argparse.ArgumentParser:
+    """The full parser; with ``config``, its values are the defaults of the matching flags.
+
+    ``commands``: build only the groups of these commands (default: every group); each other command
+    is only named, with its help (:data:`~tennislab.cli._commands.COMMANDS`), as ``tennislab --help``
+    lists it, so that a command line imports only the module of the command it runs."""
     parser = _Parser(prog="tennislab", description="Physics of a tennis ball.")
     parser.add_argument("--version", action="version", version=f"tennislab {__version__}")
     _config_flags(parser, top=True)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    for mod in sorted(pkgutil.iter_modules([os.path.dirname(__file__)]), key=lambda m: m.name):
-        if mod.name.startswith("_") or mod.name in _NOT_COMMANDS:
-            continue
-        module = importlib.import_module(f"tennislab.cli.{mod.name}")
-        if hasattr(module, "register"):
-            module.register(sub)
+    if commands is None:
+        for mod in sorted(pkgutil.iter_modules([os.path.dirname(__file__)]), key=lambda m: m.name):
+            if not mod.name.startswith("_") and mod.name not in _NOT_COMMANDS:
+                _register(sub, mod.name)
+    else:
+        wanted = {COMMANDS[c][0] for c in commands if c in COMMANDS}
+        for name, (module, text) in COMMANDS.items():
+            if module in wanted:  # the whole group, in the place of its first command
+                wanted.discard(module)
+                _register(sub, module)
+            elif name not in sub.choices:
+                sub.add_parser(name, help=text, add_help=False)  # named only (its flags: when it runs)
     for p in list(cfgmod._walk(parser))[1:]:
         if not _subparsers(p):  # leaf commands accept --config too
             _config_flags(p, top=False)
@@ -93,6 +107,20 @@ def build_parser(config: cfgmod.Config | None = None) -> argparse.ArgumentParser
     if config is not None:
         cfgmod.apply_defaults(parser, config)
     return parser
+
+
+def _register(sub, module: str) -> None:
+    mod = importlib.import_module(f"tennislab.cli.{module}")
+    if hasattr(mod, "register"):
+        mod.register(sub)
+
+
+def _command_of(argv: list[str]) -> tuple[str, ...]:
+    """The command ``argv`` runs, found as the full parse finds it, by a parser that names every command
+    without building any: ``tennislab --help`` and a usage error before the command end here, having
+    imported no command's module."""
+    known, _ = build_parser(commands=()).parse_known_args(argv)
+    return (known.command,)
 
 
 def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
@@ -242,7 +270,7 @@ def _main(argv) -> int:
             print(f"tennislab: error: {_one_line(msg).replace('config: ', '--config: ', 1)}", file=sys.stderr)
             return 2
         cfg = cfgmod.Config()
-    parser = build_parser(cfg)
+    parser = build_parser(cfg, commands=_command_of(argv))  # only the group of the command run
     args = parser.parse_args(argv)
     args.config_defaults = cfg.flag_defaults()
     command = _command_name(args)
