@@ -111,6 +111,12 @@ def _window():
     return window("pro", step=10)
 
 
+def _ball_window():
+    from tennislab.serve import BallLaunch, ball_window
+
+    return ball_window("pro", BallLaunch(50.0, 2500.0, -5.0), step=2.0)
+
+
 def _windows():
     from tennislab.serve import windows
 
@@ -219,6 +225,7 @@ FACTORIES = {
     "ServeResult": pytest.param(_serve),
     "ServeWindow": pytest.param(_window),
     "ServeWindows": pytest.param(_windows, marks=slow),
+    "BallWindow": pytest.param(_ball_window),
     "MonteCarloResult": pytest.param(_mc),
     "ImpactSummary": pytest.param(_impact),
     "TrackCall": pytest.param(lambda: _track_call("serve_t_line.csv", target="deuce-box")),
