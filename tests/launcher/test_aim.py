@@ -317,3 +317,13 @@ def test_a_flat_drives_miss_is_the_steps_limit_not_the_searchs():
         best = min(best, float(miss[clear].min()))
     assert r.miss_mm > 50.0  # the steps' limit for a flat ball (docs/launcher.md)
     assert r.miss_mm <= best * 1e3 + 0.01
+
+
+def test_searched_height_finds_the_slow_long_flight_of_a_flat_drive():
+    """A flat drive's worst target: the nearest on-step landing is the slowest allowed speed (the longest flight,
+    the most sidespin drift across) at the lowest height; searching the height finds it (it found only the
+    speeds nearest the asked one at the other heights: 103.1 mm instead of 100.7 mm)."""
+    low = aim((6.5, -3.5), 90, 300, 0, 0.1)
+    free = aim((6.5, -3.5), 90, 300, 0)
+    assert free.miss_mm <= low.miss_mm + 0.01
+    assert free.miss_mm <= aim((6.5, -3.5), 90, 300, 0, 1.0).miss_mm + 0.01

@@ -56,7 +56,7 @@ PER_REFINE = 4  #: new spins flown per refined candidate
 CLEARING = 8  #: parents that clear the net flown as they are, for a branch no candidate of which does
 ROUNDS = 1  #: refinement rounds (the spin is nearly linear: one round rarely moves the answer)
 #: Speeds, extra elevation and heading steps per row: of the asked (or the reference) height (False), of every
-#: other height when the height is searched (True: 30 rows a branch)
+#: other height when the height is searched (True: 30 rows a branch; with the slowest of the False speeds too)
 SPEEDS = {False: 7, True: 3}
 ELEVATION_EXTRA = {False: 2, True: 0}
 HEADING_EXTRA = {False: 1, True: 0}
@@ -358,7 +358,9 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents
     P = np.asarray(spec.position, float)
     beta = math.degrees(math.atan2(ask.target[1] - P[1], ask.target[0] - P[0]))
     speeds = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[False])
-    few = speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[True])
+    # the other heights: the speeds nearest the asked one, and the slowest, whose longer flight lets a sidespin
+    # move the bounce farthest across (where the heading's steps leave a flat ball's worst misses)
+    few = np.union1d(speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[True]), speeds.min())
     extra = ELEVATION_EXTRA[False]
     full = _full_rows(ask, rows)  # the asked (or reference) height: the whole neighbourhood
     vq = ask.q_speed_kmh
@@ -484,10 +486,6 @@ class Predicted:
             return getattr(self, name)[idx]
         return self.entries[name][idx // self.k]
 
-    def spread(self, per_entry: np.ndarray) -> np.ndarray:
-        """A mask of the entries as a mask of their candidates."""
-        return np.repeat(per_entry, self.k)
-
 
 _KEY_FIELDS = ("height", "speed", "elevation", "heading", "spin", "spin_axis")
 
@@ -546,15 +544,18 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     fin = np.isfinite(pr.pred)
     parent_ok = _parent_ok(pr.entries["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    pools = [(fin, TOP), (fin & pr.spread(parent_ok), TOP // 2)]
+    every = np.ones(branch.size, bool)
+    pools = [(every, TOP), (parent_ok, TOP // 2)]  # masks of the entries
     if ask.height_free:
         ref = _full_rows(ask, rows)[rows_e]
-        pools += [(fin & pr.spread(ref), TOP), (fin & pr.spread(ref & parent_ok), TOP // 2)]
+        pools += [(ref, TOP), (ref & parent_ok, TOP // 2)]
     ranked = []
+    variant = np.arange(pr.k)
     for name in ("low", "high"):
-        on = pr.spread(branch == name)
+        on = branch == name
         for mask, top in pools:
-            idx = np.flatnonzero(mask & on)
+            idx = (np.flatnonzero(mask & on)[:, None] * pr.k + variant).reshape(-1)  # their candidates, in order
+            idx = idx[fin[idx]]
             if idx.size > 8 * top:  # the best few first (a partition), then in order
                 idx = idx[np.argpartition(pr.pred[idx], 8 * top)[: 8 * top]]
             ranked.append((idx[np.argsort(pr.pred[idx], kind="stable")], top))
