@@ -1,16 +1,20 @@
 """Benchmark: start-up of the ``tennislab`` command (target: ``--help`` and ``--version`` under 0.5 s).
 
 Every command used to load pyplot, SciPy and every Numba kernel before parsing its flags
-(``tennislab --version``: 3.7-4.7 s and 245 MB).  Now building the parser loads no physics: each
-command imports what it uses when it runs.  This times whole processes (start-up included), each
-command against two baselines measured in the same run, interleaved run by run so that a loaded
-machine moves both: ``python -c pass`` (the interpreter) and ``python -c "import numpy"`` (the one
-library the parser's modules load).  It prints the median CPU and wall time of each and their ratios,
-and which of the heavy libraries (SciPy, Numba, Matplotlib, pandas) each command loaded
-(``-X importtime``): ``--help`` and ``--version`` load none, ``fly`` no Matplotlib, SciPy-free
-commands no SciPy.
+(``tennislab --version``: 3.7-4.7 s and 245 MB).  Now the top-level parser names the commands from a
+table (``cli/_commands.py``: ``--help`` and ``--version`` load no NumPy), a command line builds only
+the group of the command it runs, a help text lists names kept as plain data (``core.names``: no
+aero kernel compiled to show them), and a command without a flight (``launcher rollers``, ``launcher
+power``) builds only the ball.
 
-Usage:  python benchmarks/bench_startup.py [--runs 7]
+This times whole processes (start-up included): ``--version``, ``--help``, every command's ``--help``,
+``launcher rollers`` and ``launcher power`` (and one ``fly`` for scale), each against two baselines
+measured in the same run, interleaved run by run so that a loaded machine moves them all alike:
+``python -c pass`` (the interpreter) and ``python -c "import numpy"``.  It prints the median wall and
+CPU time of each, its CPU time as a multiple of each baseline's, and which of the heavy libraries
+(NumPy, SciPy, Numba, Matplotlib, pandas) it imported (read from ``python -X importtime``).
+
+Usage:  python benchmarks/bench_startup.py [--runs 5] [--only TEXT]
 """
 
 from __future__ import annotations
@@ -24,16 +28,37 @@ import sys
 import time
 
 PY = sys.executable
-HEAVY = ("scipy", "numba", "matplotlib", "pandas")
+HEAVY = ("numpy", "scipy", "numba", "matplotlib", "pandas")
 BASELINES = {"python -c pass": [PY, "-c", "pass"], "import numpy": [PY, "-c", "import numpy"]}
-COMMANDS = {
-    "tennislab --version": [PY, "-m", "tennislab", "--version"],
-    "tennislab --help": [PY, "-m", "tennislab", "--help"],
-    "tennislab fly --help": [PY, "-m", "tennislab", "fly", "--help"],
-    "tennislab launcher rollers": [PY, "-m", "tennislab", "launcher", "rollers", "--speed-kmh", "80"],
-    "tennislab fly": [PY, "-m", "tennislab", "fly", "--speed-kmh", "120", "--elevation-deg", "6"],
-}
+#: commands that run without a flight (their arguments), and one flight for scale
+RUNS = (
+    ("launcher", "rollers", "--speed-kmh", "80"),
+    ("launcher", "power", "--speed-kmh", "80"),
+    ("fly", "--speed-kmh", "120", "--elevation-deg", "6"),
+)
 ENV = {**os.environ, "MPLBACKEND": "Agg"}
+
+
+def command_paths() -> list[list[str]]:
+    """Every command and sub-command of the full parser (``["launcher", "rollers"]``, ...), in its order."""
+    from tennislab.cli import build_parser
+
+    def walk(parser, path):
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in dict(action.choices).items():
+                    yield path + [name]
+                    yield from walk(sub, path + [name])
+
+    return list(walk(build_parser(), []))
+
+
+def commands() -> dict[str, list[str]]:
+    """{label: argv} of every timed command."""
+    out = {"--version": ["--version"], "--help": ["--help"]}
+    out.update({" ".join(p) + " --help": [*p, "--help"] for p in command_paths()})
+    out.update({" ".join(r): list(r) for r in RUNS})
+    return {f"tennislab {k}": [PY, "-m", "tennislab", *v] for k, v in out.items()}
 
 
 def _run(cmd: list[str]) -> tuple[float, float]:
@@ -55,9 +80,11 @@ def heavy_imports(cmd: list[str]) -> list[str]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, default=7)
+    ap.add_argument("--runs", type=int, default=5, help="timed runs of each command (default 5)")
+    ap.add_argument("--only", metavar="TEXT", help="time only the commands whose label contains TEXT")
     args = ap.parse_args(argv)
-    every = {**BASELINES, **COMMANDS}
+    timed = {k: v for k, v in commands().items() if args.only is None or args.only in k}
+    every = {**BASELINES, **timed}
     for cmd in every.values():  # warm the file cache and Numba's on-disk cache
         _run(cmd)
     times: dict[str, list[tuple[float, float]]] = {k: [] for k in every}
@@ -68,11 +95,11 @@ def main(argv=None) -> int:
     base_w, base_c = med["python -c pass"]
     np_w, np_c = med["import numpy"]
     print(f"start-up, median of {args.runs} runs (load average {os.getloadavg()[0]:.1f})")
-    print(f"{'command':28s} {'wall s':>8s} {'cpu s':>7s} {'cpu/pass':>9s} {'cpu/numpy':>10s}  heavy imports")
+    print(f"{'command':44s} {'wall s':>7s} {'cpu s':>6s} {'cpu/pass':>8s} {'cpu/numpy':>9s}  imports")
     for name, (w, c) in med.items():
-        heavy = ", ".join(heavy_imports(every[name])) if name in COMMANDS else ""
-        print(f"{name:28s} {w:8.3f} {c:7.3f} {c / base_c:9.1f} {c / np_c:10.2f}  {heavy or '-'}")
-    print(f"(baselines: python -c pass {base_w:.3f} s wall, import numpy {np_w:.3f} s wall)")
+        heavy = ", ".join(heavy_imports(every[name])) if name in timed else ""
+        print(f"{name:44s} {w:7.2f} {c:6.2f} {c / base_c:8.1f} {c / np_c:9.2f}  {heavy or '-'}")
+    print(f"(baselines in this run: python -c pass {base_w:.2f} s wall, import numpy {np_w:.2f} s wall)")
     return 0
 
 

@@ -301,7 +301,7 @@ def test_the_backend_is_chosen_only_by_the_entry_points():
 
 
 def test_the_command_line_loads_no_physics_to_parse():
-    """Building every command's parser (``tennislab --help``) loads none of the heavy libraries: each
+    """Building every command's parser (``build_parser()``) loads none of the heavy libraries: each
     command imports what it uses when it runs (start-up timed by benchmarks/bench_startup.py)."""
     import subprocess
     import sys

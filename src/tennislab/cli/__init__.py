@@ -2,7 +2,7 @@
 
 Each module of this package with a ``register(subparsers)`` function adds its command group; they are
 discovered automatically (:func:`build_parser`), so that command groups stay independent, and each
-imports what its command uses only when it runs (``tennislab --help`` loads no physics).
+imports what its command uses only when it runs (``tennislab --help`` loads no NumPy: ``cli/_commands.py``).
 :func:`main` is the entry point; :func:`flag_message` turns a library error naming a parameter into
 one naming the command's flag.
 

@@ -1,7 +1,9 @@
 """The ``tennislab`` command line (:func:`main`): thin (parse, call, print).
 
 Each module of this package with a ``register(subparsers)`` function adds its command group; they
-are discovered automatically so that command groups stay independent.
+are discovered automatically so that command groups stay independent, and named in
+:data:`tennislab.cli._commands.COMMANDS` so that a command line builds (and imports) only the group of
+the command it runs (``tennislab --help`` and ``--version``: none).
 
 Before a command runs, the configuration (``--config FILE``, a global flag accepted anywhere on the
 line, else ``./tennislab.toml``; ``--no-config`` ignores it) gives its defaults and profiles
