@@ -32,8 +32,7 @@ def fly_chunk(
     subset (e.g. ``("land_x", "land_y", "status")``) to shrink the output.
     ``rtol``/``atol`` default to :func:`fly_batch`'s own defaults.
     """
-    tol = {k: v for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
-    table = fly_batch(chunk_states(chunk), params, parallel=parallel, **tol)
+    table = fly_batch(chunk_states(chunk), params, rtol=rtol, atol=atol, parallel=parallel)
     d = table.to_dict()
     if columns is not None:
         d = {k: d[k] for k in columns}

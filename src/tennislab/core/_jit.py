@@ -14,6 +14,15 @@ given.
 
 from __future__ import annotations
 
+import warnings
+
+from numba.core.errors import NumbaIRAssumptionWarning
+
+# The aero formulas are inlined into their callers' Numba IR (core.aero: so that LLVM vectorises the
+# lockstep kernel); Numba's internal pedantic check then reports the renamed variables of the inlined
+# branches as "not in scope" (its own note: an internal check, not a user error): silenced for these only.
+warnings.filterwarnings("ignore", message=r"variable '.*' is not in scope", category=NumbaIRAssumptionWarning)
+
 #: LLVM fast-math flags of every compiled kernel (Numba wants a ``set``)
 FASTMATH: set[str] = {"nsz", "arcp", "contract", "afn", "reassoc"}
 

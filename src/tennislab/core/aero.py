@@ -158,7 +158,9 @@ def _inlinable(kernel):
     name = "Inline" + kernel.py_func.__name__.title().replace("_", "") + "_" + _DIGEST
     cls = collections.namedtuple(name, ["unused"], module=__name__)
     globals()[name] = cls  # importable by name, hence picklable
-    _INLINE_KERNEL[cls] = kernel
+    # compiled callers get the formula inlined in Numba's IR (a call to the dispatcher stays a call,
+    # which keeps LLVM from vectorising the lockstep kernel's loops over shots)
+    _INLINE_KERNEL[cls] = nb.njit(**JIT, inline="always")(kernel.py_func)
     _INLINE_TAG[_kernel_key(kernel)] = cls(0.0)
     return kernel
 
@@ -183,7 +185,7 @@ def aero_coefficients(aero, v, w, r, p):
     return kernel(v, w, r, p)
 
 
-@overload(aero_coefficients)
+@overload(aero_coefficients, inline="always")
 def _aero_coefficients_compiled(aero, v, w, r, p):
     if isinstance(aero, types.BaseNamedTuple):
         kernel = _INLINE_KERNEL.get(aero.instance_class)
@@ -242,15 +244,16 @@ CAPPED_BATCH_TOL = 2e-8
 @nb.njit(AERO_SIGNATURE, **JIT)
 def _linear_lift_kernel(v, w, r, p):
     # C_D constant, C_L = c_l * r w / v (seed 002 eq 3), capped at p[2]
+    # (each value assigned once: the formula is inlined into compiled callers' IR)
     if v <= 0.0:
         return p[0], 0.0
-    cl = p[1] * r * w / v
+    lin = p[1] * r * w / v
     cap = p[2]
     if cap < math.inf:  # a smooth minimum of c_l S and the cap, zero at S = 0 (see _CAP_BLEND)
-        d = cap - cl
+        d = cap - lin
         e2 = _CAP_BLEND * _CAP_BLEND
-        cl = 0.5 * (cl + cap - math.sqrt(d * d + e2)) + 0.5 * (math.sqrt(cap * cap + e2) - cap)
-    return p[0], cl
+        return p[0], 0.5 * (lin + cap - math.sqrt(d * d + e2)) + 0.5 * (math.sqrt(cap * cap + e2) - cap)
+    return p[0], lin
 
 
 @nb.njit(**JIT, inline="always")

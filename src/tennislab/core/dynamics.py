@@ -39,6 +39,29 @@ _F = types.float64
 DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1], _F, _F, _F, _F, _F, _F, _F, _F)
 
 
+@nb.njit(**JIT, inline="always")
+def acceleration(vx, vy, vz, wx, wy, wz, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z):
+    """(ax, ay, az) [m/s^2] of a ball moving at (vx, vy, vz) spinning at (wx, wy, wz): the force law
+    of :func:`derivative` on scalars (the one statement of it; the lockstep kernel of
+    :mod:`tennislab.core.lockstep` evaluates it lane by lane)."""
+    ux = vx - wind_x
+    uy = vy - wind_y
+    uz = vz - wind_z
+    u = math.sqrt(ux * ux + uy * uy + uz * uz)
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    cd, cl = aero_coefficients(aero, u, w, r, aero_p)
+    d = -kd * cd * u
+    ax = d * ux
+    ay = d * uy
+    az = d * uz - g
+    if w > 0.0 and u > 0.0:
+        f = kl * cl * u / w
+        ax += f * (wy * uz - wz * uy)
+        ay += f * (wz * ux - wx * uz)
+        az += f * (wx * uy - wy * ux)
+    return ax, ay, az
+
+
 @nb.njit(**JIT)
 def derivative(y, out, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z, decay):
     """Fill ``out`` with dy/dt.
@@ -57,24 +80,10 @@ def derivative(y, out, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z, decay
     wind_x, wind_y, wind_z : wind velocity [m/s]
     decay : spin-decay rate lambda [1/s]
     """
-    ux = y[3] - wind_x
-    uy = y[4] - wind_y
-    uz = y[5] - wind_z
     wx = y[6]
     wy = y[7]
     wz = y[8]
-    u = math.sqrt(ux * ux + uy * uy + uz * uz)
-    w = math.sqrt(wx * wx + wy * wy + wz * wz)
-    cd, cl = aero_coefficients(aero, u, w, r, aero_p)
-    d = -kd * cd * u
-    ax = d * ux
-    ay = d * uy
-    az = d * uz - g
-    if w > 0.0 and u > 0.0:
-        f = kl * cl * u / w
-        ax += f * (wy * uz - wz * uy)
-        ay += f * (wz * ux - wx * uz)
-        az += f * (wx * uy - wy * ux)
+    ax, ay, az = acceleration(y[3], y[4], y[5], wx, wy, wz, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z)
     out[0] = y[3]
     out[1] = y[4]
     out[2] = y[5]

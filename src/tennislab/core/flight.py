@@ -64,6 +64,13 @@ from tennislab.core.integrators import (
     serial_kernel,
     serial_kernel_fp,
 )
+from tennislab.core.lockstep import (
+    lockstep_kernel,
+    lockstep_kernel_fp,
+    lockstep_serial_kernel,
+    lockstep_serial_kernel_fp,
+    lockstep_suits,
+)
 from tennislab.core.names import PRESETS  # the named base sets (plain data, for --help)
 from tennislab.errors import InputError, check_range, check_vector
 from tennislab.results import OldAsDict
@@ -648,6 +655,22 @@ class FlightTable(OldAsDict):
         return {c: self.data[:, i] for i, c in enumerate(COLUMNS)}
 
 
+#: the flight kernels of :func:`fly_batch`
+KERNELS = ("auto", "lockstep", "per-shot")
+_KERNELS = {
+    (True, True): lockstep_kernel,
+    (True, False): lockstep_serial_kernel,
+    (False, True): batch_kernel,
+    (False, False): serial_kernel,
+}
+_KERNELS_FP = {
+    (True, True): lockstep_kernel_fp,
+    (True, False): lockstep_serial_kernel_fp,
+    (False, True): batch_kernel_fp,
+    (False, False): serial_kernel_fp,
+}
+
+
 def fly_batch(
     states,
     params: FlightParams | None = None,
@@ -655,6 +678,7 @@ def fly_batch(
     rtol: float | None = None,
     atol: float | None = None,
     parallel: bool = True,
+    kernel: str = "auto",
 ) -> FlightTable:
     """Integrate N flights (states (N, 9): position, velocity, spin) to first ground contact.
 
@@ -664,6 +688,14 @@ def fly_batch(
     0.01 mm of the reference :func:`fly_dense` at rtol 1e-10 for serves, groundstrokes
     and lobs with up to 6000 rpm about any axis, for every built-in aero model
     (docs/flight.md; benchmarks/bench_flight_accuracy.py; tests/core/test_flight_accuracy.py).
+
+    ``kernel``: ``"lockstep"`` advances the shots :data:`~tennislab.core.lockstep.LANES` at a time
+    in SIMD lanes (:mod:`tennislab.core.lockstep`), ``"per-shot"`` one after the other
+    (:func:`~tennislab.core.integrators.integrate_one`, its reference); both give the same table to
+    round-off (1e-9 m for the smooth models).  ``"auto"`` (default) takes the lockstep kernel where it
+    is faster (:func:`~tennislab.core.lockstep.lockstep_suits`: tennislab's smooth formulas, compiled
+    into it; docs/benchmarks.md) and the per-shot one otherwise (a user's kernel, called through a
+    pointer that no SIMD lane can share; the table and curve models, whose cell search is a loop).
 
     Rows outside the physical range are not refused but marked (``status``, see
     :class:`FlightTable`), so that one bad row never stops millions of good ones;
@@ -683,11 +715,16 @@ def fly_batch(
     if s.ndim != 2 or s.shape[1] != 9:
         raise InputError(f"states: expected an (N, 9) array, got shape {np.shape(states)}")
     out = np.empty((s.shape[0], NCOLS))
+    if kernel not in KERNELS:
+        raise InputError(f"kernel: unknown flight kernel {kernel!r}; allowed: {', '.join(KERNELS)}")
     tag = inline_tag(params.aero.kernel)
+    lockstep = kernel == "lockstep" or (kernel == "auto" and lockstep_suits(params.aero.kernel))
     if tag is not None:  # one of tennislab's models: its own compiled kernel, formula inlined
-        kern, aero = (batch_kernel if parallel else serial_kernel), tag
+        aero = tag
+        kern = _KERNELS[lockstep, bool(parallel)]
     else:  # any other kernel: the shared kernel, called through a pointer
-        kern, aero = (batch_kernel_fp if parallel else serial_kernel_fp), params.aero.kernel
+        aero = params.aero.kernel
+        kern = _KERNELS_FP[lockstep, bool(parallel)]
     kern(s, aero, params.aero.params, params.consts(rtol, atol), event_array(params.events()), out)
     return FlightTable(out, params.ball.radius)
 

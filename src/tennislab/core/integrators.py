@@ -209,9 +209,13 @@ def _aim_at(y, f, c, target, h):
     q + v tau + a tau^2 / 2 = target for the falling position component q = y[c]
     with the current velocity v = f[c] and acceleration a = f[c + 3].
     """
-    zz = y[c] - target
-    vz = f[c]
-    az = f[c + 3]
+    return aim_step(y[c] - target, f[c], f[c + 3], h)
+
+
+@nb.njit(**JIT, inline="always")
+def aim_step(zz, vz, az, h):
+    """:func:`_aim_at` from the distance ``zz`` to the target, the velocity ``vz`` and the
+    acceleration ``az`` of the component."""
     tau = -1.0
     if az < 0.0:
         disc = vz * vz - 2.0 * az * zz
@@ -284,6 +288,132 @@ def _finish_row(row, c, status, nsteps):
 
 
 @nb.njit(**JIT)
+def _aim_event(ev):
+    """Index of the first event that steps are aimed at (``EV_AIM``), or -1."""
+    for e in range(ev.shape[0]):
+        if ev[e, EV_AIM] != 0.0:
+            return e
+    return -1
+
+
+@nb.njit(**JIT)
+def start_flight(y, fcur, aero, aero_p, c, ev, row, evw):
+    """Check the launch ``y`` (9,), fill ``fcur`` with its slope and set up the events of ``evw``;
+    ``True`` if the flight is to be integrated, ``False`` if it ends at the start (``row`` finished:
+    a bad or out-of-range start, or a ball on the ground not going up).  Shared by the per-shot and
+    the lockstep kernel."""
+    r = c.radius
+    tgt = evw[0]
+    dirn = evw[1]
+    done = evw[2]
+    armed = evw[4]
+    when = evw[5]
+    for i in range(NCOLS):
+        row[i] = np.nan
+    for i in range(9):
+        if not math.isfinite(y[i]):
+            _finish_row(row, c, STATUS_BAD_START, 0)
+            return False
+    speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
+    spin = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8])
+    lim = c.max_position
+    if speed > c.max_speed or spin > c.max_spin or abs(y[0]) > lim or abs(y[1]) > lim or y[2] > lim:
+        _finish_row(row, c, STATUS_OUT_OF_RANGE, 0)
+        return False
+    derivative(y, fcur, aero, aero_p, c.k, c.k, c.gravity, r, c.wind_x, c.wind_y, c.wind_z, c.spin_decay)
+    side = -1.0 if y[0] < 0.0 else (1.0 if y[0] > 0.0 else -math.copysign(1.0, y[3]))
+    # ---- the events at the start (events.py: past -> at the start; on the target moving away -> armed)
+    stop_e = -1
+    for e in range(ev.shape[0]):
+        toward = ev[e, EV_DIRECTION] == TOWARD
+        dirn[e] = -side if toward else ev[e, EV_DIRECTION]
+        tgt[e] = ev[e, EV_TARGET] + ev[e, EV_RADII] * r * (side if toward else 1.0)
+        done[e] = 0.0
+        armed[e] = 0.0
+        when[e] = -1.0
+        ci = int(ev[e, EV_COMPONENT])
+        f0 = y[ci] - tgt[e]
+        if abs(f0) <= _ON_TARGET and dirn[e] * f0 <= 0.0 and dirn[e] * fcur[ci] < 0.0:
+            armed[e] = 1.0  # on its target (to round-off) and moving away: the crossing after the start
+            continue
+        if dirn[e] * f0 < 0.0:
+            continue
+        done[e] = 1.0
+        if _stops_at(ev, e, y[1], y[2], c):
+            if dirn[e] * f0 > 0.0:  # beyond an event that ends the flight: below the ground, inside the net
+                _finish_row(row, c, STATUS_BAD_START, 0)
+                return False
+            if stop_e < 0:
+                stop_e = e
+        elif ev[e, EV_STOP] != IF_NET:
+            _record_state(ev, e, 0.0, y, row)
+    if stop_e >= 0:
+        _record_state(ev, stop_e, 0.0, y, row)
+        _finish_row(row, c, int(ev[stop_e, EV_STATUS]), 0)
+        return False
+    return True
+
+
+@nb.njit(**JIT)
+def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
+    """The events within the accepted step [t, t + h] from ``y`` to ``ynew`` (stages ``K`` (7, 9)):
+    every crossing first, then the earliest that ends the flight; the crossings up to it recorded
+    in ``row``.  Returns the event that ends the flight, or -1."""
+    P = _P
+    tgt = evw[0]
+    dirn = evw[1]
+    done = evw[2]
+    theta = evw[3]
+    armed = evw[4]
+    when = evw[5]
+    n_ev = ev.shape[0]
+    th_stop = 2.0
+    stop_e = -1
+    ncross = 0
+    for e in range(n_ev):
+        if done[e] != 0.0:
+            continue
+        ci = int(ev[e, EV_COMPONENT])
+        d = dirn[e]
+        f1 = ynew[ci] - tgt[e]
+        if d * f1 < 0.0:
+            continue
+        f0 = y[ci] - tgt[e]
+        if armed[e] != 0.0:
+            th = _root_after_start(ci, tgt[e], d, y, K, h, P, f1)
+        elif d * f0 < 0.0:
+            th = _root(ci, tgt[e], y, K, h, P, f0, f1)
+        else:
+            continue
+        theta[e] = th
+        when[e] = nsteps
+        ncross += 1
+        if ev[e, EV_STOP] == ALWAYS:
+            stops = True
+        elif ev[e, EV_STOP] == IF_NET:
+            stops = _stops_at(ev, e, _dense_comp(th, 1, y, K, h, P), _dense_comp(th, 2, y, K, h, P), c)
+        else:
+            stops = False
+        if stops and th < th_stop:
+            th_stop = th
+            stop_e = e
+    if ncross > 0:
+        for e in range(n_ev):
+            if when[e] == nsteps and done[e] == 0.0 and theta[e] <= th_stop:
+                done[e] = 1.0
+                if ev[e, EV_STOP] != IF_NET or e == stop_e:
+                    _record(ev, e, t, theta[e], y, K, h, P, row)
+    return stop_e
+
+
+@nb.njit(**JIT, inline="always")
+def step_factor(err):
+    """The step-size factor after a step of scaled error ``err`` (Hairer et al. II.4: 0.9 err^-1/5,
+    within [0.2, 10])."""
+    return 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
+
+
+@nb.njit(**JIT)
 def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     """Integrate one trajectory from ``y_init`` (9,) and fill the event ``row`` (NCOLS,).
 
@@ -297,6 +427,7 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     rejected and shrunk, so a state that cannot be made finite ends there).  A
     launch faster than ``c.max_speed``, spinning faster than ``c.max_spin`` or
     from beyond ``c.max_position`` is not integrated (``STATUS_OUT_OF_RANGE``).
+    This is the reference of the lockstep kernel (:mod:`tennislab.core.lockstep`).
     """
     k = c.k
     g = c.gravity
@@ -308,16 +439,10 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     t_max = c.t_max
     rtol = c.rtol
     atol = c.atol
-    P = _P
     n_ev = ev.shape[0]
     tgt = evw[0]
-    dirn = evw[1]
-    done = evw[2]
-    theta = evw[3]
     armed = evw[4]
-    when = evw[5]
-    for i in range(NCOLS):
-        row[i] = np.nan
+    done = evw[2]
     K = work[0:7]
     y = work[7]
     ytmp = work[8]
@@ -325,50 +450,9 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
     fcur = work[11]
     for i in range(9):
         y[i] = y_init[i]
-    for i in range(9):
-        if not math.isfinite(y[i]):
-            _finish_row(row, c, STATUS_BAD_START, 0)
-            return
-    speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
-    spin = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8])
-    lim = c.max_position
-    if speed > c.max_speed or spin > c.max_spin or abs(y[0]) > lim or abs(y[1]) > lim or y[2] > lim:
-        _finish_row(row, c, STATUS_OUT_OF_RANGE, 0)
+    if not start_flight(y, fcur, aero, aero_p, c, ev, row, evw):
         return
-    derivative(y, fcur, aero, aero_p, k, k, g, r, wx, wy, wz, decay)
-    side = -1.0 if y[0] < 0.0 else (1.0 if y[0] > 0.0 else -math.copysign(1.0, y[3]))
-    # ---- the events at the start (events.py: past -> at the start; on the target moving away -> armed)
-    aim_e = -1
-    stop_e = -1
-    for e in range(n_ev):
-        toward = ev[e, EV_DIRECTION] == TOWARD
-        dirn[e] = -side if toward else ev[e, EV_DIRECTION]
-        tgt[e] = ev[e, EV_TARGET] + ev[e, EV_RADII] * r * (side if toward else 1.0)
-        done[e] = 0.0
-        armed[e] = 0.0
-        when[e] = -1.0
-        if ev[e, EV_AIM] != 0.0 and aim_e < 0:
-            aim_e = e
-        ci = int(ev[e, EV_COMPONENT])
-        f0 = y[ci] - tgt[e]
-        if abs(f0) <= _ON_TARGET and dirn[e] * f0 <= 0.0 and dirn[e] * fcur[ci] < 0.0:
-            armed[e] = 1.0  # on its target (to round-off) and moving away: the crossing after the start
-            continue
-        if dirn[e] * f0 < 0.0:
-            continue
-        done[e] = 1.0
-        if _stops_at(ev, e, y[1], y[2], c):
-            if dirn[e] * f0 > 0.0:  # beyond an event that ends the flight: below the ground, inside the net
-                _finish_row(row, c, STATUS_BAD_START, 0)
-                return
-            if stop_e < 0:
-                stop_e = e
-        elif ev[e, EV_STOP] != IF_NET:
-            _record_state(ev, e, 0.0, y, row)
-    if stop_e >= 0:
-        _record_state(ev, stop_e, 0.0, y, row)
-        _finish_row(row, c, int(ev[stop_e, EV_STATUS]), 0)
-        return
+    aim_e = _aim_event(ev)
     t = 0.0
     h = _H0
     nsteps = 0
@@ -421,45 +505,10 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
             continue
         nsteps += 1
         # ---- events within [t, t + h]: every crossing first, then the earliest that ends the flight
-        th_stop = 2.0
-        stop_e = -1
-        ncross = 0
-        for e in range(n_ev):
-            if done[e] != 0.0:
-                continue
-            ci = int(ev[e, EV_COMPONENT])
-            d = dirn[e]
-            f1 = ynew[ci] - tgt[e]
-            if d * f1 < 0.0:
-                continue
-            f0 = y[ci] - tgt[e]
-            if armed[e] != 0.0:
-                th = _root_after_start(ci, tgt[e], d, y, K, h, P, f1)
-            elif d * f0 < 0.0:
-                th = _root(ci, tgt[e], y, K, h, P, f0, f1)
-            else:
-                continue
-            theta[e] = th
-            when[e] = nsteps
-            ncross += 1
-            if ev[e, EV_STOP] == ALWAYS:
-                stops = True
-            elif ev[e, EV_STOP] == IF_NET:
-                stops = _stops_at(ev, e, _dense_comp(th, 1, y, K, h, P), _dense_comp(th, 2, y, K, h, P), c)
-            else:
-                stops = False
-            if stops and th < th_stop:
-                th_stop = th
-                stop_e = e
+        stop_e = step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row)
         if nsteps == 1:
             for e in range(n_ev):
                 armed[e] = 0.0
-        if ncross > 0:
-            for e in range(n_ev):
-                if when[e] == nsteps and done[e] == 0.0 and theta[e] <= th_stop:
-                    done[e] = 1.0
-                    if ev[e, EV_STOP] != IF_NET or e == stop_e:
-                        _record(ev, e, t, theta[e], y, K, h, P, row)
         if stop_e >= 0:
             status = int(ev[stop_e, EV_STATUS])
             break
@@ -467,8 +516,7 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
         for i in range(9):
             y[i] = ynew[i]
             fcur[i] = K[6, i]
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
-        h *= fac
+        h *= step_factor(err)
     _finish_row(row, c, status, nsteps)
 
 

@@ -1,0 +1,327 @@
+"""Lockstep batch kernel: shots advanced together in blocks of :data:`LANES`, structure of arrays.
+
+The same Dormand-Prince 5(4) pair, step-size control, first step, landing aim and
+event table as the per-shot kernel :func:`tennislab.core.integrators.integrate_one`
+(its reference), with every lane (one shot) keeping its own time, step size, error
+and events.  The stages and the error norm are loops over the lanes of arrays laid
+out as ``[component, lane]``, so that LLVM turns them into packed (SIMD) arithmetic:
+one evaluation of the right-hand side serves :data:`LANES` shots.  Only the per-lane
+decisions (accept or reject, the events of an accepted step, a finished flight) are
+scalar; a lane whose flight ends takes the next shot of its block at once, so the
+lanes stay busy until the block runs dry.
+
+Each lane does the per-shot kernel's arithmetic in the same order, so both give the
+same landings to round-off (1e-9 m, tests/core/test_lockstep.py); the setup of a
+flight and the handling of an accepted step's events are the per-shot kernel's own
+functions (:func:`~tennislab.core.integrators.start_flight`,
+:func:`~tennislab.core.integrators.step_events`).
+
+References
+----------
+.. [1] Dormand & Prince (1980), J. Comput. Appl. Math. 6:19
+.. [2] Hairer, Norsett & Wanner (1993), Solving Ordinary Differential Equations I, 2nd ed., sec. II.4
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from tennislab.core._jit import JIT
+from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel
+from tennislab.core.dynamics import acceleration
+from tennislab.core.events import EV_COMPONENT, EV_STATUS, MAX_EVENTS
+from tennislab.core.integrators import (
+    _A21,
+    _A31,
+    _A32,
+    _A41,
+    _A42,
+    _A43,
+    _A51,
+    _A52,
+    _A53,
+    _A54,
+    _A61,
+    _A62,
+    _A63,
+    _A64,
+    _A65,
+    _B1,
+    _B3,
+    _B4,
+    _B5,
+    _B6,
+    _E1,
+    _E3,
+    _E4,
+    _E5,
+    _E6,
+    _E7,
+    _H0,
+    BATCH_SIGNATURE,
+    STATUS_FAILED,
+    STATUS_NO_LANDING,
+    _aim_event,
+    _finish_row,
+    aim_step,
+    start_flight,
+    step_events,
+    step_factor,
+)
+
+#: shots advanced together: 8 float64 fill one 512-bit (AVX-512) register, two 256-bit (AVX2) ones
+LANES = 8
+#: shots per block (one thread's unit of work): the lanes idle only while a block drains
+BLOCK = 512
+
+
+def lockstep_suits(kernel) -> bool:
+    """Whether the lockstep kernel is the faster for the aero ``kernel``: one of tennislab's smooth
+    formulas (``constant``, ``stepanek1988``, the linear-lift models), which LLVM evaluates in SIMD
+    lanes.  Not for a user's kernel (called through a pointer: no lane can share the call) nor the
+    ``table`` and ``curves`` models (their cell search is a loop per lane; no faster in lockstep,
+    benchmarks/bench_flight.py), which keep the per-shot kernel."""
+    return _kernel_key(kernel) in _SMOOTH
+
+
+_SMOOTH = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel, _linear_lift_kernel))
+
+
+@nb.njit(**JIT, inline="always")
+def _rhs(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec):
+    """``F[:, l]`` = dy/dt at ``Y[:, l]`` for every lane (:func:`~tennislab.core.dynamics.acceleration`)."""
+    for lane in range(n):
+        ax, ay, az = acceleration(
+            Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane], aero, ap, k, k, g, r, wx, wy, wz
+        )
+        F[0, lane] = Y[3, lane]
+        F[1, lane] = Y[4, lane]
+        F[2, lane] = Y[5, lane]
+        F[3, lane] = ax
+        F[4, lane] = ay
+        F[5, lane] = az
+        F[6, lane] = -dec * Y[6, lane]
+        F[7, lane] = -dec * Y[7, lane]
+        F[8, lane] = -dec * Y[8, lane]
+
+
+@nb.njit(**JIT)
+def _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c):
+    """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
+    ``K[1..6]``, the new state ``YN`` and, per lane, the sum of squared scaled errors and of the new state."""
+    k = c.k
+    g = c.gravity
+    r = c.radius
+    wx = c.wind_x
+    wy = c.wind_y
+    wz = c.wind_z
+    dec = c.spin_decay
+    n = Y.shape[1]  # (a loop bound LLVM does not know: it vectorises the loop instead of unrolling it)
+    for i in range(9):
+        for la in range(n):
+            YT[i, la] = Y[i, la] + h[la] * (_A21 * K[0, i, la])
+    _rhs(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        for la in range(n):
+            YT[i, la] = Y[i, la] + h[la] * (_A31 * K[0, i, la] + _A32 * K[1, i, la])
+    _rhs(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        for la in range(n):
+            YT[i, la] = Y[i, la] + h[la] * (_A41 * K[0, i, la] + _A42 * K[1, i, la] + _A43 * K[2, i, la])
+    _rhs(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        for la in range(n):
+            YT[i, la] = Y[i, la] + h[la] * (
+                _A51 * K[0, i, la] + _A52 * K[1, i, la] + _A53 * K[2, i, la] + _A54 * K[3, i, la]
+            )
+    _rhs(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        for la in range(n):
+            YT[i, la] = Y[i, la] + h[la] * (
+                _A61 * K[0, i, la] + _A62 * K[1, i, la] + _A63 * K[2, i, la] + _A64 * K[3, i, la] + _A65 * K[4, i, la]
+            )
+    _rhs(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for i in range(9):
+        for la in range(n):
+            YN[i, la] = Y[i, la] + h[la] * (
+                _B1 * K[0, i, la] + _B3 * K[2, i, la] + _B4 * K[3, i, la] + _B5 * K[4, i, la] + _B6 * K[5, i, la]
+            )
+    _rhs(YN, K[6], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    for la in range(n):
+        errsum[la] = 0.0
+        ysum[la] = 0.0
+    for i in range(9):
+        for la in range(n):
+            acc = (
+                _E1 * K[0, i, la]
+                + _E3 * K[2, i, la]
+                + _E4 * K[3, i, la]
+                + _E5 * K[4, i, la]
+                + _E6 * K[5, i, la]
+                + _E7 * K[6, i, la]
+            )
+            sc = c.atol + c.rtol * max(abs(Y[i, la]), abs(YN[i, la]))
+            e_i = h[la] * acc / sc
+            errsum[la] += e_i * e_i
+            ysum[la] += YN[i, la]
+
+
+@nb.njit(**JIT)
+def _crosses(ev, evw, YN, lane):
+    """Whether an event still to come may have happened in the lane's step (``step_events`` then
+    looks): the new state on or beyond its target."""
+    tgt = evw[0]
+    dirn = evw[1]
+    done = evw[2]
+    for e in range(ev.shape[0]):
+        if done[e] == 0.0 and dirn[e] * (YN[int(ev[e, EV_COMPONENT]), lane] - tgt[e]) >= 0.0:
+            return True
+    return False
+
+
+@nb.njit(**JIT)
+def _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
+    """Give ``lane`` the next shot from ``nxt`` on that needs integrating (the others finish at their
+    start); returns the next unused row.  A lane left without a shot idles at rest (``shot`` -1)."""
+    while nxt < i1:
+        i = nxt
+        nxt += 1
+        for j in range(9):
+            y1[j] = states[i, j]
+        if start_flight(y1, f1, aero, ap, c, ev, out[i], evw[lane]):
+            for j in range(9):
+                Y[j, lane] = y1[j]
+                F[j, lane] = f1[j]
+            t[lane] = 0.0
+            h[lane] = _H0
+            nst[lane] = 0
+            att[lane] = 0
+            shot[lane] = i
+            return nxt
+    shot[lane] = -1
+    h[lane] = 0.0
+    for j in range(9):
+        Y[j, lane] = 0.0
+        F[j, lane] = 0.0
+    return nxt
+
+
+@nb.njit(**JIT)
+def _block(states, i0, i1, aero, ap, c, ev, out):
+    """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, :data:`LANES` at a time."""
+    Y = np.empty((9, LANES))
+    F = np.empty((9, LANES))
+    K = np.empty((7, 9, LANES))
+    YT = np.empty((9, LANES))
+    YN = np.empty((9, LANES))
+    h = np.empty(LANES)
+    t = np.zeros(LANES)
+    errsum = np.empty(LANES)
+    ysum = np.empty(LANES)
+    shot = np.empty(LANES, dtype=np.int64)
+    nst = np.zeros(LANES, dtype=np.int64)
+    att = np.zeros(LANES, dtype=np.int64)
+    evw = np.empty((LANES, 6, MAX_EVENTS))
+    y1 = np.empty(9)
+    f1 = np.empty(9)
+    yl = np.empty(9)
+    ynl = np.empty(9)
+    Kl = np.empty((7, 9))
+    aim_e = _aim_event(ev)
+    aim_c = int(ev[aim_e, EV_COMPONENT]) if aim_e >= 0 else 0
+    nxt = i0
+    for lane in range(LANES):
+        nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+    while True:
+        busy = 0
+        for lane in range(LANES):  # before the step: the attempt limit, the aim at the ground, t_max
+            while shot[lane] >= 0 and att[lane] >= c.max_steps:
+                _finish_row(out[shot[lane]], c, STATUS_FAILED, nst[lane])
+                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+            if shot[lane] < 0:
+                continue
+            busy += 1
+            att[lane] += 1
+            w = evw[lane]
+            if aim_e >= 0 and w[2, aim_e] == 0.0:
+                h[lane] = aim_step(Y[aim_c, lane] - w[0, aim_e], F[aim_c, lane], F[aim_c + 3, lane], h[lane])
+            if t[lane] + h[lane] > c.t_max:
+                h[lane] = c.t_max - t[lane]
+        if busy == 0:
+            return
+        for i in range(9):
+            for la in range(LANES):
+                K[0, i, la] = F[i, la]
+        _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c)
+        for lane in range(LANES):  # after the step, lane by lane
+            if shot[lane] < 0:
+                continue
+            err = math.sqrt(errsum[lane] / 9.0)
+            if not math.isfinite(err + ysum[lane]):  # a non-finite error or state: a rejection
+                h[lane] *= 0.2
+                continue
+            if err > 1.0:
+                h[lane] *= max(0.2, 0.9 * err**-0.2)
+                continue
+            nst[lane] += 1
+            w = evw[lane]
+            stop_e = -1
+            if _crosses(ev, w, YN, lane):
+                for j in range(9):
+                    yl[j] = Y[j, lane]
+                    ynl[j] = YN[j, lane]
+                    for s in range(7):
+                        Kl[s, j] = K[s, j, lane]
+                stop_e = step_events(ev, c, w, t[lane], h[lane], yl, ynl, Kl, nst[lane], out[shot[lane]])
+            if nst[lane] == 1:
+                for e in range(ev.shape[0]):
+                    w[4, e] = 0.0
+            if stop_e >= 0:
+                _finish_row(out[shot[lane]], c, int(ev[stop_e, EV_STATUS]), nst[lane])
+                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                continue
+            t[lane] += h[lane]
+            for j in range(9):
+                Y[j, lane] = YN[j, lane]
+                F[j, lane] = K[6, j, lane]
+            if not t[lane] < c.t_max:
+                _finish_row(out[shot[lane]], c, STATUS_NO_LANDING, nst[lane])
+                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                continue
+            h[lane] *= step_factor(err)
+
+
+@nb.njit(**JIT, parallel=True)
+def lockstep_kernel(states, aero, aero_p, consts, events, out):
+    """Integrate every row of ``states`` (N, 9) into the event table ``out`` (N, NCOLS), blocks of
+    :data:`BLOCK` rows in parallel (``numba.prange``), each flown :data:`LANES` shots at a time."""
+    n = states.shape[0]
+    nblocks = (n + BLOCK - 1) // BLOCK
+    if nblocks < 2 and n > 1:
+        nblocks = 2  # both cores for a small batch
+    for b in nb.prange(nblocks):
+        _block(states, b * n // nblocks, (b + 1) * n // nblocks, aero, aero_p, consts, events, out)
+
+
+@nb.njit(**JIT)
+def lockstep_serial_kernel(states, aero, aero_p, consts, events, out):
+    """As :func:`lockstep_kernel`, on one thread (for callers that parallelise themselves)."""
+    _block(states, 0, states.shape[0], aero, aero_p, consts, events, out)
+
+
+@nb.njit(BATCH_SIGNATURE, **JIT)
+def lockstep_kernel_fp(states, aero, aero_p, consts, events, out):
+    """:func:`lockstep_kernel` for an aero kernel passed as a first-class function."""
+    lockstep_kernel(states, aero, aero_p, consts, events, out)
+
+
+@nb.njit(BATCH_SIGNATURE, **JIT)
+def lockstep_serial_kernel_fp(states, aero, aero_p, consts, events, out):
+    """:func:`lockstep_serial_kernel` for an aero kernel passed as a first-class function."""
+    lockstep_serial_kernel(states, aero, aero_p, consts, events, out)
+
+
+__all__ = ["BLOCK", "LANES", "lockstep_kernel", "lockstep_serial_kernel", "lockstep_suits"]
