@@ -95,10 +95,10 @@ def main(argv=None) -> int:
     base_w, base_c = med["python -c pass"]
     np_w, np_c = med["import numpy"]
     print(f"start-up, median of {args.runs} runs (load average {os.getloadavg()[0]:.1f})")
-    print(f"{'command':44s} {'wall s':>7s} {'cpu s':>6s} {'cpu/pass':>8s} {'cpu/numpy':>9s}  imports")
+    print(f"{'command':47s} {'wall s':>7s} {'cpu s':>6s} {'cpu/pass':>8s} {'cpu/numpy':>9s}  imports")
     for name, (w, c) in med.items():
         heavy = ", ".join(heavy_imports(every[name])) if name in timed else ""
-        print(f"{name:44s} {w:7.2f} {c:6.2f} {c / base_c:8.1f} {c / np_c:9.2f}  {heavy or '-'}")
+        print(f"{name:47s} {w:7.2f} {c:6.2f} {c / base_c:8.1f} {c / np_c:9.2f}  {heavy or '-'}")
     print(f"(baselines in this run: python -c pass {base_w:.2f} s wall, import numpy {np_w:.2f} s wall)")
     return 0
 
