@@ -192,6 +192,14 @@ def test_json_bodies_are_utf8_only(client, encoding):
     assert one_line_error(r, 422).startswith("request:")
 
 
+def test_half_a_utf16_pair_is_refused(client):
+    """``"\\ud800"`` is valid JSON but no character (a UTF-8 writer cannot take it): 422, like the files."""
+    r = client.post(
+        "/api/flight", content=b'{"speed_kmh": 100, "x": "\\ud800"}', headers={"Content-Type": "application/json"}
+    )
+    assert "lone surrogate" in one_line_error(r, 422)
+
+
 def test_a_key_given_twice_is_refused(client):
     """One duplicate-key rule for every reader: refused, not the last value taken."""
     r = client.post(

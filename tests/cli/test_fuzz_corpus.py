@@ -226,6 +226,7 @@ POINT = {
     "json-lines-bad-line": '{"samples": []}\n{"samples": [\n',
     "duplicate-key": '{"samples": [], "samples": [' + _SAMPLE + "]}",
     "duplicate-key-in-a-sample": '{"samples": [{"time": 1, "time": 2, "ball": [0, 0, 1]}]}',
+    "lone-surrogate": '{"samples": [], "shots": [{"name": "\\udfff"}]}',
 }
 
 _CAM = {"fx": 2000, "fy": 2000, "cx": 960, "cy": 540, "R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}
@@ -261,6 +262,9 @@ CAMERAS = {
     "position-1e9": _cams(dict(_CAM, name="a", position=[1e9, 0, 0])),
     "width-1e300": _cams(dict(_CAM, name="a", width=1e300, position=[0, -20, 5])),
     "duplicate-key": _cams(dict(_CAM, name="a", position=[0, -20, 5])).replace('"fx": 2000', '"fx": 2000, "fx": 1', 1),
+    # two cameras of one name: which one a detection of "b" means would be a guess (it took the last)
+    "duplicate-camera-name": _cams(dict(_CAM, name="b", position=[0, -20, 5])),
+    "lone-surrogate": _cams(dict(_CAM, name="a\ud83d", position=[0, -20, 5])),
 }
 
 DETECTIONS = {
@@ -279,6 +283,7 @@ DETECTIONS = {
     "field-over-csv-limit": "t,camera,u,v\n" + BIG_FIELD + ",a,1,1\n",
     "one-detection": "t,camera,u,v\n0,a,100,100\n",
     "duplicate-column": "t,camera,u,v,u\n0,a,100,100,5\n0,b,200,100,5\n",
+    "duplicate-column-in-another-case": "t,camera,u,v,V\n0,a,100,100,5\n0,b,200,100,5\n",
 }
 
 AERO_HEAD = "speed_ms,spin_rpm,cd,cl\n"
@@ -306,6 +311,9 @@ AERO = {
     "unclosed-quote": AERO_HEAD + '"10,0,0.6,0.2\n',
     "field-over-csv-limit": AERO_HEAD + BIG_FIELD + ",0,0.6,0.2\n",
     "duplicate-column": _grid().replace("cd,cl", "cd,cl,cd", 1).replace(",0.2\n", ",0.2,0.9\n"),
+    # a column twice in another case or with spaces: one duplicate rule for every reader (it took one)
+    "duplicate-column-in-another-case": _grid().replace("cd,cl", "cd,CL,cl", 1).replace(",0.2\n", ",0.2,0.9\n"),
+    "duplicate-column-with-spaces": _grid().replace("cd,cl", "cd,cl, cl ", 1).replace(",0.2\n", ",0.2,0.9\n"),
 }
 
 YOUNG = {
@@ -398,6 +406,9 @@ DRILL_JSON = {
     "non-utf8": b'{"name": "' + NOT_UTF8 + b'"}',
     "over-size-limit": json.dumps({"name": "T", "x": list(range(60_000))}),
     "duplicate-key": '{"name": "T", "name": "U", "shots": {"a": {"type": "drive", "target": [9, 0]}}, '
+    '"program": [{"shot": "a"}]}',
+    # half a UTF-16 pair is no character: the database (UTF-8) refused it as "damaged file"
+    "lone-surrogate": '{"name": "T\\ud800", "shots": {"a": {"type": "drive", "target": [9, 0]}}, '
     '"program": [{"shot": "a"}]}',
 }
 
@@ -686,6 +697,33 @@ SPECIAL_READERS: dict[str, tuple[list[str], dict]] = {
     "database-drills-export": (["launcher", "drills", "export", "--db", "{p}", "Lobs", "-"], {}),
     "database-drills-import": (["launcher", "drills", "import", "--db", "{p}", "lobs"], {}),
     "database-table": (["launcher", "table", "--db", "{p}", *_TINY_TABLE, "--no-progress"], {}),
+    "calibrate-tracks-holdout": (
+        ["calibrate", "tracks", "t.csv", "--holdout", "{p}", "--quiet"],
+        {"t.csv": TRACK_HEAD + "".join(f"{i / 100},{-10 + i * 0.3},0,{2 - 0.01 * i}\n" for i in range(30))},
+    ),
+    "table-drill-file": (["launcher", "table", "--db", "n.sqlite", "--drill", "{p}.yaml", "--no-progress"], {}),
+    "report-player-file": (["report", "--quiet", "--out", "r.html", "--player", "{p}.toml"], {}),
+    "aero-table-serve": (
+        ["serve", "--impact-angle", "3", "--face-angle", "8", "--aero", "table", "--aero-table", "{p}"],
+        {},
+    ),
+    "aero-table-drill": (["launcher", "drill", "lobs", "--aero", "table", "--aero-table", "{p}"], {}),
+    "aero-table-table": (
+        [
+            "launcher",
+            "table",
+            "--db",
+            "n.sqlite",
+            *_TINY_TABLE,
+            "--no-progress",
+            "--aero",
+            "table",
+            "--aero-table",
+            "{p}",
+        ],
+        {},
+    ),
+    "config-app": (["app", "--config", "{p}", "--port", "0"], {}),
 }
 SPECIALS = {"fifo": FIFO, "socket": SOCKET, "device": DEVICE}
 for _key, (_argv, _extra) in SPECIAL_READERS.items():
@@ -910,16 +948,26 @@ def test_a_hostile_trigger_never_runs(cwd, capsys, crafted_db):
     con.close()
 
 
-def test_a_pending_log_that_is_not_a_file_is_refused(cwd, capsys, crafted_db):
+@pytest.mark.parametrize("suffix", ["-wal", "-shm", "-journal"])
+def test_a_file_beside_the_database_that_is_not_a_file_is_refused(cwd, capsys, crafted_db, suffix):
+    """SQLite opens the write-ahead log, the shared-memory index and a hot rollback journal itself: a FIFO
+    there made `drills import` block for ever (a hot journal is read), a device or a socket gave "disk I/O
+    error" after `table` had printed its plan.  Each is refused first, in one line, by every command."""
     for kind, special in SPECIALS.items():
         d = f"w-{kind}"
         os.mkdir(d)
         os.chdir(d)
         try:
-            for cmd in ("info", "lookup", "drills-import"):
-                assert_refused(capsys, DB_COMMANDS[cmd], {"x.sqlite": crafted_db["real"], "x.sqlite-wal": special})
+            for cmd in ("info", "lookup", "drills-list", "drills-import", "table"):
+                err = assert_refused(
+                    capsys, DB_COMMANDS_W[cmd], {"x.sqlite": crafted_db["real"], "x.sqlite" + suffix: special}
+                )
+                assert "x.sqlite" + suffix in err, err
                 os.unlink("x.sqlite")
-                os.unlink("x.sqlite-wal")
+                os.unlink("x.sqlite" + suffix)
+            # a new database too: SQLite would write its journal into the FIFO
+            err = assert_refused(capsys, DB_COMMANDS_W["drills-import"], {"x.sqlite" + suffix: special})
+            os.unlink("x.sqlite" + suffix)
         finally:
             os.chdir("..")
 
@@ -1376,6 +1424,19 @@ def test_no_space_left_names_the_file_and_leaves_nothing(cwd, capsys, monkeypatc
     monkeypatch.setattr(os, "fsync", full)
     err = assert_refused(capsys, ["launcher", "drills", "export", "--db", "d.sqlite", "Lobs", "new/deeper/lobs.yaml"])
     assert "new/deeper/lobs.yaml" in err and "No space left on device" in err
+    # a batch store's manifest said only "No space left on device"; its new folder is removed again
+    err = assert_refused(capsys, [*SERVE_WINDOW, "--out-dir", "out"])
+    assert "out/manifest.json: cannot be written (No space left on device)" in err, err
+    monkeypatch.setattr(os, "fsync", real_fsync)
+    # SQLite's own "database or disk is full" while importing into a new file: no database left behind
+    import tennislab.launcher.db as _db
+
+    def disk_full(*a, **k):
+        raise sqlite3.OperationalError("database or disk is full")
+
+    monkeypatch.setattr(_db, "import_drill", disk_full)
+    err = assert_refused(capsys, ["launcher", "drills", "import", "--db", "e.sqlite", "lobs"])
+    assert "e.sqlite" in err and "disk is full" in err
 
 
 def test_shot_names_from_a_drill_file_are_printed_escaped(cwd, capsys):
@@ -1441,3 +1502,135 @@ def test_answers_at_the_edge_are_numbers_or_refused(cwd, capsys, argv):
     rc, out, err = _clean_run(capsys, argv, {})
     if rc == 0:
         assert not _NOT_A_NUMBER.search(out), out
+
+
+# ------------------------------------------- a real process: strict stdout, a folder it may not write
+_RUNNER = """
+import json, sys
+from tennislab.cli import main
+out = []
+for argv in json.loads(sys.argv[1]):
+    try:
+        rc = main(argv)
+    except SystemExit as exc:
+        rc = exc.code
+    sys.stdout.flush(); sys.stderr.flush()
+    sys.stderr.write("\\x00END\\x00\\n"); sys.stderr.flush()
+    out.append(rc)
+sys.__stdout__.write("\\x00RC" + json.dumps(out) + "\\n")
+"""
+
+
+def _in_a_process(argvs: list[list[str]], cwd=".", *, unprivileged: bool = False) -> list[tuple[int, str]]:
+    """Run the CLI commands ``argvs`` in one real Python process with a strict UTF-8 stdout and stderr
+    (``PYTHONIOENCODING=utf-8:strict``, ``LC_ALL=C``); ``unprivileged``: as the user without the power to
+    write where the folder's mode forbids it (root runs it with the capabilities that override file
+    permissions dropped, via ``setpriv``).  Returns (exit code, stderr) per command."""
+    import shutil
+    import subprocess
+    import sys
+
+    signal.alarm(360)  # one process for many commands: more than a single case's 60 s (its own timeout: 300 s)
+    prefix: list[str] = []
+    if unprivileged and os.geteuid() == 0:
+        if shutil.which("setpriv") is None:
+            pytest.skip("root, and no setpriv to drop the capability to write anywhere")
+        prefix = ["setpriv", "--bounding-set=-dac_override,-dac_read_search,-fowner"]
+    import tennislab
+
+    env = dict(os.environ, PYTHONIOENCODING="utf-8:strict", LC_ALL="C", LANG="C")
+    env["PYTHONPATH"] = os.path.dirname(os.path.dirname(tennislab.__file__))
+    p = subprocess.run(
+        [*prefix, sys.executable, "-c", _RUNNER, json.dumps(argvs)],
+        capture_output=True,
+        env=env,
+        cwd=cwd,
+        timeout=300,
+    )
+    assert b"Traceback" not in p.stdout + p.stderr, p.stderr.decode("utf-8", "backslashreplace")[-3000:]
+    p.stdout.decode("utf-8")  # strict: nothing that is not UTF-8 reached the terminal
+    p.stderr.decode("utf-8")
+    rcs = json.loads(p.stdout.rsplit(b"\x00RC", 1)[1])
+    errs = p.stderr.decode("utf-8").split("\x00END\x00\n")[:-1]
+    return list(zip(rcs, errs, strict=True))
+
+
+#: (argv, input files) writing an output into the working folder, which the user may not write
+_RO_WRITERS = [
+    (["call", "--rally", "p.json", "--csv", "o.csv"], {"p.json": '{"samples": []}'}),
+    (["call", "--rally", "p.json", "--plot", "o.png"], {"p.json": '{"samples": []}'}),
+    (["call", "--track", "t.csv", "--plot", "o.png"], _VALID_TRACK),
+    ([*FLY, "--plot", "o.png"], {}),
+    ([*SERVE_WINDOW, "--csv", "o.csv"], {}),
+    ([*SERVE_WINDOW, "--out-dir", "out"], {}),
+    (["calibrate", "validate", "--serves", "s.csv", "--csv", "o.csv", "--quiet"], _VALID_SERVES),
+    (["calibrate", "tracks", "t.csv", "--out-table", "o.csv", "--quiet"], _VALID_TRACK),
+    (["launcher", "drill", "lobs", "--csv", "o.csv"], {}),
+    (["launcher", "drills", "import", "lobs", "--db", "o.sqlite"], {}),
+    (["launcher", "table", *_TINY_TABLE, "--no-progress", "--db", "o.sqlite"], {}),
+    (["report", "--quiet", "--out", "o.html"], {}),
+]
+
+
+@pytest.mark.slow
+def test_a_folder_that_may_not_be_written_is_refused_before_the_work(tmp_path):
+    """Issue 24 point 8: `call` in a read-only folder did all the work and then failed naming an internal
+    `.tmp-....csv`.  Every writer checks that its folder is writable before the work: one line naming
+    the output, nothing written (run as a user the folder's mode stops; root without its override)."""
+    work = tmp_path / "ro"
+    work.mkdir()
+    for _, files in _RO_WRITERS:
+        for name, content in files.items():
+            (work / name).write_text(content)
+    before = _snapshot(str(work))
+    os.chmod(work, 0o555)
+    try:
+        argvs = [argv for argv, _ in _RO_WRITERS]
+        results = _in_a_process(argvs, work, unprivileged=True)
+    finally:
+        os.chmod(work, 0o755)
+    for argv, (rc, err) in zip(argvs, results, strict=True):
+        assert rc == 2 and len(err.splitlines()) == 1, (argv, rc, err)
+        assert "not writable" in err and ".tmp-" not in err, (argv, err)
+    assert _snapshot(str(work)) == before
+
+
+@pytest.mark.slow
+def test_names_that_are_not_utf8_on_a_strict_utf8_terminal(cwd):
+    """Issue 24 point 13: with a strict UTF-8 stdout (``PYTHONIOENCODING=utf-8:strict``, ``LC_ALL=C``) about
+    ten commands wrote their file and then crashed printing its name.  In a real process: every writer
+    writes its file under its own bytes and prints the name escaped; a database of such a name is read
+    back; an input of such a name is read; a missing one is one line."""
+    _write({**_VALID_TRACK, **_VALID_SERVES, "p.json": '{"samples": []}'})
+    bad = NOT_UTF8_NAME
+    _write({bad + "-in.csv": _VALID_SERVES["s.csv"], bad + "-d.yaml": DRILL_OK})
+    argvs = [
+        ["call", "--rally", "p.json", "--csv", bad + "-1.csv"],
+        [*FLY, "--plot", bad + "-2.png"],
+        [*SERVE_WINDOW, "--csv", bad + "-3.csv", "--plot", bad + "-3.png", "--out-dir", bad + "-out"],
+        ["calibrate", "validate", "--serves", "s.csv", "--csv", bad + "-4.csv", "--quiet"],
+        ["calibrate", "tracks", "t.csv", "--out-table", bad + "-5.csv", "--quiet"],
+        ["calibrate", "tracks", "t.csv", "--out-table", "5.csv", "--out-config", bad + "-5.toml", "--quiet"],
+        ["launcher", "drill", "lobs", "--csv", bad + "-6.csv", "--plot", bad + "-6.png"],
+        ["launcher", "drills", "import", "lobs", "--db", bad + "-7.sqlite"],
+        ["launcher", "drills", "import", "--db", "12.sqlite", bad + "-d.yaml"],  # it said "damaged file"
+        ["launcher", "drills", "export", "--db", "12.sqlite", bad + "-d.yaml", "12.yaml"],
+        ["launcher", "info", "--db", bad + "-7.sqlite"],
+        ["launcher", "drills", "export", "--db", bad + "-7.sqlite", "Lobs", bad + "-8.yaml"],
+        ["launcher", "table", *_TINY_TABLE, "--no-progress", "--db", bad + "-9.sqlite"],
+        ["launcher", "lookup", "--db", bad + "-9.sqlite", "--target", "9", "0"],
+        ["report", "--quiet", "--out", bad + "-10.html"],
+        ["calibrate", "validate", "--serves", bad + "-in.csv", "--quiet"],
+        ["call", "--track", bad + "-missing.csv"],
+        # a TOML configuration cannot name a table whose name is not UTF-8: refused before the work
+        ["calibrate", "tracks", "t.csv", "--out-table", bad + "-11.csv", "--out-config", "11.toml", "--quiet"],
+    ]
+    results = _in_a_process(argvs)
+    for argv, (rc, err) in zip(argvs[:-2], results, strict=False):
+        assert rc == 0, (argv, err)
+    for (rc, err), what in zip(results[-2:], ("\\xff\\xfe-x-missing.csv", "\\xff\\xfe-x-11.csv"), strict=True):
+        assert rc == 2 and len(err.splitlines()) == 1 and what in err, err
+    made = sorted(n for n in os.listdir(b".") if n.startswith(os.fsencode(bad)))
+    assert len(made) == 16, made  # the 14 outputs and the 2 inputs
+    assert not os.path.exists("11.toml") and os.path.isfile("12.yaml")
+    assert not [n for n in os.listdir(b".") if b".tmp-" in n or n.endswith((b"-wal", b"-shm"))]

@@ -55,7 +55,7 @@ from tennislab.app import fields as F
 from tennislab.app import services as S
 from tennislab.app.pool import ClientGone, Pool, PoolError
 from tennislab.errors import InputError
-from tennislab.io.formats import unique_pairs
+from tennislab.io.formats import check_unicode, unique_pairs
 
 STATIC = Path(__file__).parent / "static"
 #: Host names accepted when bound to loopback (any loopback IP literal is accepted too)
@@ -222,7 +222,7 @@ async def read_json(request: Request, limit: int = F.MAX_BODY_BYTES):
     except UnicodeDecodeError:
         raise InputError("request: the body is not UTF-8 text (JSON bodies are UTF-8)") from None
     try:
-        return json.loads(text, object_pairs_hook=unique_pairs("request"))
+        return check_unicode(text, json.loads(text, object_pairs_hook=unique_pairs("request")), "request")
     except InputError:
         raise
     except (ValueError, RecursionError):

@@ -41,7 +41,7 @@ from typing import IO
 import numpy as np
 
 from tennislab.errors import InputError
-from tennislab.io.files import read_input
+from tennislab.io.files import read_input, shown
 from tennislab.io.formats import load_json_document, unique_pairs
 
 MANIFEST = "manifest.json"
@@ -141,16 +141,21 @@ def write_durable(path: str, data: bytes) -> None:
     """
     d, name = os.path.split(os.path.abspath(path))
     tmp = os.path.join(d, f".{name}.tmp-{secrets.token_hex(8)}")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    try:
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    except OSError as exc:
+        raise InputError(f"{shown(path)}: cannot be written ({exc.strerror or type(exc).__name__})") from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, OSError):  # no space left, ...: the one line names the file (as atomic_path does)
+            raise InputError(f"{shown(path)}: cannot be written ({exc.strerror or type(exc).__name__})") from None
         raise
     _fsync_dir(d)
 

@@ -26,6 +26,7 @@ from tennislab.cli.common import (
     surface_from_arg,
 )
 from tennislab.errors import InputError
+from tennislab.io.files import is_utf8_name, shown
 
 
 def _default_aero() -> str:
@@ -472,6 +473,11 @@ def run_tracks(args) -> int:
     args.baseline = args.baseline or _default_aero()
     if args.out_config and not args.out_table:
         raise InputError("--out-config: needs --out-table (the table the configuration points to)")
+    if args.out_config and not is_utf8_name(os.path.abspath(args.out_table)):
+        raise InputError(
+            f"--out-config: the table's name {shown(args.out_table)} is not UTF-8, which a TOML file cannot hold; "
+            "give --out-table a UTF-8 name"
+        )
     tracks, points = _read_flight_files(args.files)
     h_tracks, h_points = _read_flight_files(args.holdout)
     res = calibrate_tracks(

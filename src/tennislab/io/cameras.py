@@ -65,11 +65,13 @@ def parse_cameras(text: str, name: str = "cameras") -> list[dict]:
         raise InputError(f"{name}: need a list 'cameras' with at least 2 cameras")
     if len(lst) > MAX_CAMERAS:
         raise InputError(f"{name}: {len(lst)} cameras, more than the {MAX_CAMERAS} allowed")
-    cams = []
+    cams: list[dict] = []
     for i, c in enumerate(lst):
         if not isinstance(c, dict):
             raise InputError(f"{name}: cameras[{i}] is not an object")
         cn = str(c.get("name", f"cam{i}"))[:64]
+        if any(k["name"] == cn for k in cams):  # the one duplicate rule: a detection's camera is never a guess
+            raise InputError(f"{name}: duplicate camera name {cn!r} (each camera once)")
         f = {k: _num(f"{name}: {cn}.{k}", c.get(k), 0.0, 1e6) for k in ("fx", "fy")}
         cx = _num(f"{name}: {cn}.cx", c.get("cx"), None, 1e6)
         cy = _num(f"{name}: {cn}.cy", c.get("cy"), None, 1e6)

@@ -54,6 +54,16 @@ def shown(path) -> str:
     return escape_text(os.fsdecode(p) if isinstance(p, bytes) else p)
 
 
+def is_utf8_name(path) -> bool:
+    """Whether the name ``path`` is UTF-8 text (a name from the command line may hold any bytes: they
+    arrive as lone surrogates), so that a text file, a database or a TOML configuration can hold it."""
+    try:
+        (os.fsdecode(path) if isinstance(path, bytes) else os.fspath(path)).encode("utf-8")
+    except (UnicodeError, TypeError):
+        return False
+    return True
+
+
 # ------------------------------------------------------------------ the command's files
 _INPUTS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("tennislab_inputs", default=None)
 
@@ -466,6 +476,11 @@ def atomic_path(path: str, write_fn, *, makedirs: bool = True) -> None:
                 break
         if isinstance(exc, OSError) and not isinstance(exc, InputError):
             raise InputError(f"{shown(path)}: cannot be written ({exc.strerror or type(exc).__name__})") from None
+        if isinstance(exc, UnicodeEncodeError):  # text that is no UTF-8 (a name in another encoding)
+            raise InputError(
+                f"{shown(path)}: cannot be written (it would hold {shown(exc.object[exc.start : exc.end])}, "
+                "which is not UTF-8 text)"
+            ) from None
         raise
 
 

@@ -56,6 +56,23 @@ def _short(k: object) -> str:
     return r if len(r) <= 40 else r[:37] + "..."
 
 
+#: a ``\\uD800``-``\\uDFFF`` escape: JSON may spell half a UTF-16 pair, which is no character
+_SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F]")
+
+
+def check_unicode(text: str, doc: Any, name: str) -> Any:
+    """``doc`` (parsed from the JSON ``text``) unless one of its strings holds a lone surrogate
+    (``"\\ud800"``: no character, and no UTF-8 writer, database or terminal can take it); a pair that
+    spells one character is fine.  Only a text with such an escape is checked (a regular expression)."""
+    if _SURROGATE_ESCAPE.search(text) is None:
+        return doc
+    try:
+        json.dumps(doc, ensure_ascii=False).encode("utf-8")
+    except UnicodeEncodeError:
+        raise InputError(f"{name}: a string holds a lone surrogate (\\ud800-\\udfff), which is not text") from None
+    return doc
+
+
 def _refuse_constant(name: str):
     def parse(c: str):
         raise InputError(f"{name}: {c} is not a number JSON allows (give a finite number)")
@@ -80,7 +97,7 @@ def load_json(text: str, name: str, *, max_depth: int = MAX_DEPTH, constants: st
         raise InputError(f"{name}: JSON nested deeper than {max_depth} levels")
     constant = _nan if constants == "nan" else _refuse_constant(name)
     try:
-        return json.loads(text, object_pairs_hook=unique_pairs(name), parse_constant=constant)
+        doc = json.loads(text, object_pairs_hook=unique_pairs(name), parse_constant=constant)
     except InputError:
         raise
     except RecursionError:  # pragma: no cover - guarded by the depth check
@@ -91,6 +108,7 @@ def load_json(text: str, name: str, *, max_depth: int = MAX_DEPTH, constants: st
         raise InputError(f"{name}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
     except ValueError as exc:  # e.g. an integer of more than 4300 digits
         raise InputError(f"{name}: not valid JSON ({str(exc).splitlines()[0][:80]})") from None
+    return check_unicode(text, doc, name)
 
 
 def load_json_document(text: str, name: str, *, max_depth: int = MAX_DEPTH, constants: str = "refuse") -> Any:
@@ -120,9 +138,11 @@ def toml_message(exc: BaseException) -> str:
 
 
 def check_header(name: str, header: list[str]) -> None:
-    """Refuse a CSV header in which a (non-empty) column name appears twice."""
+    """Refuse a CSV header in which a (non-empty) column name appears twice, compared without regard
+    to case and surrounding spaces (``cl`` and ``CL``: which one a reader took would be a guess)."""
     seen: set[str] = set()
     for h in header:
-        if h and h in seen:
+        key = h.strip().casefold()
+        if key and key in seen:
             raise InputError(f"{name}: duplicate column {_short(h)} in the header (each column once)")
-        seen.add(h)
+        seen.add(key)

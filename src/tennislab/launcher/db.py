@@ -346,6 +346,10 @@ def _statements(script: str):
             buf = ""
 
 
+#: the files SQLite keeps beside a database (each must be a regular file when it exists)
+_SIDE_FILES = (("-wal", "write-ahead log"), ("-shm", "shared-memory index"), ("-journal", "rollback journal"))
+
+
 def _check_path(path: str, must_exist: bool) -> None:
     if os.path.isdir(path):
         raise DatabaseFileError("is a directory")
@@ -360,6 +364,16 @@ def _check_path(path: str, must_exist: bool) -> None:
         except InputError as exc:
             raise DatabaseFileError(str(exc)[len(shown(path)) + 2 :]) from None
         note_input(path, st)
+    for suffix, what in _SIDE_FILES:  # SQLite opens these itself, blocking on a FIFO (a hot journal is read)
+        side = path + suffix
+        if os.path.lexists(side):
+            stream = stream_link(side)
+            if stream is not None:
+                raise DatabaseFileError(f"its {what} {shown(side)}: is a link to {shown(stream)}, not a file")
+            try:
+                check_input_file(side)
+            except InputError as exc:
+                raise DatabaseFileError(f"its {what} {exc}") from None
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
         raise DatabaseFileError(f"directory {d} does not exist")

@@ -75,6 +75,15 @@ def spec_from_json(d: dict) -> MachineSpec:
     )
 
 
+def stored_text(name: str) -> str:
+    """A file name as it is stored (a text column is UTF-8): bytes of a name that are not UTF-8 kept as
+    ``\\xff`` escapes (``os.fsencode`` of the name, decoded with ``backslashreplace``)."""
+    try:
+        return os.fsencode(name).decode("utf-8", "backslashreplace")
+    except (TypeError, ValueError):  # a str that fsencode cannot take (a lone surrogate not from a byte)
+        return str(name).encode("utf-8", "backslashreplace").decode("utf-8")
+
+
 def safe_filename(name: str, key: str) -> str:
     """A base name safe to write in the working folder from a name stored in a file (never a path).
 
@@ -463,15 +472,28 @@ class HitsDB:
         for name in names:
             data, source, fmt = find_drill_source(name)
             d = parse_drill(data, source, fmt)
-            fname = os.path.basename(source) if os.path.exists(source) else f"{d.key}.{fmt}"
+            fname = stored_text(os.path.basename(source)) if os.path.exists(source) else f"{d.key}.{fmt}"
             parsed.append((drill_record(d), data, fname))
-        with self._errors():
-            conn = _db.open_db(self.path)
+        mine = [p for p in (self.path + x for x in ("", "-wal", "-shm", "-journal")) if not os.path.lexists(p)]
+        created = self.path in mine
+        conn = None
         try:
+            with self._errors():
+                conn = _db.open_db(self.path)
             with self._errors(conn):
                 return DrillsImported([_db.import_drill(conn, rec, data, fname) for rec, data, fname in parsed])
+        except BaseException:
+            if conn is not None:
+                conn.close()
+                conn = None
+            if created:  # a failed import (no space left, ...) leaves no new database behind (D4)
+                for p in mine:
+                    with contextlib.suppress(FileNotFoundError):
+                        os.unlink(p)
+            raise
         finally:
-            conn.close()
+            if conn is not None:
+                conn.close()
 
     def export_sources(self, name: str | None = None) -> list[tuple[str, int, str, bytes]]:
         """(stored name, revision, safe file name, bytes) of one stored drill (name or key) or of all of them."""
@@ -480,7 +502,7 @@ class HitsDB:
             if name is not None:
                 stored = _db.stored_drill_name(conn, name, drill_key)
                 if stored is None:
-                    by_file = [r["name"] for r in rows if r["filename"] == os.path.basename(name)]
+                    by_file = [r["name"] for r in rows if r["filename"] == stored_text(os.path.basename(name))]
                     stored = by_file[0] if by_file else None
                 if stored is None:
                     names = ", ".join(r["name"] for r in rows) or "none"
