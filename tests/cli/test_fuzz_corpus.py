@@ -1250,6 +1250,33 @@ def test_an_output_that_is_an_input_is_refused_before_the_work(cwd, capsys, argv
     assert "is also an input of this command" in err
 
 
+TWO_OUTPUTS = [
+    pytest.param(
+        ["calibrate", "tracks", "t.csv", "--csv", "o.csv", "--out-table", "./o.csv", "--quiet"],
+        _VALID_TRACK,
+        id="tracks",
+    ),
+    pytest.param(
+        ["calibrate", "serves", "--serves", "s.csv", "--csv", "o.csv", "--out-table", "o.csv", "--quiet"],
+        _VALID_SERVES,
+        id="serves",
+    ),
+    pytest.param([*SERVE_WINDOW, "--csv", "o.csv", "--out-dir", "o.csv"], {}, id="serve-window-csv-and-out-dir"),
+    pytest.param(
+        ["calibrate", "tracks", "t.csv", "--csv", "o.csv", "--out-table", "h.csv", "--quiet"],
+        {**_VALID_TRACK, "o.csv": "old", "h.csv": Special("hardlink", "o.csv")},
+        id="tracks-hard-link",
+    ),
+]
+
+
+@pytest.mark.parametrize("argv,files", TWO_OUTPUTS)
+def test_two_outputs_in_one_file_are_refused_before_the_work(cwd, capsys, argv, files):
+    """`calibrate tracks --csv o.csv --out-table o.csv` wrote the table over the rows, exit 0."""
+    err = assert_refused(capsys, argv, files)
+    assert "is also the output of" in err, err
+
+
 def test_an_output_read_by_the_command_is_refused_when_it_would_be_written(cwd, capsys, launcher_db):
     """Outputs named at run time, and inputs read without a flag, are checked when written: the database a
     drill is exported from, and ./tennislab.toml (nothing is written, one line)."""

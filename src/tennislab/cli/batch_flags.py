@@ -41,6 +41,9 @@ def _out_dir_arg(text: str) -> str:
         raise argparse.ArgumentTypeError(str(exc).partition(": ")[2]) from None
 
 
+_out_dir_arg.is_output = True  # type: ignore[attr-defined]  # checked against the other outputs (check_io)
+
+
 def add_scheduler_flag(parser) -> None:
     """Add ``--scheduler`` (default ``local``) and ``--out-dir DIR`` to an argparse parser.
 

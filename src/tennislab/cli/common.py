@@ -192,8 +192,20 @@ def _command_actions(parser: argparse.ArgumentParser, args) -> list:
     return out
 
 
+def _output_key(path: str) -> object:
+    """One key per file an output name means: the (device, inode) of an existing file, else the
+    resolved folder and the name (``./o.csv`` and ``o.csv`` are one file)."""
+    try:
+        st = os.stat(path)
+        return (st.st_dev, st.st_ino)
+    except (OSError, ValueError):
+        full = os.path.abspath(path)
+        return os.path.join(os.path.realpath(os.path.dirname(full)), os.path.basename(full))
+
+
 def check_io(parser: argparse.ArgumentParser, args) -> None:
-    """Refuse, before any work, an output flag that names one of the command's inputs.
+    """Refuse, before any work, an output flag that names one of the command's inputs, or the file
+    another output flag names.
 
     Outputs are the flags whose type is an output checker (:func:`output_file`, :func:`figure_file`,
     :func:`output_dir`); any other value of the command line that names an existing file is an input.
@@ -213,6 +225,15 @@ def check_io(parser: argparse.ArgumentParser, args) -> None:
             outs += [(flag, v) for v in values]
         else:
             ins += [(flag, v) for v in values if v and os.path.isfile(v)]
+    first: dict[object, tuple[str, str]] = {}
+    for flag, out in outs:  # two outputs in one file: one would overwrite the other
+        key = _output_key(out)
+        if key in first and first[key][0] != flag:
+            raise InputError(
+                f"{flag}: {shown(out)} is also the output of {first[key][0]} {shown(first[key][1])}; "
+                "give each output its own file"
+            )
+        first.setdefault(key, (flag, out))
     for flag, out in outs:
         if not os.path.isfile(out):
             continue
