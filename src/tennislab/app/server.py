@@ -55,7 +55,7 @@ from tennislab.app import fields as F
 from tennislab.app import services as S
 from tennislab.app.pool import ClientGone, Pool, PoolError
 from tennislab.errors import InputError
-from tennislab.io.formats import check_unicode, unique_pairs
+from tennislab.io import check_unicode, unique_pairs
 
 STATIC = Path(__file__).parent / "static"
 #: Host names accepted when bound to loopback (any loopback IP literal is accepted too)

@@ -26,7 +26,7 @@ from tennislab.cli.common import (
     surface_from_arg,
 )
 from tennislab.errors import InputError
-from tennislab.io.files import is_utf8_name, shown
+from tennislab.io import is_utf8_name, shown
 
 
 def _default_aero() -> str:

@@ -25,11 +25,12 @@ if TYPE_CHECKING:
         check_output_dir,
         check_output_path,
         command_files,
+        is_utf8_name,
         read_text,
         same_file,
         shown,
     )
-    from tennislab.io.formats import unique_pairs
+    from tennislab.io.formats import check_unicode, unique_pairs
     from tennislab.io.hawkeye import parse_points, read_points
     from tennislab.io.material_csv import read_friction_angles, read_load_deformation
     from tennislab.io.surface_file import is_surface_file, read_surface
@@ -40,6 +41,8 @@ __all__ = [
     "atomic_write",
     "check_input_file",
     "command_files",
+    "check_unicode",
+    "is_utf8_name",
     "same_file",
     "shown",
     "unique_pairs",
