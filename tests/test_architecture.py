@@ -351,7 +351,7 @@ _NO_FLIGHT_RUNS = (
 )
 
 #: a child process that asks every command for its --help (and runs the flightless commands), one after the
-#: other, and prints the first command after which a heavy library was loaded
+#: other, and prints the first command after which a heavy library was loaded (or that failed)
 _HELP_PROBE = """
 import argparse, contextlib, io, os, sys
 os.environ["MPLBACKEND"] = "Agg"
@@ -367,25 +367,35 @@ def commands(p, path):
 
 todo = [c + ["--help"] for c in commands(build_parser(), [])] + [list(c) for c in RUNS]
 for argv in todo:
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
-        main(argv)
+    with contextlib.redirect_stdout(io.StringIO()):
+        try:
+            rc = main(argv)
+        except SystemExit as exc:  # --help
+            rc = exc.code
     heavy = [m for m in HEAVY if m in sys.modules]
-    if heavy:
-        print(" ".join(argv), "->", ",".join(heavy))
+    if heavy or rc:
+        print(" ".join(argv), "->", ",".join(heavy) or f"exit {rc}")
         break
 print("checked", len(todo))
 """
 
 
-def test_help_and_flightless_commands_load_no_numba_or_scipy():
+def test_help_and_flightless_commands_load_no_numba_or_scipy(tmp_path):
     """Every command's ``--help`` loads only what its text needs (the aero models' names from
     ``core.names``, not the compiled models), and a command without a flight (``launcher rollers``,
-    ``launcher power``: the ball only) loads neither Numba nor SciPy.  One process asks them all in turn
+    ``launcher power``: the ball only; ``material``) loads neither Numba nor SciPy.  One process asks them all in turn
     (modules stay loaded, so the first command that loads one is named)."""
     import subprocess
     import sys
 
-    code = f"RUNS = {_NO_FLIGHT_RUNS!r}\n" + _HELP_PROBE
+    (tmp_path / "ld.csv").write_text("load_n,deformation_m\n10,0.001\n20,0.002\n")
+    (tmp_path / "fr.csv").write_text("friction_angle_deg\n60\n62\n")
+    runs = (
+        *_NO_FLIGHT_RUNS,
+        ("material", "young", "--csv", str(tmp_path / "ld.csv")),
+        ("material", "friction", "--csv", str(tmp_path / "fr.csv")),
+    )
+    code = f"RUNS = {runs!r}\n" + _HELP_PROBE
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     lines = out.stdout.strip().splitlines()
     assert lines[-1].startswith("checked ") and int(lines[-1].split()[1]) > 30, out.stdout + out.stderr
