@@ -164,6 +164,9 @@ def _raw(*pairs: tuple[str, str]) -> Headers:
         ((("host", "127.0.0.1"), ("sec-fetch-site", "SAME-SITE")), 403),
         ((("host", "127.0.0.1"), ("sec-fetch-site", " cross-site ")), 403),
         ((("host", "127.0.0.1"), ("sec-fetch-site", "same-origin"), ("sec-fetch-site", "cross-site")), 403),
+        # one line folding two copies (what a proxy may make of them): was served
+        ((("host", "127.0.0.1"), ("sec-fetch-site", "same-origin, cross-site")), 403),
+        ((("host", "127.0.0.1"), ("content-type", "application/json"), ("content-type", "text/plain")), 415),
         ((("host", "127.0.0.1"), ("origin", "HTTP://127.0.0.1")), None),
         ((("host", "127.0.0.1"), ("sec-fetch-site", "Same-Origin")), None),
     ],

@@ -136,10 +136,13 @@ class Guard:
         origins = headers.getlist("origin")
         if len(origins) > 1:  # which one a browser or a proxy meant is a guess: refused
             return 403, "origin: the request has more than one Origin header"
+        if len(headers.getlist("content-type")) > 1:  # the body's type would be a guess too
+            return 415, "request: the request has more than one Content-Type header"
         if method in SAFE_METHODS and not path.startswith("/api/"):
             return None  # the page and its files may be opened from anywhere (they cannot be framed)
         origin = origins[0] if origins else None
-        sites = {v.strip().lower() for v in headers.getlist("sec-fetch-site")}
+        # every copy, and every value of a folded one (``same-origin, cross-site`` is two copies in one line)
+        sites = {v.strip().lower() for line in headers.getlist("sec-fetch-site") for v in line.split(",")}
         if origin is not None:
             if origin.strip().lower() != f"http://{host.strip().lower()}":
                 return 403, f"origin: requests from {F.short(origin)} are refused (the app answers only its own page)"
