@@ -106,12 +106,14 @@ def test_flight(client, capsys, report_html):
 # ------------------------------------------------------------------ one serve
 def test_serve(client, capsys):
     from tennislab.serve import simulate
+    from tennislab.serve.pipeline import default_flight
 
     ref = jsonable(simulate("professional", 40, 19).to_dict())
     cli = cli_json(capsys, "serve", "--player", "professional", "--impact-angle", 40, "--face-angle", 19, "--json")
-    assert cli == ref
+    physics = {"physics": jsonable(default_flight().to_dict()), "physics_preset": "standard"}
+    assert cli == {**ref, **physics}  # the result's to_dict() and the physics it flew
     app = client.post("/api/serve", json={"player": "professional", "impact_angle": 40, "face_angle": 19}).json()
-    same(app, ref, rel=1e-9)
+    same(app, {**ref, **physics}, rel=1e-9)
 
 
 # ------------------------------------------------------------------ the serve window (Table 1)
@@ -124,10 +126,16 @@ def test_serve_window(client, capsys, report_html):
     app = client.post("/api/serve/window", json={"player": "junior", "step": 1}).json()
     same(app["summary"], ref["summary"], rel=1e-9)
     same(app["optimum"], ref["optimum"], rel=1e-9)
-    # the report's Table 1 row of the junior: the counts of successful flat and topspin serves
+    # the report's Table 1 row of the junior (the paper's constants, as serve-window --preset seed000):
+    # the counts of successful flat and topspin serves
+    paper = jsonable(window("junior", step=1.0, preset="seed000").to_dict())
+    cli = cli_json(capsys, "serve-window", "--player", "junior", "--step", 1, "--preset", "seed000", "--json")
+    same(cli, paper)
+    assert cli["physics_preset"] == "seed000" and paper["summary"] != ref["summary"]
     sec = report_html[report_html.index('id="serve-windows"') : report_html.index('id="line-calling"')]
+    assert "preset seed000" in sec
     for cat in ("flat", "topspin"):
-        n = ref["summary"][cat]["n"]
+        n = paper["summary"][cat]["n"]
         row = rf'<td class="l">junior</td><td class="l">{cat}</td><td class="l">tennislab</td><td>{n}</td>'
         assert re.search(row, sec), cat
 

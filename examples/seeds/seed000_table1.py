@@ -3,8 +3,8 @@
     .venv/bin/python examples/seeds/seed000_table1.py
 
 One table per player (the paper's row from its Table 1 and figs 5-9, then ``tennislab serve-window --json``
-with the default, converged impact model and with each of the paper's readings changed one at a time, then
-together), and the counts over the three players.
+with the paper's constants (``--preset seed000``): the default, converged impact model, then each of the
+paper's readings changed one at a time, then together), and the counts over the three players.
 """
 
 import contextlib
@@ -33,7 +33,7 @@ HEAD = (
 def windows(flags: list[str]) -> dict:
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        rc = tennislab(["serve-window", "--player", "all", "--json", "--no-progress", *flags])
+        rc = tennislab(["serve-window", "--player", "all", "--preset", "seed000", "--json", "--no-progress", *flags])
     if rc != 0:
         raise SystemExit(f"serve-window {' '.join(flags)} exited {rc}")
     return json.loads(out.getvalue())["players"]

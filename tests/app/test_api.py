@@ -185,7 +185,8 @@ def test_flight_that_never_lands_is_a_clean_error(client):
 # ----------------------------------------------------------------- serve explorer
 def test_serve_matches_impact_model_and_window(client):
     from tennislab.core.impact import impact_single
-    from tennislab.serve import seed_flight_params, seed_impact_params
+    from tennislab.serve import seed_impact_params
+    from tennislab.serve.pipeline import default_flight
 
     win = client.post("/api/serve/window", json={"player": "professional", "step": 3}).json()
     code = np.array(win["code"])
@@ -198,7 +199,8 @@ def test_serve_matches_impact_model_and_window(client):
     picks = [tuple(succ[i]) for i in rng.choice(len(succ), 4, replace=False)] + [
         tuple(fail[i]) for i in rng.choice(len(fail), 2, replace=False)
     ]
-    fp = seed_flight_params()
+    fp = default_flight()  # the serve workflows' physics (the app states it: `physics`)
+    assert win["physics"] == fp.to_dict() and win["physics_preset"] == "standard"
     for ib, ia in picks:
         body = {"player": "professional", "impact_angle": float(alpha[ia]), "face_angle": float(beta[ib])}
         r = client.post("/api/serve", json=body)
@@ -211,6 +213,7 @@ def test_serve_matches_impact_model_and_window(client):
         assert s["speed"] == pytest.approx(ref.speed, rel=1e-9)
         assert s["spin_rpm"] == pytest.approx(ref.omega / RPM, rel=1e-9)
         assert s["flight"]["points"][0] == pytest.approx([-11.885, 0.0, 3.0], abs=1e-4)
+        assert s["physics"] == win["physics"] and s["physics_preset"] == "standard"
 
 
 def test_serve_custom_player_and_3d(client):

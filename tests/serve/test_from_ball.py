@@ -28,7 +28,8 @@ def test_ball_to_racket_to_the_same_ball(ball):
     assert res.speed == pytest.approx(ball.speed_ms, rel=0.01)
     assert abs(res.spin_rpm) == pytest.approx(ball.spin_rpm, rel=0.01, abs=5.0)
     assert res.launch_angle == pytest.approx(ball.elevation_deg, abs=0.05)
-    assert (res.spin_rpm < 0) == (ball.spin_axis_deg == 180.0)
+    if ball.spin_rpm > 0:  # (a ball without spin comes back with |spin| ~ 1e-18 rpm of either sign)
+        assert (res.spin_rpm < 0) == (ball.spin_axis_deg == 180.0)
 
 
 def test_3d_ball_with_heading_and_sidespin_round_trip():
@@ -64,7 +65,7 @@ def test_a_ball_the_impact_cannot_give_is_refused_with_the_nearest():
 def test_cli_serve_from_the_ball_says_the_racket(capsys):
     assert main(["serve", "--speed-kmh", "180", "--spin-rpm", "2500", "--elevation-deg", "-5", "--height", "2.9"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("racket for this ball: 37.8 m/s, alpha 18.1 deg, beta 11.6 deg")
+    assert out.startswith("racket for this ball: 37.7 m/s, alpha 18.3 deg, beta 11.7 deg")
     assert "2500 rpm topspin" in out
     assert main(["serve", "--speed-ms", "50", "--spin-rpm", "2500", "--elevation-deg", "-5", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -135,15 +136,16 @@ def test_the_window_summary_has_every_spin_class_and_its_bands(capsys):
     "argv, preset",
     [
         (["fly", "--speed-kmh", "180", "--elevation-deg", "-5"], "standard"),
-        (["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21"], "seed000"),
+        (["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21"], "standard"),
         (
-            ["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21", "--preset", "standard"],
-            "standard",
+            ["serve", "--player", "pro", "--impact-angle", "36", "--face-angle", "21", "--preset", "seed000"],
+            "seed000",
         ),
         pytest.param(
-            ["serve-mc", "--impact-angle", "36", "--face-angle", "21", "--n", "500"], "seed000", marks=pytest.mark.slow
+            ["serve-mc", "--impact-angle", "36", "--face-angle", "21", "--n", "500"], "standard", marks=pytest.mark.slow
         ),
-        (["serve-window", "--step", "10"], "seed000"),
+        (["serve-window", "--step", "10"], "standard"),
+        (["serve-window", "--step", "10", "--preset", "seed000"], "seed000"),
     ],
 )
 def test_every_output_states_its_physics_and_preset(capsys, argv, preset):
@@ -175,7 +177,7 @@ def test_ball_window_agrees_with_single_serves_of_that_ball(capsys):
         assert res.success == row["success"], row
     assert main(["serve-window", "--speed-kmh", "180", "--spin-rpm", "2500", "--height", "2.9", "--step", "1"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[0].startswith("ball: 180.0 km/h, 2500 rpm topspin from 2.90 m; racket 37.8 m/s, alpha 18.1 deg")
+    assert out[0].startswith("ball: 180.0 km/h, 2500 rpm topspin from 2.90 m; racket 37.7 m/s, alpha 18.3 deg")
     assert out[1].startswith(f"in: {int(w.success.sum())} of {w.success.size} launch directions: elevation ")
     assert main(["serve-window", "--speed-kmh", "180", "--spin-rpm", "2500", "--elevation-range", "5", "10"]) == 0
     assert "in: none of the 11 launch directions (hint:" in capsys.readouterr().out

@@ -182,7 +182,7 @@ def test_p_success_agrees_with_an_independent_generator():
     P(success) within 4 binomial standard errors (n = 20000 each), mean landing x within 4 se."""
     n = 20000
     r = run_mc("pro", 4, 9, n=n, seed=0)
-    setup = make_setup("pro", flight=seed_flight_params(), steps=TABLE_STEPS)
+    setup = make_setup("pro", steps=TABLE_STEPS)  # the workflows' default physics, as run_mc's
     t = scatter_table(setup, 4, 1.0, 1.0)
     g = np.random.default_rng(12345)
     a = np.radians(4 + g.standard_normal(n))

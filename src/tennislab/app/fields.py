@@ -167,10 +167,10 @@ _form(
 PLAYERS = (*player_names(), "custom")
 
 #: The serve the explorer opens on: the professional's topspin serve deepest inside its alpha x beta
-#: window (:func:`tennislab.serve.default_serve`, 2-D criteria of the paper); not computed at import
-#: (a window takes seconds on a cold cache): ``tests/app/test_api.py::test_default_serve_succeeds``
+#: window (:func:`tennislab.serve.default_serve`: the default physics, 2-D criteria of the paper); not
+#: computed at import (a window takes seconds on a cold cache): ``tests/app/test_api.py::test_default_serve_succeeds``
 #: checks that these are its values and that the serve succeeds.
-DEFAULT_SERVE = {"player": "professional", "impact_angle": 46.0, "face_angle": 21.0}
+DEFAULT_SERVE = {"player": "professional", "impact_angle": 44.0, "face_angle": 20.0}
 
 _form(
     "serve",

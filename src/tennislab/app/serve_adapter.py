@@ -2,7 +2,7 @@
 
 One serve is :func:`tennislab.serve.simulate` (the workflow behind ``tennislab serve``): the
 paper's impact model, the face angle beta, and in 3-D the face azimuth, the brush direction, the
-server's position and the toss; flight with the paper's constants.  Success: ``seed-2d`` = the
+server's position and the toss; flight with the standard physics of every command.  Success: ``seed-2d`` = the
 paper's criteria (ball centre above 0.943 m at the net, landing at most 18.318 m from the impact
 point, the same test as the window heat map); ``deuce`` / ``ad`` = over the real net and into that
 service box.  Every answer carries the result's ``verdict`` (why it failed, what would fix it) and
@@ -16,6 +16,12 @@ from tennislab.app import services as S
 from tennislab.plot import WINDOW_COLORS, window_codes, window_labels, window_span
 from tennislab.serve import PlayerProfile, default_serve, get_player, player_names, simulate
 from tennislab.serve import window as serve_window
+from tennislab.serve.pipeline import DEFAULT_PRESET, default_flight
+
+
+def _physics() -> dict:
+    """The flight physics of the explorer's serves, as the serve commands' JSON states it."""
+    return {"physics": default_flight().to_dict(), "physics_preset": DEFAULT_PRESET}
 
 
 def players() -> dict:
@@ -63,7 +69,7 @@ def serve(v: dict) -> dict:
     out["contact_time_ms"] = out["impact"]["contact_time_ms"]
     out["landing_y"] = out["landing"]["y"]
     out["flight"] = S.flight_of(tr) if tr is not None and tr.landing is not None else None
-    return out
+    return {**out, **_physics()}
 
 
 def window(v: dict) -> dict:
@@ -90,4 +96,4 @@ def window(v: dict) -> dict:
         speed=w.grid("speed").tolist(),
         spin_rpm=w.grid("spin_rpm").tolist(),
     )
-    return out
+    return {**out, **_physics()}

@@ -3,9 +3,10 @@ Treichel (2021).
 
 Each command parses its flags, calls one workflow of :mod:`tennislab.serve` (``simulate``,
 ``window``/``windows``, ``monte_carlo``) and prints its result (``--json``: the result's
-``to_dict()``).  All three take the physics flags of ``tennislab fly`` (defaults: the paper's
-constants, its sec. 2.3) and the impact flags of ``tennislab impact``; ``serve-window`` and
-``serve-mc`` also ``--scheduler`` / ``--out-dir`` (:mod:`tennislab.batch`).
+``to_dict()``).  All three take the physics flags of ``tennislab fly`` (defaults: the ``standard``
+physics of every command; ``--preset seed000`` the paper's constants, its sec. 2.3) and the impact
+flags of ``tennislab impact``; ``serve-window`` and ``serve-mc`` also ``--scheduler`` / ``--out-dir``
+(:mod:`tennislab.batch`).
 """
 
 from __future__ import annotations
@@ -244,11 +245,12 @@ def _racket_and_angles(args):
 
 
 def _model_flags(p, func, *, plot_help: str, csv_help: str | None = None, batch: bool = False) -> None:
-    """The 3-D, impact and physics flags (the paper's defaults), the output flags (``--plot`` / ``--csv``
+    """The 3-D, impact and physics flags (every command's ``standard`` physics; ``--preset seed000`` the
+    paper's), the output flags (``--plot`` / ``--csv``
     with these helps), the batch flags (if *batch*); run *func*."""
     _three_d_flags(p)
     add_impact_flags(p)
-    add_physics_flags(p, preset="seed000")
+    add_physics_flags(p)
     add_output_flags(p, csv=csv_help, plot=plot_help)
     if batch:
         add_scheduler_flag(p)

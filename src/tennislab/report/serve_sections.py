@@ -10,7 +10,9 @@
 
 All numbers come from the workflows of :mod:`tennislab.serve` (windows computed once, shared
 between sections through ``ctx.shared``); each section shows the models' caveats next to its
-numbers.  ``ctx.shared["serve_players"]`` (names or :class:`~tennislab.serve.PlayerProfile`) may
+numbers.  The sections reproduce the paper, so they fly its constants (:data:`PRESET`, ``seed000``:
+stepanek1988 aero, 59 g / 33 mm ball, air 1.22 kg/m^3, g 9.82), not every command's ``standard``
+physics, and say so.  ``ctx.shared["serve_players"]`` (names or :class:`~tennislab.serve.PlayerProfile`) may
 replace the paper's three players.
 """
 
@@ -22,6 +24,12 @@ from tennislab.serve import monte_carlo, simulate, window
 from tennislab.serve import published as pub
 
 PLAYERS = ("professional", "recreational", "junior")
+#: The physics preset of the serve sections: the paper's constants (its sec. 2.3), as Table 1 flew them
+PRESET = "seed000"
+PHYSICS_NOTE = (
+    "Flown with the paper's constants (preset seed000: stepanek1988 aero, ball 59 g and 33 mm, air "
+    "1.22 kg/m³, g 9.82 m/s²), not tennislab's standard physics; tennislab serve --preset seed000 flies the same."
+)
 #: (key in Table 1, column header, digits)
 TABLE1_COLS = (
     ("beta", "β [deg]", 0),
@@ -39,7 +47,7 @@ def _windows(ctx) -> dict:
     if "windows" not in ctx.shared:
         ws = {}
         for p in ctx.players or ctx.shared.get("serve_players", PLAYERS):
-            w = window(p, step=1.0)
+            w = window(p, step=1.0, preset=PRESET)
             ws[w.player.name] = w
             ctx.log(f"serve window {w.player.name}: {w.success.size} serves, {int(w.success.sum())} successful")
         ctx.shared["windows"] = ws
@@ -92,7 +100,7 @@ def windows(ctx) -> None:
             "drag and Magnus lift; a "
             "serve succeeds when the ball clears the net and lands in the service box (the paper's 2-D "
             "criteria: ball centre above 0.943 m at the net, landing at most 18.318 m from the impact "
-            "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm."
+            "point). Flat: spin below 1200 rpm; topspin: above 3200 rpm. " + PHYSICS_NOTE
         ),
         H.Raw(
             H.kpi(f"successful flat serves ({len(ws)} players)", f"{n_flat}")
@@ -136,6 +144,7 @@ def _mc(player, serve: dict):
         seed=MC_SEED,
         sd_angle=MC_SCATTER["sd_angle"],
         sd_speed=MC_SCATTER["sd_speed"],
+        preset=PRESET,
     )
 
 
@@ -289,7 +298,9 @@ def optimum(ctx) -> None:
                 rows.append([p, cat, "tennislab", "–"] + ["none"] * len(keys))
                 classes.append("")
                 continue
-            res = simulate(w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False)
+            res = simulate(
+                w.player, min(opt["alpha"], 89.999), opt["beta"], trajectory=True, advice=False, preset=PRESET
+            )
             assert res.trajectory is not None  # asked for with trajectory=True
             serves[p][cat] = (opt, res.trajectory)
             rows.append([p, cat, "tennislab", _lands(res)] + [H.num(opt[k], d) for k, d in keys])

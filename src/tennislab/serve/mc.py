@@ -350,6 +350,7 @@ def monte_carlo(
     brush_deg: float = 0.0,
     server_y: float = 0.0,
     flight: FlightParams | None = None,
+    preset: str | None = None,
     impact_params: ImpactParams | None = None,
     criteria: SeedCriteria | None = None,
     mapper=None,
@@ -370,6 +371,7 @@ def monte_carlo(
     chunk sizes there count blocks).  The result is identical for any mapper and chunking.
     ``samples``: True (20000) or a count m: also keep the landing points of the first
     min(n, m) serves (the same serves as in the statistics) in ``samples``.
+    ``flight`` defaults to the ``standard`` physics of every command (``preset="seed000"``: the paper's).
     """
     n = int(check_range("n", n, 1, 1e8))
     for nm, v in (("sd_angle", sd_angle), ("sd_speed", sd_speed), ("sd_height", sd_height)):
@@ -381,6 +383,7 @@ def monte_carlo(
     setup = make_setup(
         player,
         flight=flight,
+        preset=preset,
         impact_params=impact_params,
         criteria=criteria,
         target=target,

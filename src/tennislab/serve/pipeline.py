@@ -45,7 +45,6 @@ from tennislab.serve.setup import (
     SeedCriteria,
     criteria_caveats,
     integration_caveats,
-    seed_flight_params,
     seed_impact_params,
 )
 
@@ -148,9 +147,16 @@ class Setup:
         )
 
 
-def default_flight() -> FlightParams:
-    """The flight physics of a serve workflow when none is given (the one statement of that default)."""
-    return seed_flight_params()
+#: The physics preset of a serve workflow when no flight is given: every command's default
+#: (:data:`tennislab.core.names.PRESETS`); the paper's constants are ``preset="seed000"``.
+DEFAULT_PRESET = "standard"
+
+
+def default_flight(preset: str | None = None) -> FlightParams:
+    """The flight physics of a serve workflow when none is given (the one statement of that default):
+    ``preset`` (default :data:`DEFAULT_PRESET`, the physics of every command; ``"seed000"`` the paper's
+    constants, :func:`~tennislab.serve.setup.seed_flight_params`)."""
+    return FlightParams.from_options(preset=DEFAULT_PRESET if preset is None else preset)
 
 
 def make_setup(
@@ -168,13 +174,17 @@ def make_setup(
     method: str = "rk4",
     steps: int = 400,
     rtol: float | None = None,
+    preset: str | None = None,
 ) -> Setup:
     """The :class:`Setup` of a workflow's keywords, checked, with the defaults of every serve workflow:
-    ``flight`` :func:`default_flight`, ``impact_params`` the paper's racket with the flight's ball
-    (:func:`~tennislab.serve.setup.seed_impact_params`), ``criteria`` the paper's
+    ``flight`` :func:`default_flight` of ``preset`` (``"standard"``, every command's physics; ``"seed000"``
+    the paper's constants; not with a ``flight`` of its own), ``impact_params`` the paper's racket with
+    the flight's ball (:func:`~tennislab.serve.setup.seed_impact_params`), ``criteria`` the paper's
     (:class:`~tennislab.serve.setup.SeedCriteria`)."""
     player = get_player(player)
-    flight = flight or default_flight()
+    if flight is not None and preset is not None:
+        raise InputError("preset: give a flight or a preset, not both")
+    flight = flight or default_flight(preset)
     impact_params = impact_params or seed_impact_params(ball=flight.ball)
     _, brush = check_serve_options(target, azimuth_deg, brush_deg, server_y)
     check_range("toss_vz", toss_vz, -30.0, 30.0, "m/s")

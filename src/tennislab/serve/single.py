@@ -136,6 +136,7 @@ def simulate(
     face_angle: float,
     *,
     flight: FlightParams | None = None,
+    preset: str | None = None,
     impact_params: ImpactParams | None = None,
     criteria: SeedCriteria | None = None,
     target: str | None = None,
@@ -151,8 +152,9 @@ def simulate(
     """Simulate one serve of ``player`` (a registered name or :class:`PlayerProfile`) hit at impact
     angle alpha = ``impact_angle`` and face angle beta = ``face_angle`` [deg].
 
-    ``flight``/``impact_params`` default to the serve workflows' physics
-    (:func:`tennislab.serve.pipeline.make_setup`); ``dt``/``method`` set the impact integration.
+    ``flight``/``impact_params`` default to the serve workflows' physics, the ``standard`` preset of every
+    command (``preset="seed000"``: the paper's constants; :func:`tennislab.serve.pipeline.make_setup`);
+    ``dt``/``method`` set the impact integration.
     ``target`` ``deuce``/``ad``: 3-D, with ``azimuth_deg``, ``brush_deg`` [deg] and ``server_y`` [m].
     ``toss_vz``: vertical ball velocity at impact [m/s] (negative: falling), a Galilean shift of the
     impact.  ``trajectory=True`` keeps the SciPy :class:`Trajectory` (for plots).  ``advice=False``
@@ -163,6 +165,7 @@ def simulate(
     setup = make_setup(
         player,
         flight=flight,
+        preset=preset,
         impact_params=impact_params,
         criteria=criteria,
         target=target,

@@ -252,6 +252,7 @@ def window(
     alpha_deg=None,
     beta_deg=None,
     flight: FlightParams | None = None,
+    preset: str | None = None,
     impact_params: ImpactParams | None = None,
     criteria: SeedCriteria | None = None,
     steps: int = 400,
@@ -269,14 +270,16 @@ def window(
     (baseline, ``server_y``) with the face azimuth and brush angle [deg], judged by the real
     net and service box (:mod:`tennislab.serve.single`).
 
-    ``flight``/``impact_params`` default to the paper's constants and the converged impact
-    scheme; ``steps``/``dt``/``method`` set the impact integration (:func:`impact_batch`).
+    ``flight``/``impact_params`` default to the ``standard`` physics of every command (``preset="seed000"``:
+    the paper's constants) and the converged impact scheme; ``steps``/``dt``/``method`` set the impact
+    integration (:func:`impact_batch`).
     ``mapper(fn, inputs) -> outputs`` runs :func:`window_chunk` (default: in process);
     pass e.g. ``functools.partial(tennislab.batch.map_chunks, scheduler="processes")``.
     """
     setup = make_setup(
         player,
         flight=flight,
+        preset=preset,
         impact_params=impact_params,
         criteria=criteria,
         target=target,
