@@ -868,6 +868,12 @@ CRAFTED_VALUES = {
     "hits-flight-time-minus-1": ("UPDATE hits SET flight_time_s = -1", ("lookup",)),
     "hits-apex-1e6-m": ("UPDATE hits SET apex_z_m = 1e6", ("lookup",)),
     "hits-bounce-speed-minus-1": ("UPDATE hits SET bounce_speed_ms = -1", ("lookup",)),
+    # one hit no lookup reads (the query passes it by): `info --check` scans them all
+    "hits-one-landing-a-text": (
+        "UPDATE hits SET land_x = 'nan' WHERE id IN (SELECT id FROM hits LIMIT 1)",
+        ("info-check",),
+    ),
+    "hits-one-branch-7": ("UPDATE hits SET branch = 7 WHERE id IN (SELECT max(id) FROM hits)", ("info-check",)),
 }
 DB_COMMANDS_W = {**DB_COMMANDS, "table": ["launcher", "table", "--db", "x.sqlite", *_TINY_TABLE, "--no-progress"]}
 

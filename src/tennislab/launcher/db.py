@@ -416,6 +416,8 @@ def open_readonly(path: str, *, min_version: int = MIN_READ_VERSION, check: bool
         _guard.check_schema(conn, version, DatabaseFileError)
         if check if check is not None else os.path.getsize(path) <= QUICK_CHECK_MAX_BYTES:
             quick_check(conn)
+        if check:  # `info --check`: every stored hit in its ranges too (one scan)
+            _guard.check_stored_hits(conn, DatabaseFileError)
         conn.execute("SELECT count(*) FROM machine").fetchone()
         ensure_math(conn)
     except (sqlite3.DatabaseError, InputError) as exc:
