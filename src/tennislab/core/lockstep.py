@@ -31,7 +31,7 @@ import numpy as np
 
 from tennislab.core._jit import JIT
 from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel
-from tennislab.core.dynamics import acceleration
+from tennislab.core.dynamics import derivative_lanes
 from tennislab.core.events import EV_COMPONENT, EV_STATUS, MAX_EVENTS
 from tennislab.core.integrators import (
     _A21,
@@ -90,24 +90,6 @@ def lockstep_suits(kernel) -> bool:
 _SMOOTH = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel, _linear_lift_kernel))
 
 
-@nb.njit(**JIT, inline="always")
-def _rhs(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec):
-    """``F[:, l]`` = dy/dt at ``Y[:, l]`` for every lane (:func:`~tennislab.core.dynamics.acceleration`)."""
-    for lane in range(n):
-        ax, ay, az = acceleration(
-            Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane], aero, ap, k, k, g, r, wx, wy, wz
-        )
-        F[0, lane] = Y[3, lane]
-        F[1, lane] = Y[4, lane]
-        F[2, lane] = Y[5, lane]
-        F[3, lane] = ax
-        F[4, lane] = ay
-        F[5, lane] = az
-        F[6, lane] = -dec * Y[6, lane]
-        F[7, lane] = -dec * Y[7, lane]
-        F[8, lane] = -dec * Y[8, lane]
-
-
 @nb.njit(**JIT)
 def _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
@@ -123,33 +105,33 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c):
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A21 * K[0, i, la])
-    _rhs(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A31 * K[0, i, la] + _A32 * K[1, i, la])
-    _rhs(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A41 * K[0, i, la] + _A42 * K[1, i, la] + _A43 * K[2, i, la])
-    _rhs(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A51 * K[0, i, la] + _A52 * K[1, i, la] + _A53 * K[2, i, la] + _A54 * K[3, i, la]
             )
-    _rhs(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A61 * K[0, i, la] + _A62 * K[1, i, la] + _A63 * K[2, i, la] + _A64 * K[3, i, la] + _A65 * K[4, i, la]
             )
-    _rhs(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for i in range(9):
         for la in range(n):
             YN[i, la] = Y[i, la] + h[la] * (
                 _B1 * K[0, i, la] + _B3 * K[2, i, la] + _B4 * K[3, i, la] + _B5 * K[4, i, la] + _B6 * K[5, i, la]
             )
-    _rhs(YN, K[6], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YN, K[6], n, aero, ap, k, g, r, wx, wy, wz, dec)
     for la in range(n):
         errsum[la] = 0.0
         ysum[la] = 0.0
