@@ -501,7 +501,8 @@ def _same(a, b, path=""):
     if isinstance(a, dict):
         assert isinstance(b, dict) and a.keys() == b.keys(), path
         for k in a:
-            _same(a[k], b[k], f"{path}.{k}")
+            if k != "reach_map":  # whether this call built the reach map or found it: not the answer
+                _same(a[k], b[k], f"{path}.{k}")
     elif isinstance(a, list):
         assert isinstance(b, list) and len(a) == len(b), path
         for i, (x, y) in enumerate(zip(a, b)):
