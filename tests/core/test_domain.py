@@ -268,6 +268,7 @@ def test_capped_lift_is_a_smooth_minimum_through_zero():
     assert np.max(np.abs(cl - np.minimum(0.6 * s, 0.5))) <= 0.0100001
     low = s <= 0.6
     assert np.max(np.abs(cl[low] - 0.6 * s[low])) < 5.2e-4
-    assert m.batch_tol == CAPPED_BATCH_TOL
-    assert get_aero_model("cross2014").batch_tol == 2e-7  # uncapped: no blend, the usual tolerance
-    assert get_aero_model("cross2014", cl_max=0.5).batch_tol == CAPPED_BATCH_TOL
+    # the blend's zone is held to a tighter error inside the kernels: no tighter tolerance than uncapped
+    assert m.batch_tol == get_aero_model("cross2014").batch_tol == 2e-7
+    assert get_aero_model("cross2014", cl_max=0.5).batch_tol == 2e-7
+    assert get_aero_model("tennislab2026").batch_tol == CAPPED_BATCH_TOL  # kinks at its knots

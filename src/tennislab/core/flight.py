@@ -683,8 +683,9 @@ def fly_batch(
     """Integrate N flights (states (N, 9): position, velocity, spin) to first ground contact.
 
     Compiled with Numba (``parallel=True`` uses all cores via ``prange``).  The
-    default tolerance (rtol = atol = the aero model's ``batch_tol``: 2e-7, or
-    2e-8 for the capped lift of ``choppin2018``) keeps landing points within
+    default tolerance (rtol = atol = the aero model's ``batch_tol``: 2e-7, or 2e-8 for the
+    piecewise-linear curves of ``tennislab2026``; the steps in the blend zone of a capped lift such as
+    ``choppin2018``'s are held to a tighter error, :data:`~tennislab.core.aero.CAP_ZONE`) keeps landing points within
     0.01 mm of the reference :func:`fly_dense` at rtol 1e-10 for serves, groundstrokes
     and lobs with up to 6000 rpm about any axis, for every built-in aero model
     (docs/flight.md; benchmarks/bench_flight_accuracy.py; tests/core/test_flight_accuracy.py).
@@ -693,9 +694,10 @@ def fly_batch(
     in SIMD lanes (:mod:`tennislab.core.lockstep`), ``"per-shot"`` one after the other
     (:func:`~tennislab.core.integrators.integrate_one`, its reference); both give the same table to
     round-off (1e-9 m for the smooth models).  ``"auto"`` (default) takes the lockstep kernel where it
-    is faster (:func:`~tennislab.core.lockstep.lockstep_suits`: tennislab's smooth formulas, compiled
-    into it; docs/benchmarks.md) and the per-shot one otherwise (a user's kernel, called through a
-    pointer that no SIMD lane can share; the table and curve models, whose cell search is a loop).
+    is faster (:func:`~tennislab.core.lockstep.lockstep_suits`: ``stepanek1988`` and the linear-lift
+    models such as the default; docs/benchmarks.md) and the per-shot one otherwise (``constant``, too
+    cheap to gain; a user's kernel, called through a pointer no SIMD lane can share; the table and
+    curve models, whose cell search is a loop).
 
     Rows outside the physical range are not refused but marked (``status``, see
     :class:`FlightTable`), so that one bad row never stops millions of good ones;

@@ -26,7 +26,7 @@ import numpy as np
 from numba import types
 
 from tennislab.core._jit import JIT
-from tennislab.core.aero import AERO_FUNCTION_TYPE
+from tennislab.core.aero import _CAP_BLEND, AERO_FUNCTION_TYPE, CAP_ZONE, CAP_ZONE_ERR, cap_distance
 from tennislab.core.court import net_blocks, net_height_linear
 from tennislab.core.dynamics import derivative
 from tennislab.core.events import (
@@ -407,6 +407,30 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
 
 
 @nb.njit(**JIT, inline="always")
+def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1, wz1):
+    """The factor of a step's error: :data:`~tennislab.core.aero.CAP_ZONE_ERR` if the step from
+    velocity/spin 0 to 1 starts or ends in the capped lift's blend zone or crosses the cap, else 1."""
+    ux = vx0 - c.wind_x
+    uy = vy0 - c.wind_y
+    uz = vz0 - c.wind_z
+    d0 = cap_distance(
+        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx0 * wx0 + wy0 * wy0 + wz0 * wz0), c.radius, ap
+    )
+    if d0 == -math.inf:
+        return 1.0
+    ux = vx1 - c.wind_x
+    uy = vy1 - c.wind_y
+    uz = vz1 - c.wind_z
+    d1 = cap_distance(
+        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx1 * wx1 + wy1 * wy1 + wz1 * wz1), c.radius, ap
+    )
+    zone = CAP_ZONE * _CAP_BLEND
+    if abs(d0) < zone or abs(d1) < zone or d0 * d1 < 0.0:
+        return CAP_ZONE_ERR
+    return 1.0
+
+
+@nb.njit(**JIT, inline="always")
 def step_factor(err):
     """The step-size factor after a step of scaled error ``err`` (Hairer et al. II.4: 0.9 err^-1/5,
     within [0.2, 10])."""
@@ -496,7 +520,9 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
             e_i = h * acc / sc
             errsum += e_i * e_i
             ysum += ynew[i]
-        err = math.sqrt(errsum / 9.0)
+        err = math.sqrt(errsum / 9.0) * cap_scale(
+            aero, aero_p, c, y[3], y[4], y[5], y[6], y[7], y[8], ynew[3], ynew[4], ynew[5], ynew[6], ynew[7], ynew[8]
+        )
         if not math.isfinite(err + ysum):  # a non-finite error or state: a rejection, counted in attempts
             h *= 0.2
             continue

@@ -30,7 +30,7 @@ import numba as nb
 import numpy as np
 
 from tennislab.core._jit import JIT
-from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel
+from tennislab.core.aero import _kernel_key, _linear_lift_kernel, _stepanek_kernel
 from tennislab.core.dynamics import derivative_lanes
 from tennislab.core.events import EV_COMPONENT, EV_STATUS, MAX_EVENTS
 from tennislab.core.integrators import (
@@ -67,6 +67,7 @@ from tennislab.core.integrators import (
     _aim_event,
     _finish_row,
     aim_step,
+    cap_scale,
     start_flight,
     step_events,
     step_factor,
@@ -79,15 +80,16 @@ BLOCK = 512
 
 
 def lockstep_suits(kernel) -> bool:
-    """Whether the lockstep kernel is the faster for the aero ``kernel``: one of tennislab's smooth
-    formulas (``constant``, ``stepanek1988``, the linear-lift models), which LLVM evaluates in SIMD
-    lanes.  Not for a user's kernel (called through a pointer: no lane can share the call) nor the
-    ``table`` and ``curves`` models (their cell search is a loop per lane; no faster in lockstep,
-    benchmarks/bench_flight.py), which keep the per-shot kernel."""
-    return _kernel_key(kernel) in _SMOOTH
+    """Whether the lockstep kernel is the faster for the aero ``kernel``: tennislab's smooth formulas
+    with a real cost per evaluation (``stepanek1988``, the linear-lift models such as the default),
+    which LLVM evaluates in SIMD lanes (one thread, 10^5 mixed shots: the default model 1.6x faster).
+    Not ``constant`` (too cheap to evaluate for the lanes' bookkeeping to pay: 0.85x), a user's kernel
+    (called through a pointer: no lane can share the call) nor the ``table`` and ``curves`` models
+    (their cell search is a loop per lane), which keep the per-shot kernel."""
+    return _kernel_key(kernel) in _SUITED
 
 
-_SMOOTH = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel, _linear_lift_kernel))
+_SUITED = frozenset(_kernel_key(k) for k in (_stepanek_kernel, _linear_lift_kernel))
 
 
 @nb.njit(**JIT)
@@ -241,7 +243,10 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
-            err = math.sqrt(errsum[lane] / 9.0)
+            err = math.sqrt(errsum[lane] / 9.0) * cap_scale(
+                aero, ap, c, Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane],
+                YN[3, lane], YN[4, lane], YN[5, lane], YN[6, lane], YN[7, lane], YN[8, lane],
+            )  # fmt: skip
             if not math.isfinite(err + ysum[lane]):  # a non-finite error or state: a rejection
                 h[lane] *= 0.2
                 continue
