@@ -2,7 +2,8 @@
 
 Target (issue 2): batch landing-point throughput >= 2000x the SciPy path on 2 cores.
 Prints both figures measured in this run and their ratio, plus the batch path's
-landing error against the SciPy DOP853 reference at rtol 1e-10.
+landing error against the SciPy DOP853 reference at rtol 1e-10, and the lockstep kernel (the
+default, shots in SIMD lanes) against the per-shot kernel on the same shots (its lanes benchmark).
 """
 
 import math
@@ -108,6 +109,15 @@ def main(n_batch: int = 1_000_000, n_scipy: int = 100, repeats: int = 3) -> dict
     print(
         f"flight: CPU time per trajectory on one thread: batch {cb * 1e6:.3f} us, SciPy {cs * 1e3:.3f} ms, "
         f"ratio {cs / cb:,.0f}x (x2 on 2 idle cores; load-independent check)"
+    )
+    rp = _best_rate(lambda: fly_batch(S, p, kernel="per-shot"), n_batch, repeats)[0]
+    c1 = _cpu_per_traj(lambda: fly_batch(S[:200_000], p, parallel=False, kernel="per-shot"), 200_000, repeats)
+    res["lockstep_gain"] = rate_batch / rp
+    res["lockstep_gain_cpu"] = c1 / cb
+    print(
+        f"flight: lanes: lockstep (default) {rate_batch:,.0f} vs per-shot kernel {rp:,.0f} traj/s: "
+        f"x{res['lockstep_gain']:.2f}; one thread {cb * 1e6:.3f} vs {c1 * 1e6:.3f} us CPU per flight: "
+        f"x{res['lockstep_gain_cpu']:.2f}"
     )
     rf = _first_class_rate(S[:300_000], p, repeats)
     res["inline_gain"] = rate_batch / rf
