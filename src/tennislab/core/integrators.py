@@ -409,15 +409,14 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
 @nb.njit(**JIT, inline="always")
 def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1, wz1):
     """The factor of a step's error: :data:`~tennislab.core.aero.CAP_ZONE_ERR` if the step from
-    velocity/spin 0 to 1 starts or ends in the capped lift's blend zone or crosses the cap, else 1."""
+    velocity/spin 0 to 1 starts or ends in the capped lift's blend zone or crosses the cap, else 1
+    (branch-free, so that the lockstep kernel evaluates it in SIMD lanes)."""
     ux = vx0 - c.wind_x
     uy = vy0 - c.wind_y
     uz = vz0 - c.wind_z
     d0 = cap_distance(
         aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx0 * wx0 + wy0 * wy0 + wz0 * wz0), c.radius, ap
     )
-    if d0 == -math.inf:
-        return 1.0
     ux = vx1 - c.wind_x
     uy = vy1 - c.wind_y
     uz = vz1 - c.wind_z
@@ -425,9 +424,8 @@ def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1
         aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx1 * wx1 + wy1 * wy1 + wz1 * wz1), c.radius, ap
     )
     zone = CAP_ZONE * _CAP_BLEND
-    if abs(d0) < zone or abs(d1) < zone or d0 * d1 < 0.0:
-        return CAP_ZONE_ERR
-    return 1.0
+    near = (abs(d0) < zone) | (abs(d1) < zone) | (d0 * d1 < 0.0)
+    return CAP_ZONE_ERR if near else 1.0
 
 
 @nb.njit(**JIT, inline="always")

@@ -93,9 +93,10 @@ _SUITED = frozenset(_kernel_key(k) for k in (_stepanek_kernel, _linear_lift_kern
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c):
+def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
-    ``K[1..6]``, the new state ``YN`` and, per lane, the sum of squared scaled errors and of the new state."""
+    ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state
+    and the error factor of a capped lift's blend zone (``cap_scale``)."""
     k = c.k
     g = c.gravity
     r = c.radius
@@ -151,6 +152,11 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c):
             e_i = h[la] * acc / sc
             errsum[la] += e_i * e_i
             ysum[la] += YN[i, la]
+    for la in range(n):
+        zscale[la] = cap_scale(
+            aero, ap, c, Y[3, la], Y[4, la], Y[5, la], Y[6, la], Y[7, la], Y[8, la],
+            YN[3, la], YN[4, la], YN[5, la], YN[6, la], YN[7, la], YN[8, la],
+        )  # fmt: skip
 
 
 @nb.njit(**JIT)
@@ -205,6 +211,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     t = np.zeros(LANES)
     errsum = np.empty(LANES)
     ysum = np.empty(LANES)
+    zscale = np.empty(LANES)
     shot = np.empty(LANES, dtype=np.int64)
     nst = np.zeros(LANES, dtype=np.int64)
     att = np.zeros(LANES, dtype=np.int64)
@@ -239,14 +246,11 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
         for i in range(9):
             for la in range(LANES):
                 K[0, i, la] = F[i, la]
-        _stages(Y, K, YT, YN, h, errsum, ysum, aero, ap, c)
+        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c)
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
-            err = math.sqrt(errsum[lane] / 9.0) * cap_scale(
-                aero, ap, c, Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane],
-                YN[3, lane], YN[4, lane], YN[5, lane], YN[6, lane], YN[7, lane], YN[8, lane],
-            )  # fmt: skip
+            err = math.sqrt(errsum[lane] / 9.0) * zscale[lane]
             if not math.isfinite(err + ysum[lane]):  # a non-finite error or state: a rejection
                 h[lane] *= 0.2
                 continue
