@@ -14,9 +14,16 @@ from __future__ import annotations
 
 from tennislab.app import services as S
 from tennislab.plot import WINDOW_COLORS, window_codes, window_labels, window_span
-from tennislab.serve import PlayerProfile, default_serve, get_player, player_names, simulate
+from tennislab.serve import (
+    DEFAULT_PRESET,
+    PlayerProfile,
+    default_flight,
+    default_serve,
+    get_player,
+    player_names,
+    simulate,
+)
 from tennislab.serve import window as serve_window
-from tennislab.serve.pipeline import DEFAULT_PRESET, default_flight
 
 
 def _physics() -> dict:

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from tennislab.serve import published
     from tennislab.serve.from_ball import BallLaunch, BallWindow, RacketForBall, ball_window, racket_for
     from tennislab.serve.mc import MonteCarloResult, block_size, monte_carlo
-    from tennislab.serve.pipeline import REASON_CODES
+    from tennislab.serve.pipeline import DEFAULT_PRESET, REASON_CODES, default_flight
     from tennislab.serve.players import (
         SEED_PLAYERS,
         PlayerProfile,
@@ -57,6 +57,8 @@ __all__ = [
     "IMPACT_SCHEMES",
     "REASONS",
     "REASON_CODES",
+    "DEFAULT_PRESET",
+    "default_flight",
     "SEED_PLAYERS",
     "ImpactSummary",
     "MonteCarloResult",
