@@ -54,7 +54,6 @@ from tennislab.calibrate import _sweeps
 from tennislab.calibrate.flights import Flight
 from tennislab.core.aero import AeroModel, curves_model
 from tennislab.core.flight import FlightParams
-from tennislab.core.launch import describe_velocity, spin_basis
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
@@ -155,8 +154,18 @@ class ShotFit:
         self.drag_sigma = drag_sigma
         self.np = 9 if drag_sigma is not None else 8
         pos, vel = _start(self.t, self.x)
-        _, elevation, heading = describe_velocity(vel)
-        self.axes = np.stack(spin_basis(elevation, heading), axis=1)  # (topspin h, up u) of core.launch
+        # the spin's two axes span the plane perpendicular to the path (spin along the path bends
+        # nothing): the topspin axis e1 (horizontal) and u x e1; core.launch's (topspin, up) basis is
+        # not perpendicular to a rising or falling path, and the fit's prior on each component (and the
+        # documented identification, tests/calibrate/test_realdata_tracks.py) is stated in this one
+        u = vel / max(float(np.linalg.norm(vel)), 1e-9)
+        e1 = np.cross([0.0, 0.0, 1.0], u)
+        if np.linalg.norm(e1) < 1e-6:  # a vertical path: any horizontal axis
+            e1 = np.array([1.0, 0.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        if np.cross(e1, u)[2] > 0.0:  # e1 = the topspin axis: w x v points down
+            e1 = -e1
+        self.axes = np.stack([e1, np.cross(u, e1)], axis=1)
         spin0 = (flight.spin_rpm or 0.0) * RPM
         self.p0 = np.concatenate([pos, vel, [np.clip(spin0, -MAX_SPIN / 2, MAX_SPIN / 2), 0.0]])
         if drag_sigma is not None:
