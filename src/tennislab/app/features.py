@@ -15,8 +15,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from tennislab.app import launcher_adapter, linecall_adapter, serve_adapter
-from tennislab.app import services as S
+import tennislab.app.launcher_adapter as launcher_adapter
+import tennislab.app.linecall_adapter as linecall_adapter
+import tennislab.app.serve_adapter as serve_adapter
+import tennislab.app.services as S
 from tennislab.app.fields import MAX_TRACK_BYTES
 from tennislab.errors import InputError
 from tennislab.linecall.synth import sample_serve

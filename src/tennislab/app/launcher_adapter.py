@@ -11,8 +11,8 @@ from __future__ import annotations
 import json
 import re
 
-from tennislab.app import drill_format
-from tennislab.app import services as S
+import tennislab.app.drill_format as drill_format
+import tennislab.app.services as S
 from tennislab.app.fields import MAX_DRILL_SHOTS, SHOT_AXIS, validate
 from tennislab.errors import InputError
 from tennislab.launcher import DEFAULT_SPEC, AimResult, launcher_params

@@ -39,7 +39,7 @@ from collections.abc import Awaitable, Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
-from tennislab.app import features
+import tennislab.app.features as features
 from tennislab.errors import InputError, TennisLabError
 from tennislab.results import jsonable
 

@@ -12,7 +12,7 @@ is :func:`tennislab.serve.default_serve`.
 
 from __future__ import annotations
 
-from tennislab.app import services as S
+import tennislab.app.services as S
 from tennislab.plot import WINDOW_COLORS, window_codes, window_labels, window_span
 from tennislab.serve import (
     DEFAULT_PRESET,

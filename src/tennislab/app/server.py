@@ -49,10 +49,10 @@ from fastapi.staticfiles import StaticFiles
 from starlette.datastructures import Headers, MutableHeaders
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+import tennislab.app.features as features
+import tennislab.app.fields as F
+import tennislab.app.services as S
 from tennislab import __version__
-from tennislab.app import features
-from tennislab.app import fields as F
-from tennislab.app import services as S
 from tennislab.app.pool import ClientGone, Pool, PoolError
 from tennislab.errors import InputError
 from tennislab.io import check_unicode, unique_pairs

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from tennislab.calibrate import _sweeps
+import tennislab.calibrate._sweeps as _sweeps
 from tennislab.calibrate.flights import Flight
 from tennislab.core.aero import AeroModel, curves_model
 from tennislab.core.flight import FlightParams

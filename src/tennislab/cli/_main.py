@@ -31,8 +31,8 @@ import re
 import sys
 from collections.abc import Collection
 
+import tennislab.cli.config as cfgmod
 from tennislab import __version__
-from tennislab.cli import config as cfgmod
 from tennislab.cli._commands import COMMANDS
 from tennislab.cli.common import check_io, checked_floats
 from tennislab.errors import InputError, escape_text

@@ -8,7 +8,7 @@ result's ``to_dict()``).  JSON keys named in the issues are a contract (extend, 
 
 from __future__ import annotations
 
-from tennislab.cli import _launcher_db
+import tennislab.cli._launcher_db as _launcher_db
 from tennislab.cli._launcher_args import (
     add_preference_flags,
     add_speed,

@@ -38,13 +38,13 @@ from dataclasses import replace
 
 import numpy as np
 
+import tennislab.linecall.local_fit as local_fit
 import tennislab.linecall.model as M
 from tennislab.core.bounce import bounce
 from tennislab.core.flight import DEFAULT_NET, FlightParams, fly_dense, with_net
 from tennislab.core.mark import MarkParams, ball_mark
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
-from tennislab.linecall import local_fit
 from tennislab.linecall.answer import (
     OWN_SIDE,
     BounceEstimate,

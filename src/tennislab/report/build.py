@@ -33,12 +33,15 @@ import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import tennislab.report.flight_section as flight_section
+import tennislab.report.html as H
+import tennislab.report.launcher_section as launcher_section
+import tennislab.report.linecall_section as linecall_section
+import tennislab.report.serve_sections as serve_sections
 from tennislab import __version__
 from tennislab.errors import InputError
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path
 from tennislab.plot import close_figure, figure_data_uri
-from tennislab.report import flight_section, launcher_section, linecall_section, serve_sections
-from tennislab.report import html as H
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile, get_player
 
 #: (key, title, section function) in report order

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from collections import Counter
 
+import tennislab.report.html as H
 from tennislab.core.aero import DEFAULT_AERO
 from tennislab.core.court import ITF_COURT
 from tennislab.core.flight import FlightParams
 from tennislab.plot import plot_trajectories
-from tennislab.report import html as H
 from tennislab.trajectory import FlightResult, fly
 
 #: (label, position [m], launch keywords of :func:`tennislab.trajectory.fly`, the court area it is meant for)

@@ -7,9 +7,9 @@ baseline_rally`` prints.
 
 from __future__ import annotations
 
+import tennislab.report.html as H
 from tennislab.launcher import PAPER, compile_drill, drill_trajectories, launcher_params, load_drill
 from tennislab.plot import plot_drill
-from tennislab.report import html as H
 
 
 def _shots(name: str = "baseline_rally"):

@@ -12,11 +12,11 @@ import math
 
 import numpy as np
 
+import tennislab.report.html as H
 from tennislab.core.court import ITF_COURT
 from tennislab.linecall import call_track
 from tennislab.linecall.synth import sample_serve
 from tennislab.plot import in_out_by, plot_call, plus_minus, spin_fit_words
-from tennislab.report import html as H
 
 TARGET = "deuce-box"
 SIGMA = 3e-3  #: [m] the example track's noise, given to the call as its sigma column

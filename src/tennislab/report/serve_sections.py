@@ -18,8 +18,8 @@ replace the paper's three players.
 
 from __future__ import annotations
 
+import tennislab.report.html as H
 from tennislab.plot import plot_optimum_serves, plot_speed_spin, plot_window_maps
-from tennislab.report import html as H
 from tennislab.serve import monte_carlo, simulate, window
 from tennislab.serve import published as pub
 
