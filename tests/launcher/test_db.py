@@ -13,6 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import tennislab.launcher._dbdrills as dd
 from tennislab.errors import InputError
 from tennislab.launcher import HitsDB, db
 from tennislab.launcher import lookup as lk
@@ -26,7 +27,7 @@ from tennislab.launcher.preferences import EXACT, Preferences
 def _import(conn, path):
     """Store a drill file as ``launcher drills import`` does."""
     data = open(path, "rb").read()
-    return db.import_drill(conn, drill_record(parse_drill(data, str(path))), data, str(path))
+    return dd.import_drill(conn, drill_record(parse_drill(data, str(path))), data, str(path))
 
 
 SPEEDS = (80.0, 120.0)
@@ -493,23 +494,23 @@ def test_drill_round_trip_and_revisions(tmp_path):
     conn = db.open_db(path)
     info = _import(conn, f)
     assert info["revision"] == 1 and info["n_distinct"] == 2 and info["n_shots"] == 6 and info["name"] == "deep-corners"
-    assert db.drill_source(conn, "deep-corners") == DRILL.encode()
-    shots = db.drill_shots(conn, "deep-corners")
+    assert dd.drill_source(conn, "deep-corners") == DRILL.encode()
+    shots = dd.drill_shots(conn, "deep-corners")
     assert [s["name"] for s in shots] == ["left", "right"]
     assert shots[1]["target"] == [10.0, -3.5] and shots[1]["speed_kmh"] == 90.0
-    assert db.drill_sequence(conn, "deep-corners") == ["left", "right"] * 3
+    assert dd.drill_sequence(conn, "deep-corners") == ["left", "right"] * 3
     assert _import(conn, f)["revision"] == 1  # identical: unchanged
     f.write_bytes(DRILL.replace("repeats: 3", "repeats: 4").encode())
     assert _import(conn, f)["revision"] == 2
-    assert db.drill_sequence(conn, "deep-corners") == ["left", "right"] * 4
-    assert [d["name"] for d in db.list_drills(conn)] == ["deep-corners"]
+    assert dd.drill_sequence(conn, "deep-corners") == ["left", "right"] * 4
+    assert [d["name"] for d in dd.list_drills(conn)] == ["deep-corners"]
     with pytest.raises(InputError, match="not in the database"):
-        db.drill_source(conn, "nope")
+        dd.drill_source(conn, "nope")
     bad = tmp_path / "bad.yaml"
     bad.write_text("name: x\nprogram: []\n")
     with pytest.raises(InputError, match="program"):
         _import(conn, bad)
-    assert [d["name"] for d in db.list_drills(conn)] == ["deep-corners"]  # nothing half-imported
+    assert [d["name"] for d in dd.list_drills(conn)] == ["deep-corners"]  # nothing half-imported
     conn.close()
 
 
@@ -526,11 +527,11 @@ def test_shipped_drills_round_trip_exactly(tmp_path):
     for p in files:
         info = _import(conn, str(p))
         raw = p.read_bytes()
-        assert db.drill_source(conn, info["name"]) == raw
+        assert dd.drill_source(conn, info["name"]) == raw
         parsed = drill_record(parse_drill(raw, str(p)))
-        assert db.drill_shots(conn, info["name"]) == json.loads(db.canonical_json(parsed["shots"]))
-        assert db.drill_sequence(conn, info["name"]) == parsed["sequence"]
-    assert len(db.list_drills(conn)) == len(files)
+        assert dd.drill_shots(conn, info["name"]) == json.loads(db.canonical_json(parsed["shots"]))
+        assert dd.drill_sequence(conn, info["name"]) == parsed["sequence"]
+    assert len(dd.list_drills(conn)) == len(files)
     conn.close()
 
 

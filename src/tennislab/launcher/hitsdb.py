@@ -23,6 +23,7 @@ import sqlite3
 import time
 from dataclasses import replace
 
+import tennislab.launcher._dbdrills as _dd
 import tennislab.launcher._dbguard as _guard
 import tennislab.launcher.db as _db
 import tennislab.launcher.lookup as lk
@@ -217,7 +218,7 @@ class HitsDB:
                     for k, v in vals.items()
                 }
                 hits = _db.count_hits(conn)
-                drills = _db.list_drills(conn)
+                drills = _dd.list_drills(conn)
                 qc = None
                 if check or (check is None and os.path.getsize(self.path) <= _db.QUICK_CHECK_MAX_BYTES):
                     qc = "ok"  # open_readonly ran it
@@ -424,11 +425,11 @@ class HitsDB:
         if not os.path.exists(self.path):
             return None
         with self._read() as conn:
-            stored = _db.stored_drill_name(conn, name, drill_key)
+            stored = _dd.stored_drill_name(conn, name, drill_key)
             if stored is None:
                 return None
-            info = _db.drill_info(conn, stored)
-            return _db.drill_source(conn, stored), info["filename"]
+            info = _dd.drill_info(conn, stored)
+            return _dd.drill_source(conn, stored), info["filename"]
 
     def load_drill(self, name: str) -> tuple[Drill, str]:
         """(drill, source) for a name: a file, a drill stored here, or a shipped drill (in that order)."""
@@ -440,7 +441,7 @@ class HitsDB:
         out = []
         if os.path.exists(self.path):
             with self._read() as conn:
-                for r in _db.list_drills(conn):
+                for r in _dd.list_drills(conn):
                     out.append({**r, "key": drill_key(r["name"]), "source": "stored", "shadowed": False})
         if shipped:
             have = {d["key"] for d in out}
@@ -481,7 +482,7 @@ class HitsDB:
             with self._errors():
                 conn = _db.open_db(self.path)
             with self._errors(conn):
-                return DrillsImported([_db.import_drill(conn, rec, data, fname) for rec, data, fname in parsed])
+                return DrillsImported([_dd.import_drill(conn, rec, data, fname) for rec, data, fname in parsed])
         except BaseException:
             if conn is not None:
                 conn.close()
@@ -498,9 +499,9 @@ class HitsDB:
     def export_sources(self, name: str | None = None) -> list[tuple[str, int, str, bytes]]:
         """(stored name, revision, safe file name, bytes) of one stored drill (name or key) or of all of them."""
         with self._read() as conn:
-            rows = _db.list_drills(conn)
+            rows = _dd.list_drills(conn)
             if name is not None:
-                stored = _db.stored_drill_name(conn, name, drill_key)
+                stored = _dd.stored_drill_name(conn, name, drill_key)
                 if stored is None:
                     by_file = [r["name"] for r in rows if r["filename"] == stored_text(os.path.basename(name))]
                     stored = by_file[0] if by_file else None
@@ -509,7 +510,7 @@ class HitsDB:
                     raise InputError(f"drill: {name!r} is neither a stored drill nor its file name (stored: {names})")
                 rows = [r for r in rows if r["name"] == stored]
             return [
-                (r["name"], r["revision"], safe_filename(r["filename"], r["name"]), _db.drill_source(conn, r["name"]))
+                (r["name"], r["revision"], safe_filename(r["filename"], r["name"]), _dd.drill_source(conn, r["name"]))
                 for r in rows
             ]
 
