@@ -1,11 +1,26 @@
 import os
 import tempfile
+from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 # the launcher's reach maps are cached in a folder of this session, never in the user's cache
 os.environ.setdefault("TENNISLAB_CACHE_DIR", tempfile.mkdtemp(prefix="tennislab-test-cache-"))
+
+
+def _find_realdata() -> str:
+    """``shared/realdata`` beside the checkout (or beside its parent, for a worktree); the first path when
+    neither exists (the tests that read it then skip)."""
+    root = Path(__file__).resolve().parents[1]
+    for up in (root.parent, root.parent.parent):
+        if (up / "shared" / "realdata").is_dir():
+            return str(up / "shared" / "realdata")
+    return str(root.parent / "shared" / "realdata")
+
+
+#: The real data the tests read (``Path(os.environ["TENNISLAB_REALDATA"])``): set it to use another folder.
+os.environ.setdefault("TENNISLAB_REALDATA", _find_realdata())
 
 
 @pytest.fixture(autouse=True, scope="session")

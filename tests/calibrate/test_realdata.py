@@ -14,14 +14,8 @@ from tennislab.calibrate import calibrate_serves, load_serves, validate_serves
 
 
 def _realdata() -> Path:
-    env = os.environ.get("TENNISLAB_REALDATA")
-    if env:
-        return Path(env)
-    root = Path(__file__).resolve().parents[2]
-    for up in (root.parent, root.parent.parent):
-        if (up / "shared" / "realdata").is_dir():
-            return up / "shared" / "realdata"
-    return root.parent / "shared" / "realdata"
+    """The real data (``$TENNISLAB_REALDATA``, set by tests/conftest.py)."""
+    return Path(os.environ["TENNISLAB_REALDATA"])
 
 
 SERVES = _realdata() / "courtvision_serves.csv"

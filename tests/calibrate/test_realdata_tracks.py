@@ -13,14 +13,8 @@ from tennislab.io.hawkeye import read_points
 
 
 def _realdata() -> Path:
-    env = os.environ.get("TENNISLAB_REALDATA")
-    if env:
-        return Path(env)
-    root = Path(__file__).resolve().parents[2]
-    for up in (root.parent, root.parent.parent):
-        if (up / "shared" / "realdata").is_dir():
-            return up / "shared" / "realdata"
-    return root.parent / "shared" / "realdata"
+    """The real data (``$TENNISLAB_REALDATA``, set by tests/conftest.py)."""
+    return Path(os.environ["TENNISLAB_REALDATA"])
 
 
 SET1 = _realdata() / "match50hz-set1"

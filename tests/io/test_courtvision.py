@@ -23,15 +23,8 @@ from tennislab.io.courtvision import (
 
 
 def _realdata() -> Path:
-    """``$TENNISLAB_REALDATA``, or ``shared/realdata`` beside the repository (or beside a parent folder)."""
-    env = os.environ.get("TENNISLAB_REALDATA")
-    if env:
-        return Path(env)
-    root = Path(__file__).resolve().parents[2]
-    for up in (root.parent, root.parent.parent):
-        if (up / "shared" / "realdata").is_dir():
-            return up / "shared" / "realdata"
-    return root.parent / "shared" / "realdata"
+    """The real data (``$TENNISLAB_REALDATA``, set by tests/conftest.py)."""
+    return Path(os.environ["TENNISLAB_REALDATA"])
 
 
 REALDATA = _realdata()

@@ -19,14 +19,8 @@ from tennislab.linecall.synth_points import synthetic_match
 
 
 def _realdata() -> Path:
-    """``../shared/realdata`` beside the checkout (or its parent's, for a worktree), or $TENNISLAB_REALDATA."""
-    if os.environ.get("TENNISLAB_REALDATA"):
-        return Path(os.environ["TENNISLAB_REALDATA"])
-    root = Path(__file__).resolve().parents[2]
-    for up in (root.parent, root.parent.parent):
-        if (up / "shared" / "realdata").exists():
-            return up / "shared" / "realdata"
-    return root.parent / "shared" / "realdata"
+    """The real data (``$TENNISLAB_REALDATA``, set by tests/conftest.py)."""
+    return Path(os.environ["TENNISLAB_REALDATA"])
 
 
 REALDATA = _realdata()
