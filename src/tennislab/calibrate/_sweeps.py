@@ -29,42 +29,37 @@ _POS_SIG = types.void(_V, _V, _F, AERO_FUNCTION_TYPE, _V, _V, _M)
 _JAC_SIG = types.void(_V, _V, _M, _V, _F, AERO_FUNCTION_TYPE, _V, _V, _I, _V, _V, _M)
 
 
-@nb.njit(_POS_SIG, cache=True)
-def positions(q, t, h, aero, ext, consts, out):
-    """Positions (n, 3) at the times ``t`` (ascending) of the flight whose state at ``t[-1]`` is ``q``."""
+@nb.njit(cache=True)
+def _sweep(q, t, h, aero, ext, consts, out, backward):
+    """Positions (n, 3) at the times ``t`` (ascending) of the flight whose state is ``q`` at ``t[-1]``
+    (``backward``) or at ``t[0]``."""
     n = t.size
     na = ext.size - 4
     ap = ext[:na]
     sd = q[9] if q.size > 9 else 1.0
     k = consts[0]
     y0 = q[:9].copy()
+    at = n - 1 if backward else 0
     for c in range(3):
-        out[n - 1, c] = q[c]
+        out[at, c] = q[c]
     if n > 1:
-        idx = np.arange(n - 2, -1, -1).astype(np.int64)
+        idx = (np.arange(n - 2, -1, -1) if backward else np.arange(1, n)).astype(np.int64)
         sweep_positions(
-            y0, t[n - 1], t, idx, n - 1, -h, aero, ap, k * sd, k, consts[1], consts[2],
+            y0, t[at], t, idx, n - 1, -h if backward else h, aero, ap, k * sd, k, consts[1], consts[2],
             ext[na + 1], ext[na + 2], ext[na + 3], ext[na], out,
         )  # fmt: skip
+
+
+@nb.njit(_POS_SIG, cache=True)
+def positions(q, t, h, aero, ext, consts, out):
+    """Positions (n, 3) at the times ``t`` (ascending) of the flight whose state at ``t[-1]`` is ``q``."""
+    _sweep(q, t, h, aero, ext, consts, out, True)
 
 
 @nb.njit(_POS_SIG, cache=True)
 def positions_forward(q, t, h, aero, ext, consts, out):
     """As :func:`positions` for a state ``q`` at ``t[0]`` (swept forward over the later samples)."""
-    n = t.size
-    na = ext.size - 4
-    ap = ext[:na]
-    sd = q[9] if q.size > 9 else 1.0
-    k = consts[0]
-    y0 = q[:9].copy()
-    for c in range(3):
-        out[0, c] = q[c]
-    if n > 1:
-        idx = np.arange(1, n).astype(np.int64)
-        sweep_positions(
-            y0, t[0], t, idx, n - 1, h, aero, ap, k * sd, k, consts[1], consts[2],
-            ext[na + 1], ext[na + 2], ext[na + 3], ext[na], out,
-        )  # fmt: skip
+    _sweep(q, t, h, aero, ext, consts, out, False)
 
 
 @nb.njit(cache=True)
@@ -76,36 +71,39 @@ def _residual(q, t, x, w, h, aero, ext, consts, pos, res):
             res[3 * i + c] = w[i] * (pos[i, c] - x[i, c])
 
 
-@nb.njit(_JAC_SIG, cache=True)
-def shot_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac):
-    """Weighted residuals ``w (pos - x)`` (3n,) and their forward-difference Jacobian with respect to
-    the flight parameters ``q[free]`` (steps ``steps``)."""
+@nb.njit(cache=True)
+def _fd_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac, of_ext):
+    """Weighted residuals and their forward-difference Jacobian with respect to ``ext[free]``
+    (``of_ext``) or ``q[free]``."""
     n = t.size
     pos = np.empty((n, 3))
     _residual(q, t, x, w, h, aero, ext, consts, pos, res)
     r2 = np.empty(3 * n)
     q2 = q.copy()
+    e2 = ext.copy()
     for j in range(free.size):
         i = free[j]
-        q2[i] = q[i] + steps[j]
-        _residual(q2, t, x, w, h, aero, ext, consts, pos, r2)
+        if of_ext:
+            e2[i] = ext[i] + steps[j]
+        else:
+            q2[i] = q[i] + steps[j]
+        _residual(q2, t, x, w, h, aero, e2, consts, pos, r2)
         for m in range(3 * n):
             jac[m, j] = (r2[m] - res[m]) / steps[j]
-        q2[i] = q[i]
+        if of_ext:
+            e2[i] = ext[i]
+        else:
+            q2[i] = q[i]
+
+
+@nb.njit(_JAC_SIG, cache=True)
+def shot_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac):
+    """Weighted residuals ``w (pos - x)`` (3n,) and their forward-difference Jacobian with respect to
+    the flight parameters ``q[free]`` (steps ``steps``)."""
+    _fd_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac, False)
 
 
 @nb.njit(_JAC_SIG, cache=True)
 def global_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac):
     """As :func:`shot_jacobian`, with respect to the global parameters ``ext[free]``."""
-    n = t.size
-    pos = np.empty((n, 3))
-    _residual(q, t, x, w, h, aero, ext, consts, pos, res)
-    r2 = np.empty(3 * n)
-    e2 = ext.copy()
-    for j in range(free.size):
-        i = free[j]
-        e2[i] = ext[i] + steps[j]
-        _residual(q, t, x, w, h, aero, e2, consts, pos, r2)
-        for m in range(3 * n):
-            jac[m, j] = (r2[m] - res[m]) / steps[j]
-        e2[i] = ext[i]
+    _fd_jacobian(q, t, x, w, h, aero, ext, consts, free, steps, res, jac, True)
