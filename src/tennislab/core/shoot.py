@@ -50,6 +50,7 @@ import numba as nb
 import numpy as np
 
 from tennislab.core._jit import JIT
+from tennislab.core.events import COLUMNS
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.launch import launch_states
 from tennislab.errors import InputError
@@ -323,11 +324,14 @@ def shoot(
         if bounds is not None:
             lo = np.maximum(lo, bounds[0])
             hi = np.minimum(hi, bounds[1])
-    a, b, jac, it, flights = _newton(p, v, w, tgt, params, at, a, b, lo, hi, reason == OK, tol, max_iter, rtol)
+    a, b, jac, it, flights, rows = _newton(p, v, w, tgt, params, at, a, b, lo, hi, reason == OK, tol, max_iter, rtol)
     flights += flights0
     st = launch_states(p, v, a, b, w[:, 0], w[:, 1], w[:, 2])
-    tab = _fly(st, params, rtol)
-    flights += n
+    again = np.isnan(rows[:, 0])  # a launch matched in an iteration kept its angles: that flight is its table row
+    if again.any():
+        rows[again] = _fly(st[again], params, rtol).data
+        flights += int(again.sum())
+    tab = FlightTable(rows, params.ball.radius)
     miss = np.hypot(*(_point(tab, at) - tgt).T)
     conv = (reason == OK) & np.isfinite(miss) & (miss < CONVERGED_FACTOR * tol) & tab.ok
     reason = np.where((reason == OK) & ~conv, NOT_CONVERGED, reason)
@@ -339,9 +343,12 @@ def shoot(
 
 
 def _newton(p, v, w, tgt, params, at, a, b, lo, hi, live, tol, max_iter, rtol):
-    """The batched Newton iterations (module docstring); returns (a, b, jacobian, iterations, flights)."""
+    """The batched Newton iterations (module docstring); returns (a, b, jacobian, iterations, flights, rows): per
+    launch matched within ``tol`` its flight's event-table row (it is not moved again, so the final table needs
+    no new flight of it), NaN rows for the others."""
     n = p.shape[0]
     jac = np.full((n, 2, 2), np.nan)
+    rows = np.full((n, len(COLUMNS)), np.nan)
     active = np.flatnonzero(live)
     flights = 0
     it = 0
@@ -355,11 +362,13 @@ def _newton(p, v, w, tgt, params, at, a, b, lo, hi, live, tol, max_iter, rtol):
         aa = np.concatenate([a[ia], a[ia] + h, a[ia]])
         bb = np.concatenate([b[ia], b[ia], b[ia] + h])
         st = launch_states(p[idx], v[idx], aa, bb, w[idx, 0], w[idx, 1], w[idx, 2])
-        pt = _point(_fly(st, params, rtol), at)
+        tab = _fly(st, params, rtol)
+        pt = _point(tab, at)
         flights += 3 * m
         done = _newton_update(pt, tgt, ia, a, b, lo, hi, jac, h, tol, at == "landing")
+        rows[ia[done]] = tab.data[:m][done]
         active = ia[~done]
-    return a, b, jac, it, flights
+    return a, b, jac, it, flights, rows
 
 
 @nb.njit(**JIT)

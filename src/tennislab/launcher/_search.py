@@ -31,6 +31,7 @@ it across (docs/launcher.md, "What the machine's steps allow").
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -96,6 +97,29 @@ class Row:
     slope: float
     dv: np.ndarray
     J: np.ndarray
+
+
+class RowArrays:
+    """The fields of a search's rows as arrays (built once per search): ``height``, ``low`` (the branch),
+    ``branch`` (its name), ``a``, ``b``, ``b0``, ``split``, ``slope``, ``dv`` (n, 2), ``J`` (n, 2, 2) and ``full``
+    (:func:`_full_rows`)."""
+
+    def __init__(self, ask: Ask, rows: list[Row]):
+        self.height = np.array([r.height for r in rows], float)
+        self.low = np.array([r.branch == "low" for r in rows], bool)
+        self.branch = np.array([r.branch for r in rows])
+        self.a = np.array([r.a for r in rows], float)
+        self.b = np.array([r.b for r in rows], float)
+        self.b0 = np.array([r.b0 for r in rows], float)
+        self.split = np.array([r.split for r in rows], float)
+        self.slope = np.array([r.slope for r in rows], float)
+        self.dv = np.array([r.dv for r in rows], float).reshape(-1, 2)
+        self.J = np.array([r.J for r in rows], float).reshape(-1, 2, 2)
+        self.full = _full_rows(ask, self.height)
+
+    def on(self, name: str) -> np.ndarray:
+        """Mask of the rows of branch ``name``."""
+        return self.low if name == "low" else ~self.low
 
 
 @dataclass(frozen=True)
@@ -351,7 +375,7 @@ def _info(tab: FlightTable) -> np.ndarray:
     return np.column_stack([tab.clearance, tab["net_status"], tab["apex_z"], tab["land_t"]])
 
 
-def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents) -> Parents:
+def _combos(shoot5, spec: MachineSpec, ask: Ask, ra: RowArrays, flown: Parents) -> Parents:
     """Stage 2: per row, the speed steps and the elevation steps around each speed's exact elevation, flown
     at the row's b0 with the rounded asked spin (those of stage 1 reused).  Updates and returns ``flown``."""
     er = spec.elevation
@@ -362,17 +386,13 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents
     # move the bounce farthest across (where the heading's steps leave a flat ball's worst misses)
     few = np.union1d(speed_steps(spec.speed, ask.speed_kmh, ask.tolerances.speed_kmh, SPEEDS[True]), speeds.min())
     extra = ELEVATION_EXTRA[False]
-    full = _full_rows(ask, rows)  # the asked (or reference) height: the whole neighbourhood
+    full = ra.full  # the asked (or reference) height: the whole neighbourhood
     vq = ask.q_speed_kmh
-    ra = np.array([r.a for r in rows])
-    phi = np.radians(beta - np.array([r.b for r in rows]))
-    dv = np.array([r.dv for r in rows])
-    slope = np.array([r.slope for r in rows])
-    split = np.array([r.split for r in rows])
-    low = np.array([r.branch == "low" for r in rows])
+    phi = np.radians(beta - ra.b)
+    dv, slope, split, low = ra.dv, ra.slope, ra.split, ra.low
     drho_dv = np.cos(phi) * dv[:, 0] + np.sin(phi) * dv[:, 1]
     with np.errstate(invalid="ignore", divide="ignore"):
-        a_v = ra[:, None] - np.where(slope != 0, drho_dv / slope, 0.0)[:, None] * (speeds[None, :] - vq)  # (n, m)
+        a_v = ra.a[:, None] - np.where(slope != 0, drho_dv / slope, 0.0)[:, None] * (speeds[None, :] - vq)  # (n, m)
     offs = np.arange(-extra, extra + 2) * er.step
     A = np.floor((a_v - er.lo) / er.step)[..., None] * er.step + er.lo + offs  # (n, m, k) elevation steps
     A = np.round(A, 9)
@@ -391,17 +411,16 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents
     todo = flown.new(ri, vv, aa)
     if todo.any():
         ri, vv, aa = ri[todo], vv[todo], aa[todo]
-        b0 = np.array([r.b0 for r in rows])[ri]
-        tab = shoot5(np.array([r.height for r in rows])[ri], vv, aa, b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
+        b0 = ra.b0[ri]
+        tab = shoot5(ra.height[ri], vv, aa, b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
         flown.add(ri, vv, aa, _polar(tab, P, b0), _info(tab))
     return flown
 
 
-def _full_rows(ask: Ask, rows: list[Row]) -> np.ndarray:
-    """Rows searched in the whole neighbourhood: every row of an asked height; of a searched one, the rows at
-    the step nearest :data:`REFERENCE_HEIGHT_M` (so that searching the height never lands farther than the
-    reference height alone)."""
-    h = np.array([r.height for r in rows])
+def _full_rows(ask: Ask, h: np.ndarray) -> np.ndarray:
+    """Rows (their heights ``h`` [m]) searched in the whole neighbourhood: every row of an asked height; of a
+    searched one, the rows at the step nearest :data:`REFERENCE_HEIGHT_M` (so that searching the height never
+    lands farther than the reference height alone)."""
     if not ask.height_free:
         return np.ones(h.size, bool)
     ref = ask.heights[np.argmin(np.abs(ask.heights - REFERENCE_HEIGHT_M))]
@@ -418,7 +437,7 @@ def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarr
     return ok
 
 
-def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
+def _predicted(spec: MachineSpec, ask: Ask, ra: RowArrays, flown: Parents, need_net: bool, prefs: Preferences):
     """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring):
     a :class:`Predicted`."""
     hr = spec.heading
@@ -433,36 +452,39 @@ def _predicted(spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, nee
     B = np.round(base[:, None] + offs[None, :] * hr.step, 9)  # (n, m)
     n, m = B.shape
     par = np.repeat(np.arange(n), m)
-    full = _full_rows(ask, rows)[ri][par]
+    full = ra.full[ri][par]
     light = np.tile((offs < 0) | (offs > 1), n)  # the other heights: the floor and ceil of the heading
     B = B.reshape(-1)
     inside = (B >= hr.lo - 1e-9) & (B <= hr.hi + 1e-9) & (full | ~light)
     par, B, full = par[inside], B[inside], full[inside]
     L0 = P + _rotate(ell[par], B)
-    J = np.array([r.J for r in rows])[ri[par]]
-    Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
-    om_b = np.broadcast_to(_components(ask.q_spin_rpm, ask.q_spin_axis_deg), (len(par), 2))
+    om = _components(ask.q_spin_rpm, ask.q_spin_axis_deg)
     asked = (ask.spin_rpm, ask.spin_axis_deg)
-    # prune: a candidate whose landing no allowed spin can bring near the best bound is not worth a variant
-    lb = np.maximum(np.hypot(*(L0 - T).T) - _spin.reach(Jc, om_b, asked, ask.tolerances), 0.0)
-    branch = np.array([r.branch for r in rows])[ri[par]]
+    # prune: a candidate whose landing no allowed spin can bring near the best bound is not worth a variant (the
+    # bound of a row's sensitivity: a turn of the heading does not change it)
+    moves = _spin.reach(ra.J, np.broadcast_to(om, (ra.J.shape[0], 2)), asked, ask.tolerances)
+    lb = np.maximum(np.hypot(*(L0 - T).T) - moves[ri[par]], 0.0)
+    low = ra.low[ri[par]]
     good = _parent_ok(info[par], need_net, prefs)
     parts = []
-    pools = [(np.ones(par.size, bool), PRUNE), (good, PRUNE // 2)]
+    pools = [(None, PRUNE), (good, PRUNE // 2)]
     if ask.height_free:  # the reference height keeps the quota it has when it is asked
         pools += [(full, PRUNE), (full & good, PRUNE // 2)]
-    for name in ("low", "high"):
+    order = np.argsort(lb, kind="stable")  # restricted to a pool: the pool's stable order
+    for on in (low, ~low):
         for mask, size in pools:
-            pool = mask & (branch == name)
-            idx = np.flatnonzero(pool)
-            parts.append(idx[np.argsort(lb[idx], kind="stable")[:size]])
+            pool = on if mask is None else mask & on
+            parts.append(order[pool[order]][:size])
     keep = np.unique(np.concatenate(parts))
-    par, B, L0, Jc, om_b = par[keep], B[keep], L0[keep], Jc[keep], om_b[keep]
+    par, B, L0 = par[keep], B[keep], L0[keep]
+    J = ra.J[ri[par]]
+    Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
+    om_b = np.broadcast_to(om, (len(par), 2))
     W, G, miss = _spin.variants(L0, Jc, om_b, T, asked, ask.tolerances, spec.spin, spec.spin_axis)
     r = ri[par]
     entries = {
         "row": r,
-        "height": np.array([row.height for row in rows])[r],
+        "height": ra.height[r],
         "speed": speed[par],
         "elevation": elev[par],
         "heading": B,
@@ -490,20 +512,41 @@ class Predicted:
 _KEY_FIELDS = ("height", "speed", "elevation", "heading", "spin", "spin_axis")
 
 
+@functools.lru_cache(maxsize=16)
+def _key_radix(spec: MachineSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """Per machine (cached): the lowest value, step and number of indices of each setting of :func:`_settings_key`
+    and whether their product fits an int64."""
+    ranges = [getattr(spec, f) for f in _KEY_FIELDS]
+    sizes = [int(round((r.hi - r.lo) / r.step)) + 2 for r in ranges]
+    lo = np.array([r.lo for r in ranges], float)
+    step = np.array([r.step for r in ranges], float)
+    return lo, step, np.array(sizes, np.int64), math.prod(sizes) < 2**62
+
+
 def _settings_key(spec: MachineSpec, h, v, a, b, w, g) -> np.ndarray:
     """One int64 per setting combination (the step index of each setting, in mixed radix), or, for a machine
     with more steps than 2^62 combinations, one bytes-like key per row."""
-    cols = [h, v, a, b, w, g]
-    ranges = [getattr(spec, f) for f in _KEY_FIELDS]
-    sizes = [int(round((r.hi - r.lo) / r.step)) + 2 for r in ranges]
-    idx = [np.rint((np.asarray(x, float) - r.lo) / r.step).astype(np.int64) + 1 for x, r in zip(cols, ranges)]
-    if math.prod(sizes) < 2**62:
-        key = np.zeros(np.shape(idx[0]), np.int64)
-        for k, n in zip(idx, sizes):
-            key = key * n + np.clip(k, 0, n - 1)
-        return key
+    lo, step, sizes, fits = _key_radix(spec)
+    cols = np.broadcast_arrays(*(np.asarray(x, float) for x in (h, v, a, b, w, g)))
+    if fits:
+        out = np.empty(cols[0].size, np.int64)
+        _key_kernel(np.stack([c.reshape(-1) for c in cols]), lo, step, sizes, out)
+        return out.reshape(cols[0].shape)
+    idx = [np.rint((c - lo[i]) / step[i]).astype(np.int64) + 1 for i, c in enumerate(cols)]
     arr = np.ascontiguousarray(np.stack(idx, axis=-1))
     return arr.view(np.dtype((np.void, 8 * len(cols)))).reshape(np.shape(idx[0]))
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _key_kernel(cols, lo, step, sizes, out):
+    """:func:`_settings_key` in mixed radix: each setting's step index (rounded half to even, as NumPy's rint), + 1,
+    clipped to [0, size - 1]."""
+    for j in range(cols.shape[1]):
+        key = 0
+        for i in range(cols.shape[0]):
+            k = np.int64(np.rint((cols[i, j] - lo[i]) / step[i])) + 1
+            key = key * sizes[i] + min(max(k, 0), sizes[i] - 1)
+        out[j] = key
 
 
 def _fly_candidates(shoot5, spec: MachineSpec, ask: Ask, rows_idx, cols) -> Candidates:
@@ -537,17 +580,18 @@ def _concat(parts: list[Candidates]) -> Candidates:
 
 def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
     """Stages 2 and 3 (module docstring) on the rows of :func:`rows_of`: every candidate flown."""
-    flown = _combos(shoot5, spec, ask, rows, flown)
-    pr = _predicted(spec, ask, rows, flown, need_net, prefs)
+    ra = RowArrays(ask, rows)
+    flown = _combos(shoot5, spec, ask, ra, flown)
+    pr = _predicted(spec, ask, ra, flown, need_net, prefs)
     rows_e = pr.entries["row"]
-    branch = np.array([r.branch for r in rows])[rows_e]  # per entry
+    branch = ra.branch[rows_e]  # per entry
     fin = np.isfinite(pr.pred)
     parent_ok = _parent_ok(pr.entries["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
     every = np.ones(branch.size, bool)
     pools = [(every, TOP), (parent_ok, TOP // 2)]  # masks of the entries
     if ask.height_free:
-        ref = _full_rows(ask, rows)[rows_e]
+        ref = ra.full[rows_e]
         pools += [(ref, TOP), (ref & parent_ok, TOP // 2)]
     ranked = []
     variant = np.arange(pr.k)
@@ -570,25 +614,26 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     pick = np.unique(np.concatenate(chosen))
     seen = set(keys[pick].tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys[pick]}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr.at("row", pick), [pr.at(c, pick) for c in cols])]
-    extra = _clearing_parents(spec, ask, rows, flown, flown_c[0], need_net, prefs, seen)
+    extra = _clearing_parents(spec, ask, ra, flown, flown_c[0], need_net, prefs, seen)
     if extra is not None:
         flown_c.append(_fly_candidates(shoot5, spec, ask, extra[0], extra[1:]))
     for _ in range(ROUNDS):
-        new = _refine(spec, ask, rows, _concat(flown_c), need_net, prefs, seen)
+        new = _refine(spec, ask, ra, _concat(flown_c), need_net, prefs, seen)
         if new is None:
             break
         flown_c.append(_fly_candidates(shoot5, spec, ask, new[0], new[1:]))
     return _concat(flown_c)
 
 
-def _clearing_parents(spec, ask: Ask, rows, flown: Parents, c: Candidates, need_net, prefs, seen: set):
+def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidates, need_net, prefs, seen: set):
     """A branch none of whose flown candidates clears the net (or meets the preferences): its parents that do,
     nearest the target first, with the rounded asked spin at their nearest heading step (so that a refusal
     can say how far the nearest acceptable step lands)."""
     _, pref_ok = acceptable(c, need_net, prefs)
-    have = {rows[i].branch for i in c.row[pref_ok]}
+    have = ra.low[c.row[pref_ok]]
     ri, speed, elev, ell, info = flown.arrays()
-    good = np.array([rows[i].branch not in have for i in ri]) & _parent_ok(info, need_net, prefs)
+    low = ra.low[ri]
+    good = np.where(low, not have.any(), not (~have).any()) & _parent_ok(info, need_net, prefs)
     if not good.any():
         return None
     P = np.asarray(spec.position, float)
@@ -598,7 +643,7 @@ def _clearing_parents(spec, ask: Ask, rows, flown: Parents, c: Candidates, need_
     b = spec.heading.quantise(beta - np.degrees(np.arctan2(ell[:, 1], ell[:, 0])))
     miss = np.hypot(*(P + _rotate(ell, b) - T).T)
     order = np.argsort(miss, kind="stable")[:CLEARING]
-    h = np.array([rows[i].height for i in ri])
+    h = ra.height[ri]
     v, a = speed[good], elev[good]
     cols = [h[order], v[order], a[order], np.atleast_1d(b)[order]]
     w = np.full(order.size, ask.q_spin_rpm)
@@ -611,14 +656,14 @@ def _clearing_parents(spec, ask: Ask, rows, flown: Parents, c: Candidates, need_
     return [ri[order][f]] + [x[f] for x in cols] + [w[f], g[f]]
 
 
-def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_net, prefs, seen: set):
+def _refine(spec: MachineSpec, ask: Ask, ra: RowArrays, c: Candidates, need_net, prefs, seen: set):
     """New spins for the best flown candidates of each branch from their measured misses (module docstring)."""
     net_ok, pref_ok = acceptable(c, need_net, prefs)
-    branch = np.array([r.branch for r in rows])[c.row]
+    low = ra.low[c.row]
     picks = []
-    for name in ("low", "high"):
+    for on in (low, ~low):
         for mask in (pref_ok, net_ok, c.landed):
-            m = mask & (branch == name)
+            m = mask & on
             if m.any():
                 break
         idx = np.flatnonzero(m)
@@ -628,7 +673,7 @@ def _refine(spec: MachineSpec, ask: Ask, rows: list[Row], c: Candidates, need_ne
         return None
     T = np.asarray(ask.target, float)
     L0 = np.column_stack([c.land_x[idx], c.land_y[idx]])
-    J = np.array([rows[i].J for i in c.row[idx]])
+    J = ra.J[c.row[idx]]
     B = c.heading_deg[idx]
     Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
     om_b = _components(c.spin_rpm[idx], c.spin_axis_deg[idx])

@@ -25,6 +25,7 @@ Wojcicki, Pucilowski & Kulesza (2010), Acta Mech. Autom. 4(4) (seed 002: spin ra
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numba as nb
@@ -74,7 +75,12 @@ def _near_axes(J, rx, ry, w0, g0, tol_w, gr: Range) -> np.ndarray:
 
 def axis_steps(asked: tuple[float, float], tol: Tolerances, gr: Range) -> np.ndarray:
     """Every axis step [deg] on which some rate is allowed (the disc's and the box's axis ranges)."""
-    w0, g0 = float(asked[0]), float(asked[1])
+    return _axis_steps(float(asked[0]), float(asked[1]), tol, gr).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _axis_steps(w0: float, g0: float, tol: Tolerances, gr: Range) -> np.ndarray:
+    """:func:`axis_steps`, kept for the last requests (a search asks for the same steps several times)."""
     if tol.spin_rpm == 0 and (tol.spin_axis_deg == 0 or w0 == 0):
         return np.array([gr.quantise(g0)])
     if tol.spin_rpm >= w0:
@@ -106,7 +112,7 @@ def variants(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances
     L0, J, omega_b = (np.ascontiguousarray(x, dtype=float) for x in (L0, J, omega_b))
     n = L0.shape[0]
     w0, g0 = float(asked[0]), float(asked[1])
-    g = axis_steps(asked, tol, gr)
+    g = _axis_steps(w0, g0, tol, gr)
     if g.size > MAX_AXES:  # the disc holds the origin (a slow asked spin): the axes near each optimum
         tx, ty = float(target[0]), float(target[1])
         r0x = L0[:, 0] - J[:, 0, 0] * omega_b[:, 0] - J[:, 0, 1] * omega_b[:, 1] - tx

@@ -401,13 +401,14 @@ def _aim_all(
         return {}, reasons, use
     need_net = _net_required(spec, (tx, ty))
     c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
-    branch = np.array([live[i].branch for i in c.row])
+    low = np.array([r.branch == "low" for r in live], bool)[c.row]
     picked: dict[str, tuple[_search.Candidates, int, bool]] = {}
     for name in SOLUTIONS:
         if name in reasons:
             continue
         try:
-            picked[name] = _quantised(spec, ask, live, c.take(branch == name), name, need_net, preferences)
+            on = low if name == "low" else ~low
+            picked[name] = _quantised(spec, ask, live, c.take(on), name, need_net, preferences)
         except InputError as exc:
             reasons[name] = str(exc)
     exact = _exact(spec, params, ask, [live[p[0].row[p[1]]] for p in picked.values()])
