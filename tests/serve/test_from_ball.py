@@ -91,6 +91,49 @@ def test_cli_mixed_or_missing_launch_is_one_line_exit_2(capsys, argv, flag):
     assert len(err.splitlines()) == 1 and flag in err
 
 
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ["serve", "--speed-kmh", "400", "--elevation-deg", "5"],
+            "--speed-kmh: 400 km/h is outside the allowed range [3.6, 360] km/h",
+        ),
+        (
+            ["serve", "--speed-mph", "300", "--elevation-deg", "5"],
+            "--speed-mph: 300 mph is outside the allowed range [2.2, 223.7] mph",
+        ),
+        (
+            ["serve-mc", "--speed-ms", "0.5", "--elevation-deg", "5"],
+            "--speed-ms: 0.5 m/s is outside the allowed range [1, 100] m/s",
+        ),
+        (
+            ["serve-window", "--speed-kmh", "150", "--heading-range", "5", "-5", "--target", "deuce"],
+            "--heading-range: give the lower bound first (got 5 -5 deg)",
+        ),
+        (
+            ["serve-window", "--speed-kmh", "150", "--elevation-range", "5", "-5"],
+            "--elevation-range: give the lower bound first (got 5 -5 deg)",
+        ),
+        (
+            ["serve-window", "--speed-kmh", "150", "--heading-deg", "3", "--target", "deuce"],
+            "--heading-deg: not with serve-window (its headings are swept: --heading-range LO HI)",
+        ),
+    ],
+)
+def test_a_ball_launch_out_of_range_names_its_flag_and_unit(capsys, argv, message):
+    assert main(argv) == 2
+    assert capsys.readouterr().err.strip() == f"tennislab {argv[0]}: error: {message}"
+
+
+def test_a_ball_launch_in_any_speed_unit_is_the_same_ball():
+    assert BallLaunch.of(speed_kmh=180.0, elevation_deg=-5.0).speed_ms == pytest.approx(50.0, rel=1e-12)
+    assert BallLaunch.of(speed_mph=100.0, elevation_deg=0.0).speed_ms == pytest.approx(44.704, rel=1e-12)
+    with pytest.raises(InputError, match=r"^speed_ms: give one speed"):
+        BallLaunch.of(speed_kmh=180.0, speed_ms=50.0, elevation_deg=0.0)
+    with pytest.raises(InputError, match=r"^speed_ms: a ball launch needs its speed"):
+        BallLaunch.of(elevation_deg=0.0)
+
+
 @pytest.mark.parametrize("cmd", ["serve", "serve-mc", "serve-window", "impact"])
 def test_every_help_that_takes_alpha_and_beta_says_what_they_are(capsys, cmd):
     with pytest.raises(SystemExit):

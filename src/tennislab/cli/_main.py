@@ -141,7 +141,9 @@ _INNER = re.compile(r"(?<![\w.\-/])([a-z][a-z0-9]*(?:_[a-z0-9]+)+)(?![\w\-/])")
 
 
 #: library parameters whose flag is not their name (``--out-dir`` writes the batch store ``out``)
-_ALIASES = {"out": "out_dir"}
+#: a parameter whose flag has another name, tried first (``ball_window``'s ``elevation_deg=(lo, hi)`` is
+#: ``serve-window --elevation-range LO HI``), then the flag of the parameter's own name
+_ALIASES = {"out": "out_dir", "elevation_deg": "elevation_range", "heading_deg": "heading_range"}
 
 
 #: a library message's advice to set a parameter: ``method="numeric"``
@@ -162,9 +164,11 @@ def flag_message(message: str, options: set[str]) -> str:
         return message
     m = _PARAM.match(message)
     if m:
-        flag = "--" + _ALIASES.get(m.group(1), m.group(1)).replace("_", "-")
-        if flag in options:
-            message = flag + message[len(m.group(1)) :]
+        for name in (_ALIASES.get(m.group(1), m.group(1)), m.group(1)):
+            flag = "--" + name.replace("_", "-")
+            if flag in options:
+                message = flag + message[len(m.group(1)) :]
+                break
 
     def inner(mm: re.Match) -> str:
         flag = "--" + mm.group(1).replace("_", "-")

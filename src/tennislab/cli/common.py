@@ -25,6 +25,7 @@ import os
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING
 
+import tennislab.units as _units
 from tennislab.errors import InputError, is_subnormal
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
 from tennislab.plot import FIGURE_SUFFIXES, save_figure
@@ -442,7 +443,8 @@ def emit_json(obj) -> None:
 # Every command that launches a ball accepts the same words (docs/conventions.md): a speed in one of
 # three units, elevation and heading in degrees, a spin rate in rpm about an axis given by name
 # (tennislab.core.launch.SPIN_AXES_DEG), by angle [deg] or as a vector.
-SPEED_UNITS = {"speed_ms": 1.0, "speed_kmh": 1.0 / 3.6, "speed_mph": 0.44704}  #: flag dest -> [m/s] per unit
+#: flag dest -> [m/s] per unit (tennislab.units.SPEED_UNITS, the workflows' one statement)
+SPEED_UNITS = {dest: factor for dest, (factor, _) in _units.SPEED_UNITS.items()}
 
 
 def add_speed_flags(group, *, required: bool = False, note: str = "") -> None:

@@ -163,11 +163,11 @@ def _ball_flags(p, *, elevation: bool = True) -> None:
 def _ball_launch(args, elevation: float | None = None):
     """The :class:`~tennislab.serve.from_ball.BallLaunch` of the ball flags, or None; refuses a mix with
     the racket's flags."""
-    from tennislab.cli.common import parse_spin_axis, speed_from_args
+    from tennislab.cli.common import SPEED_UNITS, parse_spin_axis
     from tennislab.serve import BallLaunch
 
-    speed = speed_from_args(args)
-    if speed is None:
+    speeds = {k: getattr(args, k, None) for k in SPEED_UNITS}
+    if all(v is None for v in speeds.values()):
         for flag in ("spin_rpm", "spin_axis", "elevation_deg", "heading_deg", "height"):
             if getattr(args, flag, None) is not None:
                 raise InputError(
@@ -190,7 +190,10 @@ def _ball_launch(args, elevation: float | None = None):
     if args.spin_axis is not None:
         _, g = parse_spin_axis(args.spin_axis)
         axis = math.degrees(g)
-    return BallLaunch(speed, 0.0 if args.spin_rpm is None else args.spin_rpm, elev, args.heading_deg or 0.0, axis)
+    spin = 0.0 if args.spin_rpm is None else args.spin_rpm
+    return BallLaunch.of(
+        **speeds, spin_rpm=spin, elevation_deg=elev, heading_deg=args.heading_deg or 0.0, spin_axis_deg=axis
+    )
 
 
 def _racket_words(r) -> str:
@@ -507,6 +510,8 @@ def run_ball_window(args, ball) -> int:
     if args.player == "all" or args.spin_bands is not None or args.plot:
         flag = "--player all" if args.player == "all" else "--spin-bands" if args.spin_bands else "--plot"
         raise InputError(f"{flag}: not with a ball launch (its window is over launch directions of one ball)")
+    if args.heading_deg is not None:
+        raise InputError("--heading-deg: not with serve-window (its headings are swept: --heading-range LO HI)")
     res = ball_window(
         get_player(args.player),
         ball,

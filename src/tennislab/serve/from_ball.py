@@ -27,7 +27,7 @@ from tennislab.core.launch import describe_spin, describe_velocity
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, Table, jsonable
 from tennislab.serve.pipeline import REASON_CODES, Setup, flights, impacts, launch, make_setup
-from tennislab.units import KMH, RPM
+from tennislab.units import KMH, RPM, speed_in_ms
 
 __all__ = ["BallLaunch", "BallWindow", "RacketForBall", "ball_window", "racket_for"]
 
@@ -45,6 +45,24 @@ class BallLaunch:
     elevation_deg: float
     heading_deg: float = 0.0
     spin_axis_deg: float = 0.0
+
+    @classmethod
+    def of(
+        cls,
+        *,
+        elevation_deg: float,
+        speed_ms: float | None = None,
+        speed_kmh: float | None = None,
+        speed_mph: float | None = None,
+        spin_rpm: float = 0.0,
+        heading_deg: float = 0.0,
+        spin_axis_deg: float = 0.0,
+    ) -> BallLaunch:
+        """A ball launch with its speed in m/s, km/h or mph (one of them), checked in the unit given."""
+        got = speed_in_ms(1.0, MAX_SPEED_MS, speed_ms=speed_ms, speed_kmh=speed_kmh, speed_mph=speed_mph)
+        if got is None:
+            raise InputError("speed_ms: a ball launch needs its speed (speed_ms, speed_kmh or speed_mph)")
+        return cls(got[1], spin_rpm, elevation_deg, heading_deg, spin_axis_deg)
 
     def to_dict(self) -> dict:
         return {
@@ -140,7 +158,7 @@ def racket_for(setup, ball: BallLaunch, *, height: float | None = None, **option
     or backspin (180).  Refused (:class:`InputError`) when the impact model gives no such ball."""
     if not isinstance(setup, Setup):
         setup = make_setup(setup, **options)
-    check_range("speed", ball.speed_ms, 1.0, MAX_SPEED_MS, "m/s")  # (the guard rails of every flight)
+    check_range("speed_ms", ball.speed_ms, 1.0, MAX_SPEED_MS, "m/s")  # (the guard rails of every flight)
     check_range("spin_rpm", ball.spin_rpm, 0.0, MAX_SPIN_RPM, "rpm")
     check_range("elevation_deg", ball.elevation_deg, -60.0, 60.0, "deg")
     check_range("heading_deg", ball.heading_deg, -60.0, 60.0, "deg")
@@ -275,8 +293,9 @@ def ball_window(
     step = check_range("step", step, 0.05, 10.0, "deg")
     e0, e1 = (check_range("elevation_deg", e, -60.0, 60.0, "deg") for e in elevation_deg)
     h0, h1 = (check_range("heading_deg", h, -60.0, 60.0, "deg") for h in heading_deg)
-    if e1 < e0 or h1 < h0:
-        raise InputError("elevation_deg: give the lower bound first")
+    for name, (lo, hi) in (("elevation_deg", (e0, e1)), ("heading_deg", (h0, h1))):
+        if hi < lo:
+            raise InputError(f"{name}: give the lower bound first (got {lo:g} {hi:g} deg)")
     three_d = setup.target is not None
     mid = replace(ball, elevation_deg=0.5 * (e0 + e1), heading_deg=0.5 * (h0 + h1) if three_d else 0.0)
     r = racket_for(setup, mid, height=height)

@@ -27,12 +27,9 @@ from tennislab.core.rally import Rally, fly_bounces
 from tennislab.core.surfaces import get_surface
 from tennislab.errors import InputError, check_range, check_vector
 from tennislab.results import DEFAULT_STEP_S, TRAJECTORY_COLUMNS, Table, trajectory_rows
-from tennislab.units import DEG, KMH, RPM
+from tennislab.units import DEG, KMH, RPM, _nice, speed_in_ms
 
 __all__ = ["MAX_DISTANCE_M", "MAX_SPEED_MS", "MAX_SPIN_RPM", "NET_MODES", "FlightResult", "fly", "launch_vectors"]
-
-#: the launch speed's units: parameter -> (m/s per unit, unit label)
-_SPEED_UNITS = {"speed_ms": (1.0, "m/s"), "speed_kmh": (KMH, "km/h"), "speed_mph": (0.44704, "mph")}
 
 
 def launch_vectors(
@@ -52,7 +49,7 @@ def launch_vectors(
     The speed is refused above :data:`MAX_SPEED_MS` and the spin above :data:`MAX_SPIN_RPM`, each in
     the unit it was given in.
     """
-    speeds = {k: val for k, val in (("speed_ms", speed_ms), ("speed_kmh", speed_kmh), ("speed_mph", speed_mph))}
+    speeds = {"speed_ms": speed_ms, "speed_kmh": speed_kmh, "speed_mph": speed_mph}
     given = [k for k, val in speeds.items() if val is not None]
     if len(given) > 1:
         raise InputError(f"{given[0]}: give one speed ({' or '.join(given)}), not {len(given)}")
@@ -66,12 +63,11 @@ def launch_vectors(
         key = given[0]
         if elevation_deg is None:
             raise InputError(f"elevation_deg: give the launch elevation [deg] with {key}")
-        factor, unit = _SPEED_UNITS[key]
-        speed = check_range(key, speeds[key], 0, _nice(MAX_SPEED_MS / factor), unit) * factor
+        _, speed = speed_in_ms(0.0, MAX_SPEED_MS, **speeds)  # type: ignore[misc]
         check_range("elevation_deg", elevation_deg, -90.0, 90.0, "deg")
         heading = check_range("heading_deg", 0.0 if heading_deg is None else heading_deg, -180.0, 180.0, "deg")
         a, b = elevation_deg * DEG, heading * DEG
-        v = tuple(float(c) for c in launch_velocity(min(speed, MAX_SPEED_MS), a, b))
+        v = tuple(float(c) for c in launch_velocity(speed, a, b))
     else:
         v = check_vector("velocity", velocity)
         sp = math.hypot(*v)
@@ -102,12 +98,6 @@ def launch_vectors(
             raise InputError("spin_axis: must not be the zero vector")
         w_arr = ax / n * rate
     return v, tuple(float(c) for c in w_arr)
-
-
-def _nice(x: float) -> float:
-    """A bound for a message: rounded to 0.1, shown without ``.0`` when whole."""
-    r = round(x, 1)
-    return int(r) if r.is_integer() else r
 
 
 def _finite(x: float) -> float | None:
