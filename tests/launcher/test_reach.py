@@ -110,6 +110,32 @@ def test_map_is_cached_on_disk_and_rebuilt_when_stale(tmp_path, monkeypatch):
     assert not list(tmp_path.iterdir())
 
 
+def _map_file(path, **over):
+    good = dict(
+        lo=np.zeros(5), hi=np.ones(5), rho=np.zeros(R.NODES), phi=np.zeros(R.NODES), key=np.array("k"), build_s=1.0
+    )
+    np.savez(path, **{**good, **over})
+    return path
+
+
+@pytest.mark.parametrize(
+    "over",
+    [
+        {"build_s": np.zeros(3)},  # a non-scalar time (float() raises TypeError)
+        {"rho": np.zeros(R.NODES, dtype=object)},  # objects (refused without pickle)
+        {"rho": np.array(["x"] * int(np.prod(R.NODES))).reshape(R.NODES)},  # strings (np.isfinite: TypeError)
+        {"lo": np.full(5, np.nan)},
+        {"key": np.array("another")},
+        {"phi": np.zeros(3)},
+    ],
+)
+def test_a_damaged_or_foreign_cache_file_is_rebuilt_never_an_error(tmp_path, over):
+    assert R._load(_map_file(tmp_path / "m.npz"), "k") is not None  # the undamaged file is read
+    assert R._load(_map_file(tmp_path / "bad.npz", **over), "k") is None
+    (tmp_path / "half.npz").write_bytes((tmp_path / "m.npz").read_bytes()[:200])  # truncated
+    assert R._load(tmp_path / "half.npz", "k") is None
+
+
 def test_map_key_follows_the_physics_not_the_wind_or_position():
     k = R.map_key(DEFAULT_SPEC, PARAMS)
     assert R.map_key(DEFAULT_SPEC.with_position(-12.0, 2.0), PARAMS) == k
@@ -208,26 +234,3 @@ def test_inverse_aim_says_how_it_got_the_map(tmp_path, monkeypatch):
     read = inverse_aim((9.0, 2.0), 100, 1000, spec=spec).to_dict()["reach_map"]
     assert read["source"] == "file" and read["build_s"] == pytest.approx(built["build_s"])
     assert inverse_aim((9.0, 2.0), 100, 1000, spec=spec).to_dict()["reach_map"]["source"] == "memory"
-
-
-def test_inverse_aim_costs_under_a_millisecond_of_cpu():
-    """The controller's promise: any reachable target answered in < 1 ms (CPU time: the cores are shared)."""
-    import time
-
-    inverse_aim((9.0, 2.0), 100, 1000)
-    rng = np.random.default_rng(7)
-    cpu = []
-    for _ in range(40):
-        tgt = (float(rng.uniform(2.0, 11.0)), float(rng.uniform(-4.0, 4.0)))
-        ask = (float(rng.uniform(60, 140)), float(rng.uniform(0, 2000)), float(rng.uniform(-180, 180)))
-        best = np.inf
-        for _ in range(2):  # the lower of two (the cores are shared: a cache flushed by another job is noise)
-            c0 = time.process_time()
-            try:
-                inverse_aim(tgt, *ask)
-            except InputError:
-                break
-            best = min(best, time.process_time() - c0)
-        if np.isfinite(best):
-            cpu.append(best)
-    assert len(cpu) > 20 and np.median(cpu) < 1e-3

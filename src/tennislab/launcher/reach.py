@@ -48,6 +48,7 @@ import math
 import os
 import tempfile
 import time
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -422,14 +423,16 @@ def reach_map(spec: MachineSpec, params: FlightParams) -> ReachMap:
 
 
 def _load(path: Path, key: str) -> ReachMap | None:
+    """The map stored at ``path`` if it is a whole map of ``key``; None for anything else (a missing,
+    truncated, foreign or damaged file is rebuilt, never an error)."""
     try:
         with np.load(path, allow_pickle=False) as z:
             build_s = float(z["build_s"]) if "build_s" in z.files else math.nan
             m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], str(z["key"]), build_s)
-    except (OSError, ValueError, KeyError, EOFError):
+        good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
+        good = good and all(x.dtype == np.float64 and np.isfinite(x).all() for x in (m.lo, m.hi, m.rho, m.phi))
+    except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
         return None
-    good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
-    good = good and all(np.isfinite(x).all() for x in (m.lo, m.hi, m.rho, m.phi))
     return m if good else None
 
 
