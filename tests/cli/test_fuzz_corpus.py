@@ -1462,14 +1462,14 @@ def test_no_space_left_names_the_file_and_leaves_nothing(cwd, capsys, monkeypatc
     assert "out/manifest.json: cannot be written (No space left on device)" in err, err
     monkeypatch.setattr(os, "fsync", real_fsync)
     # SQLite's own "database or disk is full" while importing into a new file: no database left behind
-    import tennislab.launcher.db as _db
+    import tennislab.launcher._dbdrills as _dd
 
     def disk_full(*a, **k):
         raise sqlite3.OperationalError("database or disk is full")
 
-    monkeypatch.setattr(_db, "import_drill", disk_full)
+    monkeypatch.setattr(_dd, "import_drill", disk_full)
     err = assert_refused(capsys, ["launcher", "drills", "import", "--db", "e.sqlite", "lobs"])
-    assert "e.sqlite" in err and "disk is full" in err
+    assert "e.sqlite" in err and "disk is full" in err and not os.path.lexists("e.sqlite")
 
 
 def test_shot_names_from_a_drill_file_are_printed_escaped(cwd, capsys):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sqlite3
 import subprocess
 import sys
@@ -878,3 +879,32 @@ def test_refusal_names_the_bound_that_excludes_the_asked_branch(table_db):
     with pytest.raises(InputError, match=r"^max_apex_m: no hit within .* peaks higher") as exc:
         hdb.lookup((9.0, 2.0), 100.0, trajectory="low", max_apex_m=min(cap, 1.05))
     assert "only high ones" not in str(exc.value)
+
+
+def test_a_failed_import_never_deletes_a_database_it_did_not_create(tmp_path, monkeypatch):
+    """The database is created with O_EXCL: one another process made at the same moment (here: after a
+    check that found nothing) is not ours and survives our failed import; a new one of ours is removed."""
+    import sqlite3 as _sqlite3
+
+    import tennislab.launcher._dbdrills as _dd
+    import tennislab.launcher.hitsdb as H
+
+    theirs = str(tmp_path / "theirs.sqlite")
+    HitsDB(theirs).import_drills(["lobs"])
+    before = open(theirs, "rb").read()
+
+    def disk_full(*a, **k):
+        raise _sqlite3.OperationalError("database or disk is full")
+
+    monkeypatch.setattr(_dd, "import_drill", disk_full)
+    monkeypatch.setattr(H.os.path, "lexists", lambda p: False)  # a check that raced with their creation
+    with pytest.raises(InputError, match="disk is full"):
+        HitsDB(theirs).import_drills(["lobs"])
+    monkeypatch.undo()
+    assert os.path.exists(theirs) and len(open(theirs, "rb").read()) >= len(before) > 0
+    assert [d["name"] for d in HitsDB(theirs).list_drills(shipped=False).drills] == ["Lobs"]
+    monkeypatch.setattr(_dd, "import_drill", disk_full)
+    ours = tmp_path / "ours.sqlite"
+    with pytest.raises(InputError, match="disk is full"):
+        HitsDB(str(ours)).import_drills(["lobs"])
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith("ours")]

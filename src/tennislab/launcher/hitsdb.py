@@ -475,8 +475,8 @@ class HitsDB:
             d = parse_drill(data, source, fmt)
             fname = stored_text(os.path.basename(source)) if os.path.exists(source) else f"{d.key}.{fmt}"
             parsed.append((drill_record(d), data, fname))
-        mine = [p for p in (self.path + x for x in ("", "-wal", "-shm", "-journal")) if not os.path.lexists(p)]
-        created = self.path in mine
+        created = _create_exclusively(self.path)
+        mine = [p for p in (self.path + x for x in ("-wal", "-shm", "-journal")) if not os.path.lexists(p)]
         conn = None
         try:
             with self._errors():
@@ -487,8 +487,8 @@ class HitsDB:
             if conn is not None:
                 conn.close()
                 conn = None
-            if created:  # a failed import (no space left, ...) leaves no new database behind (D4)
-                for p in mine:
+            if created is not None and _same_file(self.path, created):  # a failed import (no space left, ...)
+                for p in [self.path, *mine]:  # leaves no new database behind, and never another's
                     with contextlib.suppress(FileNotFoundError):
                         os.unlink(p)
             raise
@@ -691,3 +691,27 @@ def _rollers(st: Settings, spec: MachineSpec, ball: Ball) -> tuple[float, float]
 
 
 __all__ = ["HitsDB", "safe_filename", "spec_from_json"]
+
+
+def _create_exclusively(path: str) -> tuple[int, int] | None:
+    """Create ``path`` as an empty file if nothing is there, atomically (``O_EXCL``: a file another process
+    makes at the same moment is never taken for ours); its (device, inode), or None when it was not made
+    here (it existed, or the folder refuses: the open that follows then says why)."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+    except OSError:
+        return None
+    try:
+        st = os.fstat(fd)
+    finally:
+        os.close(fd)
+    return st.st_dev, st.st_ino
+
+
+def _same_file(path: str, ident: tuple[int, int]) -> bool:
+    """Is ``path`` still the file of ``ident`` (device, inode)?"""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return False
+    return (st.st_dev, st.st_ino) == ident
