@@ -252,3 +252,13 @@ def test_rejection_cases_hypothesis_found(serve_shot, sigma, n_out, seed, rate, 
     used = np.count_nonzero(f.segment >= 0) + f.outlier.sum()
     assert f.outlier.sum() <= MAX_REJECT_FRACTION * used + 1
     assert np.hypot(*(f.bounce_xy - (b.x, b.y))) < within  # 8 mm noise at 50 Hz: centimetres
+
+
+def test_a_zero_spin_is_never_told_apart_from_no_spin():
+    """`identified` means the rate is beyond twice its sigma: a zero rate is not, even with a zero sigma."""
+    from tennislab.linecall.answer import spin_components
+
+    v = [20.0, 0.0, -3.0]
+    assert spin_components([0.0, 0.0, 0.0], v, cov=np.zeros((3, 3)))["identified"] is False
+    assert spin_components([0.0, 300.0, 0.0], v, cov=np.eye(3))["identified"] is True
+    assert spin_components([0.0, 300.0, 0.0], v, cov=np.eye(3) * 1e6)["identified"] is False

@@ -136,3 +136,26 @@ def test_advice_with_a_falling_toss_skips_impacts_the_racket_cannot_make():
     those impacts instead of failing."""
     r = simulate("pro", 36, 18, target="deuce", server_y=-0.5, azimuth_deg=6, brush_deg=-30, toss_vz=-2)
     assert r.verdict.reason == "net" and isinstance(r.verdict.advice, str)
+
+
+@pytest.mark.parametrize(
+    ("kw", "frag"),
+    [
+        ({"flat_max_rpm": 5000.0, "topspin_min_rpm": 100.0}, "topspin_min_rpm: the topspin band's start 100 rpm"),
+        ({"flat_max_rpm": -1.0}, "flat_max_rpm: -1 rpm is outside the allowed range [0, 10000] rpm"),
+        ({"topspin_min_rpm": float("nan")}, "topspin_min_rpm: "),
+    ],
+)
+def test_spin_classes_out_of_order_or_range_are_refused_by_the_criteria(kw, frag):
+    """The serve's spin classes are checked where they are defined (SeedCriteria), for Python and the CLI."""
+    from tennislab.errors import InputError
+    from tennislab.serve import SeedCriteria
+
+    with pytest.raises(InputError) as e:
+        SeedCriteria(**kw)
+    assert str(e.value).startswith(frag) and "\n" not in str(e.value)
+    assert SeedCriteria(flat_max_rpm=2000.0, topspin_min_rpm=2000.0).category([1999.0, 2000.0, 2001.0]).tolist() == [
+        0,
+        2,
+        1,
+    ]

@@ -143,7 +143,13 @@ _INNER = re.compile(r"(?<![\w.\-/])([a-z][a-z0-9]*(?:_[a-z0-9]+)+)(?![\w\-/])")
 #: library parameters whose flag is not their name (``--out-dir`` writes the batch store ``out``)
 #: a parameter whose flag has another name, tried first (``ball_window``'s ``elevation_deg=(lo, hi)`` is
 #: ``serve-window --elevation-range LO HI``), then the flag of the parameter's own name
-_ALIASES = {"out": "out_dir", "elevation_deg": "elevation_range", "heading_deg": "heading_range"}
+_ALIASES = {
+    "out": "out_dir",
+    "elevation_deg": "elevation_range",
+    "heading_deg": "heading_range",
+    "flat_max_rpm": "spin_bands",
+    "topspin_min_rpm": "spin_bands",
+}
 
 
 #: a library message's advice to set a parameter: ``method="numeric"``

@@ -221,9 +221,11 @@ def spin_components(spin, velocity, cov=None, tracker_rpm: float | None = None) 
             out["rpm_sigma"] = float(math.sqrt(max(float(e @ np.asarray(cov) @ e), 0.0)) / RPM)
         out["cov"] = np.asarray(cov, dtype=float)
         # told apart from no spin: the rate beyond twice the vector's 1-sigma (root sum of the components'
-        # variances; a serve's spin is often not: the tracked flight barely bends for its speed)
+        # variances; a serve's spin is often not: the tracked flight barely bends for its speed); a rate of
+        # 0 never is, whatever its sigma
         rate = float(np.linalg.norm(w) / RPM)
-        out["identified"] = bool(rate >= 2.0 * float(np.sqrt(np.sum(sd**2))))
+        sigma = float(np.sqrt(np.sum(sd**2)))
+        out["identified"] = bool(math.isfinite(sigma) and rate > 2.0 * sigma)
     if tracker_rpm is not None:
         out["tracker_rpm"] = float(tracker_rpm)
         out["topspin_minus_tracker_rpm"] = float(comp[0] - tracker_rpm)

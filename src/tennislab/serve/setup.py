@@ -134,6 +134,11 @@ def criteria_caveats(target: str | None) -> list[str]:
     return []
 
 
+#: highest spin-class bound of :class:`SeedCriteria` [rpm] (beyond any serve's spin: Sakurai et al. 2013
+#: measure up to ~5000 rpm)
+MAX_BAND_RPM = 10000
+
+
 @dataclass(frozen=True)
 class SeedCriteria:
     """The seed's 2-D success test and spin categories.
@@ -156,6 +161,13 @@ class SeedCriteria:
     def __post_init__(self):
         check_range("net_top", self.net_top, 0.0, 5.0, "m")
         check_range("service_line", self.service_line, 0.0, 30.0, "m")
+        check_range("flat_max_rpm", self.flat_max_rpm, 0, MAX_BAND_RPM, "rpm")
+        check_range("topspin_min_rpm", self.topspin_min_rpm, 0, MAX_BAND_RPM, "rpm")
+        if self.topspin_min_rpm < self.flat_max_rpm:
+            raise InputError(
+                f"topspin_min_rpm: the topspin band's start {self.topspin_min_rpm:g} rpm is below the flat band's "
+                f"end {self.flat_max_rpm:g} rpm (give the flat band's end first)"
+            )
 
     def category(self, spin_rpm) -> np.ndarray:
         """0 = flat, 1 = topspin, 2 = other (by |spin|)."""
