@@ -162,13 +162,14 @@ def test_line_call(client, capsys, tmp_path, report_html):
 def test_launcher_aim(client, capsys):
     from tennislab.launcher import aim
 
-    ref = jsonable(aim((9.0, 2.0), 80, 1500, 0.0, 1.0).to_dict())
+    ref = {**jsonable(aim((9.0, 2.0), 80, 1500, 0.0, 1.0).to_dict()), "physics_preset": "standard"}
     cli = cli_json(
         capsys, "launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--spin-rpm", 1500, "--height", 1, "--json"
     )
     assert untimed(cli) == untimed(ref)
     searched = cli_json(capsys, "launcher", "aim", "--target", 9, 2, "--speed-kmh", 80, "--spin-rpm", 1500, "--json")
-    assert untimed(searched) == untimed(jsonable(aim((9.0, 2.0), 80, 1500).to_dict())) and searched["height_searched"]
+    searched_ref = {**jsonable(aim((9.0, 2.0), 80, 1500).to_dict()), "physics_preset": "standard"}
+    assert untimed(searched) == untimed(searched_ref) and searched["height_searched"]
     body = {"target_x": 9, "target_y": 2, "speed_kmh": 80, "spin_rpm": 1500, "shot": "topspin"}
     app = client.post("/api/launcher/aim", json=body).json()
     same(untimed(app), untimed(ref), rel=1e-9)

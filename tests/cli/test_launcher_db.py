@@ -359,7 +359,8 @@ def test_info_describes_the_file(built, capsys):
     d = json.loads(out)
     assert d["schema_version"] == 5 and len(d["hash"]) == 64 and d["hits"] > 1000
     assert d["ranges"]["speed_kmh"] == {"min": 90.0, "max": 110.0, "count": 3}
-    assert d["machine"]["position"] == [-12.385, 0.0] and d["physics"]["aero"]["name"] == "launcher2015"
+    assert d["machine"]["position"] == [-12.385, 0.0] and d["physics"]["aero"]["name"] == "choppin2018"
+    assert d["physics_preset"] == "standard"  # built with every command's default physics
     assert d["quick_check"] == "ok" and d["fills"][0]["finished_utc"]
     rc, out, err = run(capsys, "launcher", "info", "--db", built)
     assert rc == 0 and "hash" in out and "speed_kmh: 90 .. 110" in out

@@ -153,7 +153,7 @@ def test_hash_is_stable_and_sees_every_constant(params):
     others = [
         db.config_dict(DEFAULT_SPEC.with_position(-12.0, 0.0), params),
         db.config_dict(DEFAULT_SPEC, lp(mass=0.058)),
-        db.config_dict(DEFAULT_SPEC, lp(cd=0.6)),
+        db.config_dict(DEFAULT_SPEC, lp(cd=params.aero.params[0] + 0.05)),
         db.config_dict(DEFAULT_SPEC, lp(aero="stepanek1988")),
         db.config_dict(DEFAULT_SPEC, lp(air_density=1.22)),
         db.config_dict(DEFAULT_SPEC, lp(spin_decay=0.02)),

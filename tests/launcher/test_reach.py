@@ -140,7 +140,7 @@ def test_map_key_follows_the_physics_not_the_wind_or_position():
     k = R.map_key(DEFAULT_SPEC, PARAMS)
     assert R.map_key(DEFAULT_SPEC.with_position(-12.0, 2.0), PARAMS) == k
     assert R.map_key(DEFAULT_SPEC, launcher_params(wind=(2.0, 0.0, 0.0))) == k
-    assert R.map_key(DEFAULT_SPEC, launcher_params(cd=0.6)) != k
+    assert R.map_key(DEFAULT_SPEC, launcher_params(cd=PARAMS.aero.params[0] + 0.05)) != k
     assert R.map_key(DEFAULT_SPEC, launcher_params(air_density=1.1)) != k
 
 

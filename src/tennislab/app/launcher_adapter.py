@@ -15,7 +15,7 @@ import tennislab.app.drill_format as drill_format
 import tennislab.app.services as S
 from tennislab.app.fields import MAX_DRILL_SHOTS, SHOT_AXIS, validate
 from tennislab.errors import InputError
-from tennislab.launcher import DEFAULT_SPEC, AimResult, launcher_params
+from tennislab.launcher import DEFAULT_PRESET, DEFAULT_SPEC, AimResult, launcher_params
 from tennislab.launcher import aim as aim_workflow
 from tennislab.launcher.aim import fly_settings
 
@@ -49,7 +49,7 @@ def solve(v: dict) -> AimResult:
 def aim(v: dict) -> dict:
     """``launcher aim`` JSON (settings, rollers, landing, miss_mm, net_clearance_m, ...) plus the flight."""
     res = solve(v)
-    out = res.to_dict()
+    out = {**res.to_dict(), "physics_preset": DEFAULT_PRESET}  # the physics it flew, as the CLI says it
     out["flight"] = S.flight_of(fly_settings(res.settings, res.spec, res.params))
     return out
 

@@ -31,7 +31,14 @@ from tennislab.cli._launcher_args import (
     tolerance_kwargs,
 )
 from tennislab.cli.batch_flags import add_scheduler_flag, progress_from_args
-from tennislab.cli.common import add_machine_flags, add_physics_flags, atomic_write, emit_json, physics_from_args
+from tennislab.cli.common import (
+    add_machine_flags,
+    add_physics_flags,
+    atomic_write,
+    emit_json,
+    physics_from_args,
+    physics_words,
+)
 from tennislab.errors import InputError, escape_text
 from tennislab.io.files import check_output_dir, check_output_path
 from tennislab.plot import format_duration, spin_axis_name
@@ -89,7 +96,7 @@ def register(sub) -> None:
     p.add_argument("--yes", action="store_true", help="start a fill estimated to take over an hour")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     add_machine_flags(p)
-    add_physics_flags(p, preset="seed002")
+    add_physics_flags(p)
     add_scheduler_flag(p)
     p.set_defaults(func=run_table)
 
@@ -121,7 +128,7 @@ def register(sub) -> None:
     add_preference_flags(p)
     add_tolerance_flags(p, speed=3.0, spin=100.0, axis=False)
     add_machine_flags(p)
-    add_physics_flags(p, preset="seed002")
+    add_physics_flags(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (keys as `launcher aim`, + lookup_ms)")
     p.set_defaults(func=run_lookup)
 
@@ -300,7 +307,7 @@ def run_table(args) -> int:
             )
         )
     if args.json:
-        emit_json(FillReports(tuple(reports)))
+        emit_json({**FillReports(tuple(reports)).to_dict(), **_physics_json(params, args.physics_preset)})
         return 0
     for rep in reports:
         back = f", {rep.chunks_restored} read back from --out-dir" if rep.chunks_restored else ""
@@ -309,7 +316,13 @@ def run_table(args) -> int:
             f"({rep.chunks_done_before} already done) of {rep.n_chunks}; grid {rep.grid_rows} settings; "
             f"{rep.hits_inserted} hits added, {rep.hits_total} stored; {rep.seconds:.1f} s; hash {rep.hash[:12]}"
         )
+    print(physics_words(params, args.physics_preset))
     return 0
+
+
+def _physics_json(params, preset: str) -> dict:
+    """The JSON's statement of the physics a fill flew: every setting, and the preset it started from."""
+    return {"physics": params.to_dict(), "physics_preset": preset}
 
 
 # ------------------------------------------------------------------ lookup
@@ -355,6 +368,7 @@ def run_lookup(args) -> int:
         )
         how = "refined by the machine's aim" if out["source"] == "refined" else "the machine's aim from its reach map"
         print(f"source: {out['source']} ({near}; {how}, {out['fallback_ms']:.1f} ms)")
+    print(physics_words(out["physics"], out["physics_preset"], "the file's"))
     return 0
 
 
@@ -392,6 +406,7 @@ def run_play(args) -> int:
             f"{r['elevation_deg']:g} head {r['heading_deg']:g} spin {r['spin_rpm']:g}@{r['spin_axis_deg']:g}  "
             f"rollers {r['rpm1']:.0f}/{r['rpm2']:.0f} rpm  next in {r['interval_s']:g} s  (miss {r['miss_mm']:.0f} mm)"
         )
+    print(physics_words(res.physics, res.physics_preset, "the file's"))
     return 0
 
 
@@ -488,7 +503,8 @@ def _info_lines(info) -> list[str]:
     lines.append(
         f"  physics: aero {p.get('aero', {}).get('name')}, ball {b.get('mass')} kg r {b.get('radius')} m, "
         f"air {a.get('density')} kg/m^3, g {a.get('gravity')}, wind {a.get('wind')}, "
-        f"spin decay {p.get('spin_decay')}"
+        f"spin decay {p.get('spin_decay')}; "
+        + (f"preset {info.physics_preset}" if info.physics_preset else "no preset: a physics of its own")
     )
     lines.append(f"  hits: {info.hits:,} in {len(info.fills)} fill(s)")
     for f in info.fills:

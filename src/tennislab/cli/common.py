@@ -325,23 +325,38 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
 PRESET_WORDS = {
     "standard": "(tennislab's ball and air: choppin2018 aero, ITF ball, sea-level air)",
     "seed000": "(the serve paper's constants: stepanek1988 aero, 59 g, 33 mm, air 1.22 kg/m^3, g 9.82)",
-    "seed002": "(the launcher paper's aero: launcher2015)",
+    "seed002": "(the launcher paper's aero: launcher2015, ITF ball, sea-level air)",
 }
 
 
-def physics_words(flight, preset: str | None = None) -> str:
+def physics_words(flight, preset: str | None = None, whose: str = "") -> str:
     """The physics a command flew, in one line: aero model, air density, ball (and wind, spin decay when on),
-    and the preset it started from."""
-    d = flight.to_dict()
+    and the preset it started from.  *flight* is a :class:`~tennislab.core.flight.FlightParams` or a dict
+    with its ``to_dict()`` keys (a database's physics summary); *whose* says where it comes from (``the
+    file's``), and a dict's ``None`` preset is said as a physics of its own."""
+    d = flight if isinstance(flight, dict) else flight.to_dict()
     extra = ""
-    if any(d["wind"]):
+    if any(d.get("wind") or ()):
         extra += ", wind " + " ".join(f"{w:g}" for w in d["wind"]) + " m/s"
-    if d["spin_decay"]:
+    if d.get("spin_decay"):
         extra += f", spin decay {d['spin_decay']:g} /s"
-    base = f" (preset {preset})" if preset else ""
+    said = [whose] if whose else []
+    if preset or whose:
+        said.append(f"preset {preset}" if preset else "no preset: a physics of its own")
+    base = f" ({'; '.join(said)})" if said else ""
     return (
         f"physics: {d['aero']} aero, air {d['air_density']:g} kg/m^3, g {d['gravity']:g} m/s^2, "
         f"ball {round(d['mass'] * 1e3, 2):g} g, radius {round(d['radius'] * 1e3, 2):g} mm{extra}{base}"
+    )
+
+
+def ball_words(ball, preset: str | None = None) -> str:
+    """The physics of a command that flies nothing (``impact``, ``launcher rollers``, ``launcher power``) in
+    one line: the ball it takes, and the preset it started from (no aero model or air: none is used)."""
+    base = f"preset {preset}; " if preset else ""
+    return (
+        f"physics: ball {round(ball.mass * 1e3, 2):g} g, radius {round(ball.radius * 1e3, 2):g} mm "
+        f"({base}no flight: no aero model or air)"
     )
 
 

@@ -2,14 +2,23 @@
 
 Parses the flags, calls :func:`tennislab.serve.impact` and prints its result.  The impact flags
 (:func:`add_impact_flags`) are shared with the serve commands.  ``impact`` has no flight, so of the
-physics flags it takes only the ball's ``--mass`` and ``--radius``.
+physics flags it takes only the ball's ``--mass`` and ``--radius`` and ``--preset`` (the ball of every
+command's ``standard`` preset by default, as the serve commands hit it; ``seed000`` the paper's ball).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from tennislab.cli.common import LazyHelp, emit_json, figure_file, save_figure
+from tennislab.cli.common import (
+    LazyHelp,
+    add_physics_flags,
+    ball_from_args,
+    ball_words,
+    emit_json,
+    figure_file,
+    save_figure,
+)
 
 if TYPE_CHECKING:
     from tennislab.core import ImpactParams
@@ -117,7 +126,8 @@ def register(sub) -> None:
         "impact",
         help="one racket-ball impact: ball speed, spin, contact time",
         description=f"Racket-ball impact with the spring-damper model of {PAPER}. Angles in degrees, "
-        "SI otherwise; defaults are the paper's constants.",
+        "SI otherwise; the racket, strings and contact model default to the paper's constants, the ball to "
+        "the standard preset's (the serve commands' ball; --preset seed000: the paper's).",
     )
     p.add_argument("--racket-speed", type=float, required=True, metavar="V", help="racket speed [m/s]")
     p.add_argument(
@@ -144,13 +154,7 @@ def register(sub) -> None:
         help="vertical ball velocity at impact [m/s] (negative: falling; default 0)",
     )
     add_impact_flags(p)
-    g = p.add_argument_group("ball")
-    g.add_argument(
-        "--mass", type=float, help=LazyHelp(lambda: f"ball mass [kg] (default {_seed('mass')}, the paper's)")
-    )
-    g.add_argument(
-        "--radius", type=float, help=LazyHelp(lambda: f"ball radius [m] (default {_seed('radius')}, the paper's)")
-    )
+    add_physics_flags(p, flags=("mass", "radius"))  # the ball only: an impact flies nothing
     p.add_argument(
         "--plot",
         metavar="FILE.png",
@@ -161,17 +165,10 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _seed(key: str) -> float:
-    from tennislab.core import PRESETS
-
-    return PRESETS["seed000"][key]
-
-
 def run(args) -> int:
-    from tennislab.core import FlightParams
     from tennislab.serve import impact
 
-    ball = FlightParams.from_options(preset="seed000", mass=args.mass, radius=args.radius).ball
+    ball = ball_from_args(args)  # the preset's ball, --mass / --radius on top (no flight physics)
     params, method, dt = impact_from_args(args, ball)
     res = impact(
         args.racket_speed,
@@ -189,12 +186,13 @@ def run(args) -> int:
         title = f"V = {args.racket_speed:g} m/s, alpha = {args.impact_angle:g} deg"
         save_figure(plot_impact_history(res.result, title=title), args.plot)
     if args.json:
-        emit_json(res)
+        emit_json({**res.to_dict(), "physics_preset": args.physics_preset})
         return 0
     out = res.to_dict()
     bl = out["ball"]
     print(f"ball: {bl['speed']:.2f} m/s, {bl['spin_rpm']:.0f} rpm, launch angle {bl['launch_angle']:.2f} deg")
     print(f"contact: {out['contact_time_ms']:.3f} ms, {out['regime']} (peak force {out['peak_force']:.0f} N)")
+    print(ball_words(ball, args.physics_preset))
     for c in out["caveats"]:
         print(f"note: {c}")
     if args.plot:

@@ -27,6 +27,7 @@ from tennislab.cli.common import (
     add_physics_flags,
     atomic_write,
     ball_from_args,
+    ball_words,
     emit_json,
     physics_from_args,
     physics_words,
@@ -68,13 +69,14 @@ def _float_flags(p, flags) -> None:
 def _model_flags(
     p, func, machine: bool = True, position: bool = True, physics: bool = True, ball_only: bool = False
 ) -> None:
-    """The machine flags (``--machine-position`` if *position*), the physics flags (the paper's preset,
-    aero ``launcher2015``; only the ball's ``--mass`` and ``--radius`` if *ball_only*: a command that
-    flies nothing must not offer flags it would ignore) and *func* as the sub-command's action."""
+    """The machine flags (``--machine-position`` if *position*), the physics flags (every command's
+    ``standard`` preset by default, ``--preset seed002`` the paper's aero ``launcher2015``; only the ball's
+    ``--mass`` and ``--radius`` if *ball_only*: a command that flies nothing must not offer flags it would
+    ignore) and *func* as the sub-command's action."""
     if machine:
         add_machine_flags(p, position=position)
     if physics:
-        add_physics_flags(p, preset="seed002", flags=("mass", "radius") if ball_only else None)
+        add_physics_flags(p, flags=("mass", "radius") if ball_only else None)
     p.set_defaults(func=func)
 
 
@@ -172,7 +174,7 @@ def run_aim(args) -> int:
     if args.plot:
         save_figure(plot_aim(sol, fly_settings(sol.settings, spec, params)), args.plot)
     if args.json:
-        emit_json(out)
+        emit_json({**out, "physics_preset": args.physics_preset})
         return 0
     s, dv = out["settings"], out["deviation"]
     print(f"{sol.solution} solution for target ({sol.target[0]:g}, {sol.target[1]:g}) m:")
@@ -230,7 +232,7 @@ def run_rollers(args) -> int:
     rep = roller_report(v, w, spec, ball, **kw)
     out = rep.to_dict()
     if args.json:
-        emit_json(out)
+        emit_json({**out, **_ball_json(ball, args.physics_preset)})
         return 0
     print(
         f"rollers: rpm1 {out['rpm1']:.0f}, rpm2 {out['rpm2']:.0f} "
@@ -245,7 +247,13 @@ def run_rollers(args) -> int:
         f"throw: friction 2T = {2 * out['friction_force_n']:.0f} N vs inertia force {out['inertia_force_n']:.0f} N "
         f"-> {'no slip' if rep.throws else 'SLIPS'} (no-slip up to {out['max_no_slip_speed_kmh']:.0f} km/h)"
     )
+    print(ball_words(ball, args.physics_preset))
     return 0
+
+
+def _ball_json(ball, preset: str) -> dict:
+    """The JSON's statement of the physics of a command that flies nothing: the ball, and its preset."""
+    return {"ball_mass": ball.mass, "ball_radius": ball.radius, "physics_preset": preset}
 
 
 def run_power(args) -> int:
@@ -264,7 +272,7 @@ def run_power(args) -> int:
     )
     out = rep.to_dict()
     if args.json:
-        emit_json(out)
+        emit_json({**out, **_ball_json(ball, args.physics_preset)})
         return 0
     print(
         f"energy per throw: {out['energy_per_throw_j']:.1f} J (ball {out['ball_energy_j']:.1f} J"
@@ -279,6 +287,7 @@ def run_power(args) -> int:
         f"(drop {out['rpm_drop'][0]:.0f} / {out['rpm_drop'][1]:.0f} rpm)"
     )
     print(f"start-up time: {out['startup_time_s']:.1f} s at {rep.motor_power:g} W")
+    print(ball_words(ball, args.physics_preset))
     return 0
 
 
@@ -312,7 +321,7 @@ def run_drill(args) -> int:
     if args.plot:
         save_figure(fig, args.plot)
     if args.json:
-        emit_json(out)
+        emit_json({**out, "physics": params.to_dict(), "physics_preset": args.physics_preset})
     else:
         print(
             f"drill '{escape_text(drill.name)}' ({escape_text(drill.key)}): {len(comp.shots)} shots, "
@@ -330,6 +339,7 @@ def run_drill(args) -> int:
                 f"({u.solution.landing[0]:.2f}, {u.solution.landing[1]:.2f}) miss {u.solution.miss_mm:.0f} mm, "
                 f"net {u.solution.net_clearance_m:.2f} m: {escape_text(state)}"
             )
+        print(f"  {physics_words(params, args.physics_preset)}")
         if args.csv:
             print(f"csv: {args.csv}")
         if args.plot:

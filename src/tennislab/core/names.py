@@ -9,7 +9,7 @@ without compiling a kernel.  :mod:`tennislab.core.aero` registers the models nam
 
 from __future__ import annotations
 
-__all__ = ["AERO_ALIASES", "AERO_MODEL_NAMES", "DEFAULT_AERO", "PRESETS"]
+__all__ = ["AERO_ALIASES", "AERO_MODEL_NAMES", "DEFAULT_AERO", "DEFAULT_PRESET", "PRESETS"]
 
 #: The default aero model of every command and workflow (stated here only; see docs/validation.md
 #: for the evidence behind the choice).
@@ -30,6 +30,10 @@ AERO_MODEL_NAMES: tuple[str, ...] = (
 
 #: Built-in aero names that are another model's alias: {alias: the model's name}
 AERO_ALIASES: dict[str, str] = {"wojcicki2010": "launcher2015"}
+
+#: The preset every command and workflow flies when none is asked for (``fly``, ``call``, the serve family,
+#: the launcher and ``impact``'s ball alike).
+DEFAULT_PRESET = "standard"
 
 #: Named base sets of physics options for :meth:`FlightParams.from_options` (options not given
 #: keep the dataclass defaults: ITF type-2 ball, ISA sea-level moist air, DEFAULT_AERO).

@@ -28,7 +28,15 @@ from tennislab._lazy import attach_stub
 
 if TYPE_CHECKING:
     from tennislab.core.launch import launch_spin
-    from tennislab.launcher.aim import AimResult, AimSolution, aim, aim_all, fly_settings, launcher_params
+    from tennislab.launcher.aim import (
+        DEFAULT_PRESET,
+        AimResult,
+        AimSolution,
+        aim,
+        aim_all,
+        fly_settings,
+        launcher_params,
+    )
     from tennislab.launcher.drill_schema import find_drill_source, load_drill, parse_drill, shipped_drills
     from tennislab.launcher.drills import (
         CSV_COLUMNS,
@@ -72,6 +80,7 @@ __all__ = [
     "DEFAULT_CHUNK",
     "DEFAULT_MOTOR_POWER",
     "DEFAULT_POSITION",
+    "DEFAULT_PRESET",
     "DEFAULT_ROLLER_MASS",
     "DEFAULT_SPEC",
     "DEFAULT_SPIN_AXIS_TOLERANCE_DEG",

@@ -1,8 +1,8 @@
 """Forward model and inverse aiming of the launcher (Wojcicki, Pucilowski & Kulesza 2010).
 
 Forward: :class:`~.machine.Settings` -> launch state (:func:`~.machine.launch_states`)
--> flight (:func:`tennislab.core.flight.fly_dense` / ``fly_batch``; default aero
-``launcher2015``, the paper's eqs 1-7) -> first ground contact, net clearance,
+-> flight (:func:`tennislab.core.flight.fly_dense` / ``fly_batch``; the ``standard`` physics by
+default, ``preset="seed002"`` the paper's eqs 1-7, aero ``launcher2015``) -> first ground contact, net clearance,
 trajectory.
 
 Inverse (:func:`aim`, the workflow behind ``tennislab launcher aim``): for a target bounce
@@ -37,6 +37,7 @@ import tennislab.core.shoot as shoot_mod
 import tennislab.launcher._search as _search
 from tennislab.core.flight import FlightParams, fly_batch, fly_dense
 from tennislab.core.launch import spin_axis_angle
+from tennislab.core.names import DEFAULT_PRESET
 from tennislab.errors import InputError, check_vector
 from tennislab.launcher.machine import (
     DEFAULT_SPEC,
@@ -64,13 +65,15 @@ SOLUTIONS = ("low", "high")
 _DEFAULT_PARAMS: list[FlightParams] = []
 
 
-def launcher_params(**options) -> FlightParams:
-    """:class:`FlightParams` with the launcher's preset (``seed002``: aero ``launcher2015``); without options
-    the one default object (built once: a frozen value, and the key of its cached reach map is found at once)."""
-    if options:
-        return FlightParams.from_options(preset="seed002", **options)
+def launcher_params(preset: str | None = None, **options) -> FlightParams:
+    """:class:`FlightParams` of the launcher: *preset* (default :data:`tennislab.core.names.DEFAULT_PRESET`,
+    ``standard``, the physics of every command; ``seed002`` the launcher paper's aero ``launcher2015``) and
+    *options* on top; without either the one default object (built once: a frozen value, and the key of
+    its cached reach map is found at once)."""
+    if options or (preset is not None and preset != DEFAULT_PRESET):
+        return FlightParams.from_options(preset=DEFAULT_PRESET if preset is None else preset, **options)
     if not _DEFAULT_PARAMS:
-        _DEFAULT_PARAMS.append(FlightParams.from_options(preset="seed002"))
+        _DEFAULT_PARAMS.append(FlightParams.from_options(preset=DEFAULT_PRESET))
     return _DEFAULT_PARAMS[0]
 
 

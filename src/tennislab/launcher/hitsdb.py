@@ -238,6 +238,7 @@ class HitsDB:
             ranges,
             drills,
             qc,
+            stored_preset(cfg["physics"]) if cfg else None,
         )
 
     def lookup(
@@ -348,6 +349,7 @@ class HitsDB:
             hit.get("source", "table"),
             None if table_miss is None else table_miss * 1e3,
             fb_ms,
+            stored_preset(cfg["physics"]),
         )
 
     def _no_hit(self, conn, x, y, q: lk.HitQuery, max_m: float) -> InputError:
@@ -587,7 +589,23 @@ class HitsDB:
             t += interval
         with self._read() as conn:
             h = self._config(conn)[0]
-        return PlayResult(d.name, d.key, source, self.path, h, machine_entry(spec), distinct, seq)
+        stored = self._config_physics()
+        return PlayResult(
+            d.name,
+            d.key,
+            source,
+            self.path,
+            h,
+            machine_entry(spec),
+            distinct,
+            seq,
+            _physics_summary(stored),
+            stored_preset(stored),
+        )
+
+    def _config_physics(self) -> dict:
+        with self._read() as conn:
+            return self._config(conn)[1]["physics"]
 
     def _shot_lookup(self, shot: ShotSpec, max_miss_m: float) -> LookupResult:
         p = shot.preferences
@@ -632,8 +650,13 @@ class HitsDB:
                 conn = _db.open_readonly(self.path, min_version=0, check=False)
             try:
                 with self._errors(conn):
-                    if _db.stored_config(conn) is not None:
-                        _db.check_config(conn, _db.config_dict(spec, params))
+                    stored = _db.stored_config(conn)
+                    if stored is not None:
+                        cfg = _db.config_dict(spec, params)
+                        try:
+                            _db.check_config(conn, cfg)
+                        except _db.DatabaseFileError as exc:
+                            raise _db.DatabaseFileError(f"{exc}{_preset_hint(stored[1], cfg)}") from None
             finally:
                 conn.close()
         else:
@@ -673,6 +696,31 @@ def _sane(hit: dict, spec: MachineSpec) -> None:
     _guard.check_hit_rows(cols, [tuple(hit[c] for c in cols)], _db.DatabaseFileError)
 
 
+def stored_preset(physics: dict) -> str | None:
+    """The physics preset (:data:`tennislab.core.names.PRESETS`) whose physics a file stores, or None (a
+    physics of its own: a preset with flags on top).  The file stores the physics, not its preset's name:
+    this names it by building each preset as a fill would store it (a file built before ``standard`` was
+    the launcher's default, with its flags, says ``seed002``)."""
+    from tennislab.core.flight import FlightParams
+    from tennislab.core.names import PRESETS
+
+    have = _db.canonical_json(physics)
+    for name in PRESETS:
+        if _db.canonical_json(_db._stored_physics(FlightParams.from_options(preset=name))) == have:
+            return name
+    return None
+
+
+def _preset_hint(stored: dict, cfg: dict) -> str:
+    """What to ask for to extend a file whose physics is a preset's (a file built with the launcher's old
+    default, ``seed002``, extended with today's ``standard``): "" when the physics is not what differs."""
+    have = stored.get("physics")
+    if not isinstance(have, dict) or _db.canonical_json(have) == _db.canonical_json(cfg["physics"]):
+        return ""
+    name = stored_preset(have)
+    return f"; the file's physics is preset {name}'s: fill it with that preset" if name else ""
+
+
 def _physics_summary(p: dict) -> dict:
     return {
         "aero": p.get("aero", {}).get("name"),
@@ -681,6 +729,7 @@ def _physics_summary(p: dict) -> dict:
         "air_density": p.get("atmosphere", {}).get("density"),
         "gravity": p.get("atmosphere", {}).get("gravity"),
         "wind": p.get("atmosphere", {}).get("wind"),
+        "spin_decay": p.get("spin_decay"),
     }
 
 

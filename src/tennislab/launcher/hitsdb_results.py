@@ -30,6 +30,7 @@ class DbInfo(Result):
     ranges: dict
     drills: list
     quick_check: str | None
+    physics_preset: str | None = None  #: the preset whose physics the file stores (None: a physics of its own)
 
 
 @dataclass(frozen=True)
@@ -58,6 +59,7 @@ class LookupResult(Result):
     source: str = "table"
     table_miss_mm: float | None = None
     fallback_ms: float | None = None
+    physics_preset: str | None = None  #: the preset whose physics the file stores (None: a physics of its own)
 
     @property
     def settings(self) -> Settings:
@@ -98,6 +100,7 @@ class LookupResult(Result):
             "preferences": self.preferences.to_dict(),
             "machine": self.machine,
             "physics": self.physics,
+            "physics_preset": self.physics_preset,
             "lookup_ms": self.lookup_ms,
             "source": self.source,
             "table_miss_mm": self.table_miss_mm,
@@ -132,6 +135,8 @@ class PlayResult(Table):
     machine: dict
     distinct: list
     sequence: list = field(default_factory=list)
+    physics: dict | None = None  #: the file's physics (as a lookup's ``physics``)
+    physics_preset: str | None = None  #: the preset whose physics the file stores (None: a physics of its own)
 
     @property
     def duration_s(self) -> float:
@@ -152,6 +157,8 @@ class PlayResult(Table):
             "duration_s": self.duration_s,
             "distinct": self.distinct,
             "sequence": self.sequence,
+            "physics": self.physics,
+            "physics_preset": self.physics_preset,
         }
 
 

@@ -37,6 +37,7 @@ def _shots(name: str = "baseline_rally"):
 def drill(ctx) -> None:
     sec = ctx.section
     d, comp, trs, shots, summary = _shots()
+    fl = launcher_params().to_dict()
     name = d.name
     fig = plot_drill(comp, trs, title=f"launcher drill: {name}")
     rows = []
@@ -65,8 +66,10 @@ def drill(ctx) -> None:
     sec.add(
         H.para(
             f"Drill \u201c{name}\u201d: {len(shots)} distinct shots compiled to the machine's quantised "
-            f"settings (1 km/h, 1 deg, 1 rpm steps; {PAPER}, section 2). Each shot is flown with the "
-            "launcher's aero model; the table gives what to dial on the machine and where the ball lands."
+            f"settings (1 km/h, 1 deg, 1 rpm steps; {PAPER}, section 2). Each shot is flown with every "
+            f"command's default physics (preset standard: {fl['aero']} aero, ball {fl['mass'] * 1e3:g} g, "
+            f"air {fl['air_density']:g} kg/m³), as tennislab launcher drill {d.key} flies it (--preset seed002: "
+            "the paper's aero, launcher2015); the table gives what to dial on the machine and where the ball lands."
         ),
         H.figure(ctx.save(fig, "launcher_drill.png"), f"Drill \u201c{name}\u201d on the court"),
         H.para(summary),

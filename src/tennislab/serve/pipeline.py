@@ -39,6 +39,7 @@ import numpy as np
 from tennislab.core.events import NET_HIT, STATUS_NET
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.impact import ImpactParams, impact_batch
+from tennislab.core.names import DEFAULT_PRESET as _DEFAULT_PRESET
 from tennislab.errors import InputError, check_range
 from tennislab.serve.players import PlayerProfile, get_player
 from tennislab.serve.setup import (
@@ -148,8 +149,8 @@ class Setup:
 
 
 #: The physics preset of a serve workflow when no flight is given: every command's default
-#: (:data:`tennislab.core.names.PRESETS`); the paper's constants are ``preset="seed000"``.
-DEFAULT_PRESET = "standard"
+#: (:data:`tennislab.core.names.DEFAULT_PRESET`, stated there); the paper's constants are ``preset="seed000"``.
+DEFAULT_PRESET = _DEFAULT_PRESET
 
 
 def default_flight(preset: str | None = None) -> FlightParams:
