@@ -237,3 +237,15 @@ def test_a_database_built_with_seed002_still_answers_with_its_own_physics(capsys
     assert "the file's physics is preset seed002's" in capsys.readouterr().err
     again = _json(capsys, "launcher", "table", "--db", path, *SMALL, "--preset", "seed002")
     assert again["chunks_done_before"] == again["n_chunks"] and again["hits_total"] == built["hits_total"]
+
+
+def test_the_python_impact_workflow_hits_the_same_ball():
+    from tennislab.errors import InputError
+    from tennislab.serve import impact, seed_impact_params
+
+    std, paper = impact(40, 36, face_angle=21), impact(40, 36, face_angle=21, preset="seed000")
+    assert (std.params.ball.mass, std.params.ball.radius) == (0.0577, 0.0335)
+    assert std.to_dict()["ball"]["speed"] == pytest.approx(simulate("pro", 36, 21, advice=False).speed, rel=1e-12)
+    assert paper.to_dict()["ball"]["speed"] == pytest.approx(OLD_SERVE["speed"], rel=1e-9)
+    with pytest.raises(InputError, match="preset"):
+        impact(40, 36, params=seed_impact_params(), preset="seed000")

@@ -16,8 +16,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from tennislab.core.ball import Ball
 from tennislab.core.impact import HIST_COLUMNS, ImpactParams, ImpactResult, to_court
 from tennislab.core.impact import impact_single as _impact
+from tennislab.core.names import DEFAULT_PRESET
 from tennislab.errors import InputError, check_range
 from tennislab.results import Table, jsonable
 from tennislab.serve.setup import integration_caveats, seed_impact_params
@@ -118,12 +120,18 @@ def impact(
     method: str = "rk4",
     dt: float = 0.0,
     history: bool = False,
+    preset: str | None = None,
 ) -> ImpactSummary:
     """One impact: racket speed V [m/s] at impact angle alpha = ``impact_angle`` [deg] to the face
     normal, face tilted down by beta = ``face_angle`` [deg]; ``toss_vz`` the ball's vertical
-    velocity at impact [m/s] (negative: falling).  ``params`` default to the paper's constants
-    (:func:`tennislab.serve.seed_impact_params`); ``method``/``dt`` set the integration."""
-    params = params or seed_impact_params()
+    velocity at impact [m/s] (negative: falling).  ``params`` default to the paper's racket, strings and
+    contact model (:func:`tennislab.serve.seed_impact_params`) with the ball of ``preset`` (default
+    :data:`tennislab.core.names.DEFAULT_PRESET`, ``standard``: the ball every serve workflow hits;
+    ``"seed000"`` the paper's 59 g / 33 mm); ``method``/``dt`` set the integration."""
+    if params is not None and preset is not None:
+        raise InputError("preset: give impact params or a preset, not both")
+    if params is None:
+        params = seed_impact_params(ball=Ball.from_options(preset=DEFAULT_PRESET if preset is None else preset))
     check_range("racket_speed", racket_speed, 0.0, 100.0, "m/s", lo_open=True)
     a = math.radians(check_range("impact_angle", impact_angle, -89.999, 89.999, "deg"))
     b = math.radians(check_range("face_angle", face_angle, -90.0, 90.0, "deg"))
