@@ -171,3 +171,23 @@ def test_bad_input(kwargs, msg):
         calibrate_tracks(_flights(n=2), **kwargs)
     with pytest.raises(InputError, match="^tracks: no tracks"):
         calibrate_tracks([])
+
+
+def test_a_step_to_curves_core_refuses_is_not_tried():
+    """The search's box is core's rule: a drag growth cd_s that turns the drag negative at high spin (which
+    curves_model refuses) or lies outside its range is not a valid trial, as a non-finite one is not."""
+    from tennislab.calibrate.identify import _valid
+    from tennislab.core.aero import CURVES_CD_S_RANGE, CURVES_S_DRAG_MAX, curves_drag_positive
+    from tennislab.errors import InputError
+
+    lay = TRUTH.layout()
+    ext = TRUTH.ext()
+    assert _valid(ext, lay)
+    neg = -(min(TRUTH.cd) + 0.01) / CURVES_S_DRAG_MAX  # just enough to turn the least drag negative
+    assert not curves_drag_positive(min(TRUTH.cd), neg) and curves_drag_positive(min(TRUTH.cd), 0.0)
+    with pytest.raises(InputError, match="^cd_s: drag would turn negative"):
+        Curves(speed=TRUTH.speed, cd=TRUTH.cd, s=TRUTH.s, cl=TRUTH.cl, cd_s=neg).model()
+    for bad in (neg, CURVES_CD_S_RANGE[1] + 1.0, float("nan")):
+        trial = ext.copy()
+        trial[lay["cd_s"][0]] = bad
+        assert not _valid(trial, lay)

@@ -52,7 +52,7 @@ from scipy.optimize import least_squares
 
 import tennislab.calibrate._sweeps as _sweeps
 from tennislab.calibrate.flights import Flight
-from tennislab.core.aero import AeroModel, curves_model
+from tennislab.core.aero import CURVES_CD_S_RANGE, AeroModel, curves_drag_positive, curves_model
 from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
 from tennislab.units import RPM
@@ -211,9 +211,9 @@ class ShotFit:
         hi = np.array([np.inf] * 6 + [MAX_SPIN] * 2 + ([DRAG_SCALE_BOUNDS[1]] if self.drag_sigma else []))
         last: dict = {}
 
-        def fun(p):
+        def fun(p):  # a non-finite residual (a flight that left the model's range) is far off, its slope 0
             r, J = self._eval(p, kernel, ext)
-            last["J"] = J
+            last["J"] = np.where(np.isfinite(J), J, 0.0)
             return np.where(np.isfinite(r), r, 1e6)
 
         sol = least_squares(
@@ -379,13 +379,19 @@ def _normalise(ext: np.ndarray, shots: Sequence[ShotFit], lay) -> np.ndarray:
 
 
 def _valid(ext, lay) -> bool:
+    """Globals a step may try: finite, in the search's box, and curves core accepts (positive drag at every
+    spin, :func:`tennislab.core.aero.curves_drag_positive`; ``cd_s`` in its range)."""
+    if not np.all(np.isfinite(ext)):
+        return False
+    cd, cds = ext[lay["cd_v"]], float(ext[lay["cd_s"][0]])
     return bool(
-        np.all(np.isfinite(ext))
-        and np.all(ext[lay["cd_v"]] > 0.05)
-        and np.all(ext[lay["cd_v"]] < 2.0)
+        np.all(cd > 0.05)
+        and np.all(cd < 2.0)
         and np.all(ext[lay["cl_s"]] > -1.0)
         and np.all(ext[lay["cl_s"]] < 2.0)
         and -1.0 < ext[lay["decay"][0]] < 10.0
+        and CURVES_CD_S_RANGE[0] <= cds <= CURVES_CD_S_RANGE[1]
+        and curves_drag_positive(float(cd.min()), cds)
     )
 
 

@@ -655,6 +655,12 @@ def _knots(name: str, x, y, xr, yr) -> tuple[np.ndarray, np.ndarray]:
     return xa, ya
 
 
+def curves_drag_positive(cd_min: float, cd_s: float) -> bool:
+    """Whether curves with least drag coefficient ``cd_min`` [-] and drag growth ``cd_s`` [-] keep a positive
+    drag at every spin parameter up to :data:`CURVES_S_DRAG_MAX` (the rule of :func:`curves_model`)."""
+    return cd_min + min(cd_s, 0.0) * CURVES_S_DRAG_MAX > 0.0
+
+
 def curves_model(speed, cd, spin_parameter, cl, cd_s: float = 0.0, name: str = "curves") -> AeroModel:
     """Piecewise-linear curves: C_D = cd(v) + cd_s min(S, 0.5) and C_L = cl(S), S = r w / v.
 
@@ -669,7 +675,7 @@ def curves_model(speed, cd, spin_parameter, cl, cd_s: float = 0.0, name: str = "
     v, c_d = _knots("cd", speed, cd, CURVES_SPEED_RANGE, TABLE_CD_RANGE)
     s, c_l = _knots("cl", spin_parameter, cl, CURVES_S_RANGE, TABLE_CL_RANGE)
     cds = check_range("cd_s", cd_s, *CURVES_CD_S_RANGE)
-    if c_d.min() + min(cds, 0.0) * CURVES_S_DRAG_MAX <= 0.0:
+    if not curves_drag_positive(float(c_d.min()), cds):
         raise InputError("cd_s: drag would turn negative at high spin; raise cd or cd_s")
     p = _params(len(v), len(s), *v, *c_d, *s, *c_l, cds, CURVES_S_DRAG_MAX)
     return AeroModel(name, _curves_kernel, p, "piecewise-linear curves", batch_tol=CAPPED_BATCH_TOL)
