@@ -232,6 +232,12 @@ def test_a_database_built_with_seed002_still_answers_with_its_own_physics(capsys
     capsys.readouterr()
     assert main(["launcher", "lookup", "--db", path, "--target", "8", "1", "--no-fallback"]) == 0
     assert "(the file's; preset seed002)" in capsys.readouterr().out
+    # a preset the user names is compared with the file's, as a physics flag is (the default one is not)
+    assert main(["launcher", "lookup", "--db", path, "--target", "8", "1", "--no-fallback", "--preset", "seed002"]) == 0
+    capsys.readouterr()
+    assert main(["launcher", "lookup", "--db", path, "--target", "8", "1", "--preset", "standard"]) == 2
+    err = capsys.readouterr().err
+    assert "built for another machine/physics than the flags given: physics.aero.name" in err, err
     # extending it with today's default is refused, saying which preset the file holds; with it, it resumes
     assert main(["launcher", "table", "--db", path, *SMALL]) == 2
     assert "the file's physics is preset seed002's" in capsys.readouterr().err

@@ -38,8 +38,10 @@ def check_output(path: str | None, flag: str, figure: bool = False) -> None:
 
 
 def given_flags(args) -> tuple[str, ...]:
-    """Dests of the machine and physics flags the user gave (a database compares only those)."""
-    return tuple(d for d in MACHINE_DESTS + PHYSICS_DESTS if getattr(args, d, None) is not None)
+    """Dests of the machine and physics flags the user gave, ``physics_preset`` for a typed ``--preset`` (a
+    database compares only those)."""
+    given = tuple(d for d in MACHINE_DESTS + PHYSICS_DESTS if getattr(args, d, None) is not None)
+    return given + (("physics_preset",) if getattr(args, "physics_preset_given", False) else ())
 
 
 def add_speed(p, *, required: bool, note: str = "") -> None:

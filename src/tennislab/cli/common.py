@@ -25,10 +25,10 @@ import os
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING
 
-import tennislab.units as _units
 from tennislab.errors import InputError, is_subnormal
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
 from tennislab.plot import FIGURE_SUFFIXES, save_figure
+from tennislab.units import SPEED_UNITS as _SPEED_UNITS
 
 if TYPE_CHECKING:
     from tennislab.core.ball import Ball
@@ -314,11 +314,21 @@ def add_physics_flags(p, preset: str = "standard", flags=None) -> None:
         "--preset",
         dest="physics_preset",
         default=preset,
+        action=_PresetAction,
         choices=PRESET_WORDS,
         help="base set of the physics the flags above change: "
         + "; ".join(f"{k} {v}" for k, v in PRESET_WORDS.items())
         + f" (default {preset})",
     )
+
+
+class _PresetAction(argparse.Action):
+    """``--preset NAME``, remembering that it was typed (``physics_preset_given``): a database compares a
+    preset the user names with its own physics, never the default one."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        namespace.physics_preset_given = True
 
 
 #: the named physics presets (tennislab.core.flight.PRESETS) in words, for --help and the outputs
@@ -459,7 +469,7 @@ def emit_json(obj) -> None:
 # three units, elevation and heading in degrees, a spin rate in rpm about an axis given by name
 # (tennislab.core.launch.SPIN_AXES_DEG), by angle [deg] or as a vector.
 #: flag dest -> [m/s] per unit (tennislab.units.SPEED_UNITS, the workflows' one statement)
-SPEED_UNITS = {dest: factor for dest, (factor, _) in _units.SPEED_UNITS.items()}
+SPEED_UNITS = {dest: factor for dest, (factor, _) in _SPEED_UNITS.items()}
 
 
 def add_speed_flags(group, *, required: bool = False, note: str = "") -> None:

@@ -62,6 +62,14 @@ GIVEN_FIELDS = {
     "gravity": ("physics.atmosphere.gravity",),
     "wind": ("physics.atmosphere.wind",),
     "spin_decay": ("physics.spin_decay",),
+    # a named preset (tennislab.core.names.PRESETS) sets the aero, the ball and the air
+    "physics_preset": (
+        "physics.aero",
+        "physics.ball.mass",
+        "physics.ball.radius",
+        "physics.atmosphere.density",
+        "physics.atmosphere.gravity",
+    ),
 }
 
 
