@@ -46,3 +46,13 @@ def test_ball_from_options_refuses_what_the_flight_refuses():
         Ball.from_options(preset="nope")
     with pytest.raises(InputError, match="^mass:"):
         Ball.from_options(mass=5.0)
+
+
+def test_the_presets_in_words_come_from_the_presets():
+    """--help and the report describe each preset from PRESETS itself (no second statement of its numbers)."""
+    from tennislab.core.names import PRESET_TITLES, PRESETS, describe_preset
+
+    assert set(PRESET_TITLES) == set(PRESETS)
+    assert describe_preset("seed000") == "stepanek1988 aero, ball 59 g, radius 33 mm, air 1.22 kg/m^3, g 9.82 m/s^2"
+    assert describe_preset("standard") == "choppin2018 aero, ITF ball, sea-level air"
+    assert describe_preset("seed002") == "launcher2015 aero, ITF ball, sea-level air"

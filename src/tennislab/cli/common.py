@@ -25,6 +25,7 @@ import os
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING
 
+from tennislab.core import PRESET_TITLES, describe_preset
 from tennislab.errors import InputError, is_subnormal
 from tennislab.io.files import atomic_write, check_output_dir, check_output_path, same_file, shown
 from tennislab.plot import FIGURE_SUFFIXES, save_figure
@@ -331,12 +332,8 @@ class _PresetAction(argparse.Action):
         namespace.physics_preset_given = True
 
 
-#: the named physics presets (tennislab.core.flight.PRESETS) in words, for --help and the outputs
-PRESET_WORDS = {
-    "standard": "(tennislab's ball and air: choppin2018 aero, ITF ball, sea-level air)",
-    "seed000": "(the serve paper's constants: stepanek1988 aero, 59 g, 33 mm, air 1.22 kg/m^3, g 9.82)",
-    "seed002": "(the launcher paper's aero: launcher2015, ITF ball, sea-level air)",
-}
+#: the named physics presets (tennislab.core.names.PRESETS) in words, for --help and the outputs
+PRESET_WORDS = {name: f"({PRESET_TITLES[name]}: {describe_preset(name)})" for name in PRESET_TITLES}
 
 
 def physics_words(flight, preset: str | None = None, whose: str = "") -> str:

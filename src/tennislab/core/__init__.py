@@ -69,7 +69,15 @@ if TYPE_CHECKING:
         spin_axis_angle,
     )
     from tennislab.core.mark import BallMark, MarkParams, ball_mark
-    from tennislab.core.names import AERO_ALIASES, AERO_MODEL_NAMES, DEFAULT_AERO, PRESETS
+    from tennislab.core.names import (
+        AERO_ALIASES,
+        AERO_MODEL_NAMES,
+        DEFAULT_AERO,
+        DEFAULT_PRESET,
+        PRESET_TITLES,
+        PRESETS,
+        describe_preset,
+    )
     from tennislab.core.rally import Bounce, Rally, fly_bounces
     from tennislab.core.surfaces import Surface, get_surface, register_surface, surface_names
 
@@ -84,7 +92,9 @@ __all__ = [
     "MAX_SPEED_MS",
     "MAX_SPIN_RPM",
     "NET_MODES",
+    "DEFAULT_PRESET",
     "PRESETS",
+    "PRESET_TITLES",
     "SPIN_AXES_DEG",
     "STATUS_NAMES",
     "TANGENTIAL_DAMPING",
@@ -114,6 +124,7 @@ __all__ = [
     "bounce",
     "bounce_batch",
     "callable_model",
+    "describe_preset",
     "describe_spin",
     "describe_velocity",
     "fly_batch",

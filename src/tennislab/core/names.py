@@ -9,7 +9,15 @@ without compiling a kernel.  :mod:`tennislab.core.aero` registers the models nam
 
 from __future__ import annotations
 
-__all__ = ["AERO_ALIASES", "AERO_MODEL_NAMES", "DEFAULT_AERO", "DEFAULT_PRESET", "PRESETS"]
+__all__ = [
+    "AERO_ALIASES",
+    "AERO_MODEL_NAMES",
+    "DEFAULT_AERO",
+    "DEFAULT_PRESET",
+    "PRESETS",
+    "PRESET_TITLES",
+    "describe_preset",
+]
 
 #: The default aero model of every command and workflow (stated here only; see docs/validation.md
 #: for the evidence behind the choice).
@@ -44,3 +52,27 @@ PRESETS: dict[str, dict] = {
     # seed 002 eqs 1, 3 (Wojcicki et al. 2010): constant c_d, Magnus linear in spin
     "seed002": {"aero": "launcher2015"},
 }
+
+#: what each preset is, in a few words (for --help, the outputs and the report)
+PRESET_TITLES: dict[str, str] = {
+    "standard": "tennislab's ball and air",
+    "seed000": "the serve paper's constants",
+    "seed002": "the launcher paper's aero",
+}
+
+
+def describe_preset(name: str) -> str:
+    """A preset's physics in words, from :data:`PRESETS` itself (``seed000``: "stepanek1988 aero, ball 59 g,
+    radius 33 mm, air 1.22 kg/m^3, g 9.82 m/s^2"); what a preset leaves to the defaults is named, not
+    numbered (the defaults are stated once, in the dataclasses: "ITF ball", "sea-level air")."""
+    p = PRESETS[name]
+    ball = [
+        f"{p['mass'] * 1000:g} g" if "mass" in p else "",
+        f"radius {p['radius'] * 1000:g} mm" if "radius" in p else "",
+    ]
+    ball_words = "ball " + ", ".join(b for b in ball if b) if any(ball) else "ITF ball"
+    parts = [f"{p.get('aero', DEFAULT_AERO)} aero", ball_words]
+    parts.append(f"air {p['air_density']:g} kg/m^3" if "air_density" in p else "sea-level air")
+    if "gravity" in p:
+        parts.append(f"g {p['gravity']:g} m/s^2")
+    return ", ".join(parts)

@@ -19,6 +19,7 @@ replace the paper's three players.
 from __future__ import annotations
 
 import tennislab.report.html as H
+from tennislab.core import PRESET_TITLES, describe_preset
 from tennislab.plot import plot_optimum_serves, plot_speed_spin, plot_window_maps
 from tennislab.serve import monte_carlo, simulate, window
 from tennislab.serve import published as pub
@@ -27,8 +28,8 @@ PLAYERS = ("professional", "recreational", "junior")
 #: The physics preset of the serve sections: the paper's constants (its sec. 2.3), as Table 1 flew them
 PRESET = "seed000"
 PHYSICS_NOTE = (
-    "Flown with the paper's constants (preset seed000: stepanek1988 aero, ball 59 g and 33 mm, air "
-    "1.22 kg/m³, g 9.82 m/s²), not tennislab's standard physics; tennislab serve --preset seed000 flies the same."
+    f"Flown with {PRESET_TITLES['seed000']} (preset seed000: {describe_preset('seed000')}), not tennislab's "
+    "standard physics; tennislab serve --preset seed000 flies the same."
 )
 #: (key in Table 1, column header, digits)
 TABLE1_COLS = (
