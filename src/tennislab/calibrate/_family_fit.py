@@ -29,10 +29,10 @@ from scipy.sparse import lil_matrix
 
 from tennislab.calibrate._sweeps import positions_forward
 from tennislab.calibrate.family import BOUNDS, family_model, family_table
-from tennislab.calibrate.identify import H_STEP, consts_of
+from tennislab.calibrate.identify import H_STEP, baseline_ext, consts_of
 from tennislab.core.aero import AeroModel, get_aero_model
 from tennislab.core.flight import FlightParams
-from tennislab.core.launch import launch_spin, spin_axis_angle
+from tennislab.core.launch import describe_velocity, launch_spin, spin_axis_angle
 from tennislab.errors import InputError, check_range
 from tennislab.io.track import Track
 from tennislab.units import RPM
@@ -42,10 +42,8 @@ FAMILY_PARAMS = ("cd", "cl", "cd_s")  #: the family's free parameters
 
 
 def _ext(params: FlightParams) -> np.ndarray:
-    w = params.atmosphere.wind
-    return np.ascontiguousarray(
-        np.concatenate([params.aero.params, [params.spin_decay, float(w[0]), float(w[1]), float(w[2])]])
-    )
+    """The sweeps' global vector of a flight's physics (its aero model, spin decay and wind)."""
+    return baseline_ext(params.aero, params.spin_decay, params.atmosphere.wind)
 
 
 def _start_state(tr: Track) -> np.ndarray:
@@ -90,11 +88,8 @@ class _TrackProblem:
         kernel, ext, consts = params.aero.kernel, _ext(params), consts_of(params)
         out = []
         for tr, st in zip(self.tracks, states):
-            v = st[3:6]
-            sp = float(np.linalg.norm(v))
+            sp, a, b = describe_velocity(st[3:6])
             if self.spin_rate > 0.0 and sp > 0.0:
-                a = np.arcsin(np.clip(v[2] / sp, -1.0, 1.0))
-                b = np.arctan2(v[1], v[0])
                 w = launch_spin(self.spin_rate, a, b, self.spin_angle)
             else:
                 w = np.zeros(3)
