@@ -34,6 +34,7 @@ from tennislab.calibrate._family_fit import FAMILY_PARAMS, family_options, fit_f
 from tennislab.calibrate.family import FORMULA, SPEED_GRID, SPIN_GRID, aero_table_csv
 from tennislab.calibrate.flights import Detector, Flight, flights_from_points, flights_from_tracks
 from tennislab.calibrate.identify import (
+    CL_ANCHOR_SLOPE,
     GROUPS,
     MAX_SPIN,
     Curves,
@@ -269,7 +270,7 @@ def _start_curves(speed_knots, s_knots) -> Curves:
         c = Curves(speed=v, cd=(0.6,) * len(v), s=c.s, cl=c.cl)
     if s_knots is not None:
         s = tuple(float(x) for x in s_knots)
-        c = Curves(speed=c.speed, cd=c.cd, s=s, cl=tuple(min(0.6 * x, 0.5) for x in s))
+        c = Curves(speed=c.speed, cd=c.cd, s=s, cl=tuple(min(CL_ANCHOR_SLOPE * x, 0.5) for x in s))
     c.model()  # checks the knots
     return c
 
@@ -424,6 +425,7 @@ def _curves_entry(c: Curves, ident: Identification) -> dict:
         "s": list(c.s),
         "cl": list(c.cl),
         "cl_sd": [None] + [sd.get(f"cl@{v:g}") for v in c.s[1:]],
+        "cl_anchor_slope": CL_ANCHOR_SLOPE,
         "cd_s": c.cd_s,
         "cd_s_sd": sd.get("cd_s"),
         "spin_decay_per_s": c.decay,

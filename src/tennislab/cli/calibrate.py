@@ -544,7 +544,7 @@ def _print_curves(res) -> None:
     if "cd_s" in res.free:
         print(f"C_D growth with S: {_pm(c['cd_s'], c['cd_s_sd'])}")
     cl = ", ".join(f"S {v:g} {_pm(a, s)}" for v, a, s in zip(c["s"], c["cl"], c["cl_sd"]))
-    print(f"C_L(S): {cl} (the first knot held at 0.6 S)")
+    print(f"C_L(S): {cl} (the first knot held at {c['cl_anchor_slope']:g} S)")
     decay = _pm(c["spin_decay_per_s"], c["spin_decay_sd"]) if "decay" in res.free else "0 (not fitted)"
     print(f"spin decay: {decay} /s")
     if "wind" in res.free:
