@@ -26,7 +26,7 @@ from tennislab.core.flight import MAX_SPEED_MS, MAX_SPIN_RPM
 from tennislab.core.launch import describe_spin, describe_velocity
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, Table, jsonable
-from tennislab.serve.pipeline import REASON_CODES, Setup, flights, impacts, launch, make_setup
+from tennislab.serve.pipeline import REASON_CODES, Setup, failure_counts, flights, impacts, launch, make_setup
 from tennislab.units import KMH, RPM, speed_in_ms
 
 __all__ = ["BallLaunch", "BallWindow", "RacketForBall", "ball_window", "racket_for"]
@@ -239,8 +239,8 @@ class BallWindow(Table):
         }
 
     def failures(self) -> dict[str, int]:
-        counts = np.bincount(np.asarray(self.reason, int), minlength=len(REASON_CODES))
-        return {REASON_CODES[k]: int(n) for k, n in enumerate(counts) if k and n}
+        """How many launches of the window fail, by reason (:func:`~tennislab.serve.pipeline.failure_counts`)."""
+        return failure_counts(self.reason)
 
     def rows(self) -> list[dict]:
         return [

@@ -52,6 +52,7 @@ from tennislab.serve.setup import (
 __all__ = [
     "REASONS",
     "REASON_CODES",
+    "failure_counts",
     "Setup",
     "TARGETS",
     "box_name",
@@ -79,6 +80,13 @@ REASONS = {
 #: ``reason`` codes of :func:`judge`: index -> name (0 = the serve goes in; the rest as :data:`REASONS`)
 REASON_CODES = ("in", "net", "short", "long", "wide", "no-landing")
 _IN, _NET, _SHORT, _LONG, _WIDE, _NO_LANDING = range(6)
+
+
+def failure_counts(reason) -> dict[str, int]:
+    """How many serves fail, by reason (``net``, ``short``, ``long``, ``wide``, ``no-landing``), of an array
+    of indices into :data:`REASON_CODES` (any shape; reasons with no serve left out)."""
+    counts = np.bincount(np.asarray(reason, int).ravel(), minlength=len(REASON_CODES))
+    return {REASON_CODES[k]: int(n) for k, n in enumerate(counts) if k and n}
 
 
 def box_name(target: str) -> str:

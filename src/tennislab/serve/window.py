@@ -32,7 +32,7 @@ from tennislab.core.flight import FlightParams
 from tennislab.core.impact import ImpactParams
 from tennislab.errors import InputError, check_range
 from tennislab.results import Result, Table, jsonable
-from tennislab.serve.pipeline import REASON_CODES, Setup, flights, impacts, launch_3d, make_setup
+from tennislab.serve.pipeline import Setup, failure_counts, flights, impacts, launch_3d, make_setup
 from tennislab.serve.players import SEED_PLAYERS, PlayerProfile
 from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
 from tennislab.serve.setup import CATEGORIES, SeedCriteria
@@ -125,10 +125,7 @@ class ServeWindow(Table):
 
     def failures(self) -> dict[str, int]:
         """How many serves of the grid fail, by reason (``net``, ``short``, ``long``, ``wide``, ``no-landing``)."""
-        if self.reason is None:
-            return {}
-        counts = np.bincount(np.asarray(self.reason, int).ravel(), minlength=len(REASON_CODES))
-        return {REASON_CODES[k]: int(n) for k, n in enumerate(counts) if k and n}
+        return {} if self.reason is None else failure_counts(self.reason)
 
     def serve(self, i_beta: int, i_alpha: int) -> dict:
         """One serve of the grid as a dict of its quantities."""
