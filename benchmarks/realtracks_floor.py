@@ -18,11 +18,16 @@ tracks`` cuts them) is fitted with the line-call fit's free-flight model (core's
 family could do).  Reported per aero model: medians over flights (3-D RMS, mm), and the share of the
 residual's sum of squares in the Legendre orders 0-2, 3 (the cubic term: the jerk) and 4+.
 
-    .venv/bin/python benchmarks/realtracks_floor.py [FOLDER] [--every K]
+    .venv/bin/python benchmarks/realtracks_floor.py [FOLDER] [--every K] [--hypotheses]
 
 (FOLDER: a folder of point JSON, default set 1 of the 50 Hz match in ``../shared/realdata/``, found as
 ``bench_realtracks.py`` finds it; ``--every K`` fits every K-th flight; about 10 minutes on 2 shared
-cores for set 1.  Not a timing: an analysis of real tracks, beside the benchmark that calls them.)
+cores for set 1.  ``--hypotheses`` adds, for the second model, what the gap is: parameters added per
+shot (spin decay, C_D slope in speed, C_L exponent, C_D against S, time scale) or globally (gravity
+tilt and size, time scale, axis scales, wind, C_D slope) with their residuals, best gaps and fitted
+values, and a check of the track's own jerk against drag and Magnus (``_realtracks_gap.py``; about
+4 CPU minutes with ``--every 4``).  Not a timing: an analysis of real tracks, beside the benchmark that
+calls them.)
 """
 
 from __future__ import annotations
@@ -103,6 +108,7 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?", help="folder of point JSON (default: set 1 of the 50 Hz match)")
     ap.add_argument("--every", type=int, default=1)
+    ap.add_argument("--hypotheses", action="store_true", help="test what the gap is (_realtracks_gap.py)")
     args = ap.parse_args(argv)
     warnings.filterwarnings("ignore", category=RuntimeWarning)
     folder = args.folder or default_folder()
@@ -132,6 +138,11 @@ def main(argv=None) -> None:
             f" | {np.median([x['best_gap'] for x in rows]):.2f} mm"
             f" | {sh[0]:.0%} / {sh[1]:.0%} / {sh[2]:.0%}"
         )
+    if args.hypotheses:
+        from _realtracks_gap import report
+
+        name = list(MODELS)[-1]
+        report(flights, MODELS[name], SCALE, SPIN_STARTS, name)
 
 
 if __name__ == "__main__":
