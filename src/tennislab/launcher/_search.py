@@ -189,6 +189,12 @@ class Parents:
 def speed_steps(rng: Range, asked: float, tol: float, count: int | None = None) -> np.ndarray:
     """Machine speed steps within ``tol`` of ``asked`` (and always the nearest step) [km/h]; with ``count``,
     the ``count`` nearest the asked speed."""
+    return _speed_steps(rng, float(asked), float(tol), count).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _speed_steps(rng: Range, asked: float, tol: float, count: int | None) -> np.ndarray:
+    """:func:`speed_steps`, kept for the last requests."""
     lo, hi = max(rng.lo, asked - tol), min(rng.hi, asked + tol)
     k0 = math.ceil((lo - rng.lo) / rng.step - 1e-9)
     k1 = math.floor((hi - rng.lo) / rng.step + 1e-9)

@@ -135,14 +135,20 @@ def variants(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances
         float(wr.lo),
         float(wr.hi),
         float(wr.step),
-        float(wr.quantise(w0)),
-        float(gr.quantise(g0)),
+        _quantised(wr, w0),
+        _quantised(gr, g0),
         g,
         W,
         G,
         miss,
     )
     return W, G, miss
+
+
+@functools.lru_cache(maxsize=64)
+def _quantised(rng: Range, value: float) -> float:
+    """``rng.quantise(value)`` as a float, kept for the last requests."""
+    return float(rng.quantise(value))
 
 
 _RAD = math.pi / 180.0
