@@ -107,7 +107,7 @@ def variants(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances
     (:func:`axis_steps`) the best rate on it under the linear model, clipped to the rates allowed on
     that axis and rounded down and up to the rate steps, and the rounding of the asked spin.
     Returns (rate (n, k), axis (n, k), predicted miss (n, k) [m]); a variant outside the tolerances
-    has miss inf.  One compiled pass (:func:`_variants_kernel`; :func:`variants_reference` in NumPy).
+    has miss inf.  One compiled pass (:func:`_variants_kernel`; its NumPy reference is in tests/launcher/test_spin.py).
     """
     L0, J, omega_b = (np.ascontiguousarray(x, dtype=float) for x in (L0, J, omega_b))
     n = L0.shape[0]
@@ -240,56 +240,6 @@ def _variants_kernel(L0, J, om, tx, ty, w0, g0, tol_w, tol_g, w_lo, w_hi, w_step
                 miss[i, j] = np.inf
 
 
-def variants_reference(L0, J, omega_b, target, asked: tuple[float, float], tol: Tolerances, wr: Range, gr: Range):
-    """:func:`variants` in NumPy, the reference of its compiled kernel (tests/launcher/test_aim.py).
-
-    ``L0`` (n, 2) [m] landings with the spin ``omega_b`` (n, 2) [rpm components], ``J`` (n, 2, 2)
-    [m/rpm]; ``asked`` (rate [rpm], axis [deg]) as asked (not rounded).  For every allowed axis step
-    (:func:`axis_steps`) the best rate on it under the linear model, clipped to the rates allowed on
-    that axis and rounded down and up to the rate steps, and the rounding of the asked spin.
-    Returns (rate (n, k), axis (n, k), predicted miss (n, k) [m]); a variant outside the tolerances
-    has miss inf.
-    """
-    L0, J, omega_b = (np.asarray(x, dtype=float) for x in (L0, J, omega_b))
-    n = L0.shape[0]
-    w0, g0 = float(asked[0]), float(asked[1])
-    j00, j01, j10, j11 = (J[:, i, k][:, None] for i in (0, 1) for k in (0, 1))
-    tx, ty = float(target[0]), float(target[1])
-    r0x = (L0[:, 0] - J[:, 0, 0] * omega_b[:, 0] - J[:, 0, 1] * omega_b[:, 1] - tx)[
-        :, None
-    ]  # L(omega) - T = r0 + J omega
-    r0y = (L0[:, 1] - J[:, 1, 0] * omega_b[:, 0] - J[:, 1, 1] * omega_b[:, 1] - ty)[:, None]
-    g = axis_steps(asked, tol, gr)
-    if g.size > MAX_AXES:  # the disc holds the origin (a slow asked spin): the axes near each optimum
-        g = _near_axes(J, r0x[:, 0], r0y[:, 0], w0, g0, tol.spin_rpm, gr)
-    else:
-        g = np.broadcast_to(g, (n, g.size))
-    cg, sg = np.cos(np.radians(g)), np.sin(np.radians(g))
-    jx, jy = j00 * cg + j01 * sg, j10 * cg + j11 * sg  # J e_g (n, m)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        w_opt = -(jx * r0x + jy * r0y) / (jx * jx + jy * jy)
-    w_opt = np.nan_to_num(w_opt, nan=w0, posinf=w0, neginf=w0)
-    best = np.full(w_opt.shape, np.nan)
-    for lo, hi in _rate_intervals(g, w0, g0, tol.spin_rpm, tol.spin_axis_deg):
-        lo, hi = np.maximum(lo, wr.lo), np.minimum(hi, wr.hi)
-        with np.errstate(invalid="ignore"):
-            w_c = np.clip(w_opt, lo, hi)
-            better = np.isfinite(w_c) & (lo <= hi)
-            better &= ~np.isfinite(best) | (np.abs(w_c - w_opt) < np.abs(best - w_opt))
-        best = np.where(better, w_c, best)
-    k = np.floor((np.where(np.isfinite(best), best, w0) - wr.lo) / wr.step)
-    w_q, g_q = wr.quantise(w0), gr.quantise(g0)
-    W = np.concatenate([np.full((n, 1), w_q), wr.lo + k * wr.step, wr.lo + (k + 1) * wr.step], axis=1)
-    G = np.concatenate([np.full((n, 1), g_q), g, g], axis=1)
-    W = np.round(np.clip(W, wr.lo, wr.hi), 9)
-    G = np.where(W == 0.0, g_q, G)  # zero spin: one axis (the same flight)
-    gg = np.radians(G)
-    ox, oy = W * np.cos(gg), W * np.sin(gg)
-    miss = np.hypot(r0x + j00 * ox + j01 * oy, r0y + j10 * ox + j11 * oy)
-    ok = tol.allows(W, G, w0, g0) | ((W == w_q) & (G == g_q))
-    return W, G, np.where(ok, miss, np.inf)
-
-
 def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -> np.ndarray:
     """Per candidate, an upper bound [m] of how far an allowed spin can move its landing (pruning)."""
     w0, g0 = float(asked[0]), np.radians(float(asked[1]))
@@ -302,4 +252,4 @@ def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -
     return sigma * radius
 
 
-__all__ = ["axis_steps", "reach", "variants", "variants_reference"]
+__all__ = ["axis_steps", "reach", "variants"]
