@@ -20,7 +20,7 @@ import numpy as np
 from scipy.optimize import root
 
 from tennislab.calibrate import SpinAxis, calibrate_serves, predict_bounces, synthetic_serves
-from tennislab.calibrate.aim import aim_through_net, launch_states
+from tennislab.calibrate.aim import aim_through_net, serve_states
 from tennislab.core.flight import FlightParams, fly_dense
 
 
@@ -47,7 +47,7 @@ def main(argv=None) -> None:
     for i in range(k):
 
         def f(x, i=i):
-            st = launch_states(
+            st = serve_states(
                 s.impact[i : i + 1], s.speed[i : i + 1], s.spin[i : i + 1], [x[0]], [x[1]], ft[i : i + 1], fs[i : i + 1]
             )[0]
             tr = fly_dense(st[:3], st[3:6], st[6:9], params, rtol=1e-8, atol=1e-10)

@@ -1,6 +1,6 @@
 """Launcher benchmarks (issues 5, 15, 22): aiming cost and quality, the inverse map, launch-state throughput.
 
-1. ``launch_states`` (vectorised NumPy) vs a per-shot Python loop building the same states with
+1. ``machine_states`` (vectorised NumPy) vs a per-shot Python loop building the same states with
    ``math`` (baseline measured in this run): states/s and speed-up.
 2. ``aim`` per target (both branches, on the machine's steps): wall and CPU time with the height
    given and searched (of the first run, and the least CPU time of three runs: the cost with the least
@@ -56,7 +56,7 @@ def _loop_states(spec, h, v, a, b, w, g):
 
 
 def bench_states(n):
-    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
 
     rng = np.random.default_rng(1)
     cols = [
@@ -70,7 +70,7 @@ def bench_states(n):
     t_vec = math.inf
     for _ in range(3):  # best of 3 (the first call pays for page faults of the fresh arrays)
         t0 = time.perf_counter()
-        s = launch_states(DEFAULT_SPEC, *cols)
+        s = machine_states(DEFAULT_SPEC, *cols)
         t_vec = min(t_vec, time.perf_counter() - t0)
     m = min(n, 20_000)
     t0 = time.perf_counter()
@@ -101,7 +101,7 @@ def bench_aim(n_targets):
     from tennislab.core.flight import FlightParams, fly_dense
     from tennislab.errors import InputError
     from tennislab.launcher.aim import aim_all, launcher_params
-    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
 
     default = launcher_params()
     other = "standard" if default.to_dict()["aero"] == "launcher2015" else "seed002"
@@ -130,7 +130,7 @@ def bench_aim(n_targets):
                     )
                 )
                 s = next(iter(sols.values())).settings
-                st = launch_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
+                st = machine_states(DEFAULT_SPEC, s.height_m, s.speed_kmh, s.elevation_deg, s.heading_deg, w, g)[0]
                 t_fly.append(_timed(fly_dense, st[0:3], st[3:6], st[6:9], params)[1])
             print(
                 f"aim ({label}, both solutions{physics}): median {1e3 * np.median(wall):.2f} ms wall, "
@@ -151,7 +151,7 @@ def _exhaustive(target, v0, w0, g0, height, params, branch="low"):
     from tennislab.core.flight import fly_batch
     from tennislab.core.shoot import shoot
     from tennislab.launcher._spin import axis_steps
-    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
     from tennislab.launcher.preferences import Tolerances
     from tennislab.units import KMH, RPM
 
@@ -173,7 +173,7 @@ def _exhaustive(target, v0, w0, g0, height, params, branch="low"):
     best = math.inf
     for v in V:
         AA, BB, WW = np.meshgrid(A, B, np.arange(W.size), indexing="ij")
-        st = launch_states(spec, height, v, AA.ravel(), BB.ravel(), W[WW.ravel()], G[WW.ravel()])
+        st = machine_states(spec, height, v, AA.ravel(), BB.ravel(), W[WW.ravel()], G[WW.ravel()])
         tab = fly_batch(st, params)
         clear = tab.ok & (tab["net_status"] == 1) & (tab.clearance >= 0)
         miss = np.hypot(tab["land_x"] - target[0], tab["land_y"] - target[1])
@@ -338,7 +338,7 @@ def _floor_mm(target, v0, w0, g0, heights, params, branch) -> float:
     of that (height, speed, elevation) is at least the larger of the distance from D to the rho range and
     D sin(the angle between the target's bearing and the nearest heading step's azimuth range)."""
     from tennislab.core.flight import fly_batch
-    from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+    from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
     from tennislab.launcher.reach import get_map
 
     spec = DEFAULT_SPEC
@@ -361,7 +361,7 @@ def _floor_mm(target, v0, w0, g0, heights, params, branch) -> float:
         return math.nan
     C = np.array(combos)
     k, n = len(C), W.size
-    st = launch_states(
+    st = machine_states(
         spec, np.repeat(C[:, 0], n), np.repeat(C[:, 1], n), np.repeat(C[:, 2], n), beta, np.tile(W, k), np.tile(G, k)
     )
     tab = fly_batch(st, params)

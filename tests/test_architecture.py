@@ -400,6 +400,52 @@ def test_help_and_flightless_commands_load_no_numba_or_scipy(tmp_path):
     assert len(lines) == 1, f"loaded a heavy library: {lines[0]}"
 
 
+#: a child process that runs the database commands that only read (or store drills), one after the other,
+#: and prints the first one after which a heavy library was loaded (or that failed)
+_DB_PROBE = """
+import contextlib, io, os, sys
+from tennislab.cli import main
+
+HEAVY = ("numba", "scipy", "matplotlib", "pandas")
+for argv in RUNS:
+    with contextlib.redirect_stdout(io.StringIO()):
+        rc = main(list(argv))
+    heavy = [m for m in HEAVY if m in sys.modules]
+    if heavy or rc:
+        print(" ".join(argv), "->", ",".join(heavy) or f"exit {rc}")
+        break
+print("checked", len(RUNS))
+"""
+
+
+def test_launcher_database_readers_load_no_flight(tmp_path):
+    """``launcher info`` and ``launcher drills list | import | export`` read (or store) a database and
+    drill files without flying anything: they load neither Numba nor SciPy, Matplotlib or pandas (the
+    court's geometry without its compiled net, the table's and the drills' modules without the aim)."""
+    import subprocess
+    import sys
+
+    from tennislab.cli import main
+
+    db = str(tmp_path / "hits.sqlite")
+    grid = ["--height", "1", "--speed-kmh", "90", "110", "--step", "speed", "10", "--spin-rpm", "0", "0"]
+    assert main(["launcher", "table", "--db", db, *grid, "--spin-axis-deg", "0", "0", "--no-progress"]) == 0
+    runs = (
+        ("launcher", "info", "--db", db),
+        ("launcher", "info", "--db", db, "--check", "--json"),
+        ("launcher", "drills", "list"),
+        ("launcher", "drills", "import", "--db", db, "baseline_rally"),
+        ("launcher", "drills", "list", "--db", db, "--json"),
+        ("launcher", "drills", "export", "--db", db, "baseline_rally", str(tmp_path / "out.yaml")),
+    )
+    code = f"RUNS = {runs!r}\n" + _DB_PROBE
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=tmp_path)
+    lines = out.stdout.strip().splitlines()
+    assert lines[-1] == f"checked {len(runs)}", out.stdout + out.stderr
+    assert len(lines) == 1, f"loaded a heavy library or failed: {lines[0]}"
+    assert (tmp_path / "out.yaml").stat().st_size > 0
+
+
 @pytest.mark.slow
 def test_the_command_lines_static_names_are_the_registries():
     """The names a command line lists without importing their modules (so that --help loads no
@@ -500,7 +546,14 @@ def test_one_name_one_thing_across_the_package_apis():
 
 
 @pytest.mark.parametrize(
-    ("module", "old", "new"), [("core.flight", "fly", "fly_dense"), ("core.impact", "impact", "impact_single")]
+    ("module", "old", "new"),
+    [
+        ("core.flight", "fly", "fly_dense"),
+        ("core.impact", "impact", "impact_single"),
+        ("launcher.machine", "launch_states", "machine_states"),
+        ("launcher", "launch_states", "machine_states"),
+        ("calibrate.aim", "launch_states", "serve_states"),
+    ],
 )
 def test_the_old_names_of_the_primitives_still_work(module, old, new):
     import importlib
@@ -536,6 +589,7 @@ MODEL_MODULES = (
     "core.ball",
     "core.bounce",
     "core.court",
+    "core._net",
     "core.dynamics",
     "core.haake2003",
     "core.impact",
@@ -597,3 +651,19 @@ def test_the_launcher_s_old_spin_vector_is_core_s_launch_spin():
     assert "spin_vector" not in tennislab.launcher.__all__
     with pytest.warns(DeprecationWarning, match="is now launch_spin"):
         assert tennislab.launcher.spin_vector is tennislab.core.launch_spin
+    with pytest.warns(DeprecationWarning, match="is now launch_spin"):
+        assert tennislab.launcher.machine.spin_vector is tennislab.core.launch_spin
+
+
+def test_one_launch_state_builder():
+    """``core.launch.launch_states`` (launch-frame spin components) is the only ``launch_states`` any module
+    defines, and ``core.launch.spin_vector`` the only ``spin_vector``: the launcher's settings
+    (``machine_states``) and the serve calibration's axis fractions (``serve_states``) build through
+    them."""
+    bad = []
+    for m, path in MODS.items():
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            named = isinstance(node, ast.FunctionDef) and node.name in ("launch_states", "spin_vector")
+            if named and m != "core.launch":
+                bad.append(f"{m}:{node.lineno} def {node.name}")
+    assert not bad, bad

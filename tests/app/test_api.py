@@ -123,12 +123,12 @@ def test_flight_matches_python_api(client):
 
 
 def test_spin_axis_convention_matches_launcher(client):
-    from tennislab.launcher import machine
+    from tennislab.core.launch import launch_spin
 
     for a, h, g in [(10, 5, 0), (-5, -20, 90), (30, 12, 180), (0, 0, -90), (45, 40, 33)]:
         body = {"elevation_deg": a, "heading_deg": h, "spin_rpm": 1500, "spin_axis_deg": g, "speed_kmh": 60, "z": 1}
         ours = client.post("/api/flight", json=body).json()["launch"]["spin"]
-        theirs = machine.spin_vector(1500 * RPM, a * DEG, h * DEG, g * DEG)
+        theirs = launch_spin(1500 * RPM, a * DEG, h * DEG, g * DEG)
         assert ours == pytest.approx(np.asarray(theirs).ravel(), abs=1e-9)
 
 

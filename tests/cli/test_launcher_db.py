@@ -381,8 +381,11 @@ def test_table_refuses_the_whole_grid_and_estimates_every_fill(tmp_path, capsys)
 
 
 def test_play_emits_the_timed_settings_without_flying(tmp_path, capsys, monkeypatch):
-    import tennislab.core.flight as F
-    from tennislab.launcher import table as T
+    import importlib
+
+    import tennislab.core.flight as F  # the table imports core's fly_batch where it flies
+
+    A = importlib.import_module("tennislab.launcher.aim")  # the module (tennislab.launcher.aim is the function)
 
     path = str(tmp_path / "play.sqlite")
     drill = tmp_path / "two.yaml"
@@ -400,7 +403,7 @@ def test_play_emits_the_timed_settings_without_flying(tmp_path, capsys, monkeypa
         raise AssertionError("play flew a ball")
 
     monkeypatch.setattr(F, "fly_batch", no_flight)
-    monkeypatch.setattr(T, "fly_batch", no_flight)
+    monkeypatch.setattr(A, "fly_batch", no_flight)
     rc, out, err = run(capsys, "launcher", "play", "--db", path, "--drill", "two_corners", "--jsonl")
     assert rc == 0, err
     lines = [json.loads(x) for x in out.splitlines()]

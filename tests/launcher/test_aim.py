@@ -14,7 +14,7 @@ from tennislab.errors import InputError
 from tennislab.launcher import AimResult
 from tennislab.launcher import aim as aim_workflow
 from tennislab.launcher.aim import aim, aim_all, fly_settings, launcher_params
-from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, Settings, launch_states
+from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, Settings, machine_states
 from tennislab.launcher.preferences import Tolerances, spin_change_rpm
 
 #: The cases of this file were chosen for the launcher paper's physics (preset seed002, aero launcher2015:
@@ -36,7 +36,7 @@ def _fly_exact(sol, spec=DEFAULT_SPEC):
     """The continuous solution: the asked speed, spin and axis at the exact elevation and heading (and the
     chosen height: the asked one, or the one the search chose)."""
     a = sol.asked
-    y0 = launch_states(
+    y0 = machine_states(
         spec,
         sol.settings.height_m,
         a.speed_kmh,
@@ -323,7 +323,7 @@ def test_a_flat_drives_miss_is_the_steps_limit_not_the_searchs():
     best = math.inf
     for v in range(v0 - 3, v0 + 4):
         A, B, K = np.meshgrid(np.arange(a0 - 3, a0 + 4), np.arange(b0 - 1, b0 + 3), np.arange(W.size), indexing="ij")
-        tab = fly_batch(launch_states(DEFAULT_SPEC, h, v, A.ravel(), B.ravel(), W[K.ravel()], G[K.ravel()]), PARAMS)
+        tab = fly_batch(machine_states(DEFAULT_SPEC, h, v, A.ravel(), B.ravel(), W[K.ravel()], G[K.ravel()]), PARAMS)
         clear = tab.ok & (tab["net_status"] == 1) & (tab.clearance >= 0)
         miss = np.hypot(tab["land_x"] - target[0], tab["land_y"] - target[1])
         best = min(best, float(miss[clear].min()))

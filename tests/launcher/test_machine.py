@@ -14,7 +14,7 @@ from tennislab.launcher.machine import (
     MachineSpec,
     Range,
     Settings,
-    launch_states,
+    machine_states,
     settings_states,
     validate_arrays,
 )
@@ -86,7 +86,7 @@ def test_bad_spec():
 
 
 def test_launch_state_conventions():
-    st_ = launch_states(DEFAULT_SPEC, 1.2, 100, 10, 0, 1000, [0, 180, 90, -90])
+    st_ = machine_states(DEFAULT_SPEC, 1.2, 100, 10, 0, 1000, [0, 180, 90, -90])
     v = 100 * KMH
     np.testing.assert_allclose(st_[:, 0:3], [[-12.385, 0, 1.2]] * 4)
     np.testing.assert_allclose(st_[0, 3:6], [v * math.cos(0.17453292519943295), 0, v * math.sin(0.17453292519943295)])
@@ -97,14 +97,14 @@ def test_launch_state_conventions():
     assert np.allclose(np.einsum("ij,ij->i", st_[:, 3:6], st_[:, 6:9]), 0, atol=1e-9)
     np.testing.assert_allclose(np.linalg.norm(st_[:, 6:9], axis=1), w)
     # heading positive toward +y
-    s2 = launch_states(DEFAULT_SPEC, 1.0, 80, 0, 30, 0, 0)[0]
+    s2 = machine_states(DEFAULT_SPEC, 1.0, 80, 0, 30, 0, 0)[0]
     assert s2[4] > 0 and math.degrees(math.atan2(s2[4], s2[3])) == pytest.approx(30)
 
 
 def test_spin_axis_effects_in_flight():
     """Topspin dips (shorter), backspin floats (longer), +90 curves to +y, -90 to -y."""
     t = fly_batch(
-        launch_states(DEFAULT_SPEC, 1.0, 100, 6, 0, [0, 1500, 1500, 1500, 1500], [0, 0, 180, 90, -90]), PARAMS
+        machine_states(DEFAULT_SPEC, 1.0, 100, 6, 0, [0, 1500, 1500, 1500, 1500], [0, 0, 180, 90, -90]), PARAMS
     )
     x, y = t["land_x"], t["land_y"]
     assert x[1] < x[0] < x[2]
@@ -114,8 +114,8 @@ def test_spin_axis_effects_in_flight():
 
 @settings(max_examples=40, deadline=None)
 @given(st.floats(-20, 80), st.floats(-40, 40), st.floats(-180, 180), st.floats(30, 200), st.floats(0, 2000))
-def test_launch_states_invariants(elev, head, axis, speed, spin):
-    s = launch_states(DEFAULT_SPEC, 1.0, speed, elev, head, spin, axis)[0]
+def test_machine_states_invariants(elev, head, axis, speed, spin):
+    s = machine_states(DEFAULT_SPEC, 1.0, speed, elev, head, spin, axis)[0]
     v, w = s[3:6], s[6:9]
     assert np.linalg.norm(v) == pytest.approx(speed * KMH)
     assert np.linalg.norm(w) == pytest.approx(spin * RPM, abs=1e-9)
@@ -127,13 +127,13 @@ def test_launch_states_invariants(elev, head, axis, speed, spin):
 
 
 def test_broadcast_and_settings_states():
-    s = launch_states(DEFAULT_SPEC, [[1.0], [2.0]], [80, 90, 100], 5, 0)
+    s = machine_states(DEFAULT_SPEC, [[1.0], [2.0]], [80, 90, 100], 5, 0)
     assert s.shape == (6, 9)
     with pytest.raises(InputError, match="broadcast"):
-        launch_states(DEFAULT_SPEC, 1.0, [80, 90], 5, 0, 0, [0, 1, 2])
+        machine_states(DEFAULT_SPEC, 1.0, [80, 90], 5, 0, 0, [0, 1, 2])
     one = Settings(1.0, 80, 5, 3, 500, 20)
     np.testing.assert_allclose(
-        settings_states(DEFAULT_SPEC, one)[0], launch_states(DEFAULT_SPEC, 1.0, 80, 5, 3, 500, 20)[0]
+        settings_states(DEFAULT_SPEC, one)[0], machine_states(DEFAULT_SPEC, 1.0, 80, 5, 3, 500, 20)[0]
     )
     with pytest.raises(InputError, match=r"spin_rpm: 2500 rpm is outside"):
         validate_arrays(DEFAULT_SPEC, spin_rpm=[0, 2500])

@@ -15,7 +15,7 @@ from tennislab.launcher import HitsDB
 from tennislab.launcher import reach as R
 from tennislab.launcher.aim import aim, launcher_params
 from tennislab.launcher.inverse import inverse_aim
-from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, launch_states
+from tennislab.launcher.machine import DEFAULT_SPEC, MachineSpec, machine_states
 
 PARAMS = launcher_params()
 
@@ -23,7 +23,7 @@ PARAMS = launcher_params()
 def _reference_landing(res):
     """Where the inverse aim's settings land by the reference integrator (SciPy DOP853, rtol 1e-10)."""
     s = res.to_dict()["settings"]
-    y0 = launch_states(
+    y0 = machine_states(
         DEFAULT_SPEC,
         *(s[k] for k in ("height_m", "speed_kmh", "elevation_deg", "heading_deg")),
         s["spin_rpm"],
@@ -187,7 +187,7 @@ def test_lookup_refines_a_far_hit_and_says_so(small_db):
         )
         <= 100 + 1e-6
     )
-    y0 = launch_states(
+    y0 = machine_states(
         DEFAULT_SPEC,
         *(s[k] for k in ("height_m", "speed_kmh", "elevation_deg", "heading_deg", "spin_rpm", "spin_axis_deg")),
     )[0]

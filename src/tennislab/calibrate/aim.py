@@ -21,6 +21,7 @@ is set at launch and then evolves as the flight model says (constant unless ``sp
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,7 +40,7 @@ __all__ = [
     "Aim",
     "aim_through_net",
     "first_guess",
-    "launch_states",
+    "serve_states",
     "spin_components",
     "spin_vectors",
 ]
@@ -64,11 +65,26 @@ def spin_vectors(rate, elevation, heading, f_top, f_side) -> np.ndarray:
     return launch.spin_vector(elevation, heading, c[..., 0], c[..., 1], c[..., 2])
 
 
-def launch_states(position, speed, rate, elevation, heading, f_top, f_side) -> np.ndarray:
-    """Initial states (N, 9) of serves launched at (elevation, heading) [rad] (built by
-    :func:`tennislab.core.launch.launch_states`)."""
+def serve_states(position, speed, rate, elevation, heading, f_top, f_side) -> np.ndarray:
+    """Initial states (N, 9) of serves launched at (elevation, heading) [rad] with a spin rate [rad/s] about
+    the axis of the fractions (module docstring): :func:`tennislab.core.launch.launch_states` of
+    :func:`spin_components`."""
     c = spin_components(rate, f_top, f_side)
     return launch.launch_states(position, speed, elevation, heading, c[..., 0], c[..., 1], c[..., 2])
+
+
+def __getattr__(name: str):
+    """``launch_states``: the old name of :func:`serve_states`, kept working with a :class:`DeprecationWarning`
+    (``core.launch.launch_states`` takes the launch-frame components: one name, one thing)."""
+    if name == "launch_states":
+        warnings.warn(
+            "tennislab.calibrate.aim.launch_states is now serve_states (tennislab.core.launch.launch_states "
+            "takes the spin's launch-frame components)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return serve_states
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclass(frozen=True)

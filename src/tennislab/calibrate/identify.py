@@ -54,6 +54,7 @@ import tennislab.calibrate._sweeps as _sweeps
 from tennislab.calibrate.flights import Flight
 from tennislab.core.aero import CURVES_CD_S_RANGE, AeroModel, curves_drag_positive, curves_model
 from tennislab.core.flight import FlightParams
+from tennislab.core.launch import path_spin_basis
 from tennislab.errors import InputError
 from tennislab.units import RPM
 
@@ -155,17 +156,10 @@ class ShotFit:
         self.np = 9 if drag_sigma is not None else 8
         pos, vel = _start(self.t, self.x)
         # the spin's two axes span the plane perpendicular to the path (spin along the path bends
-        # nothing): the topspin axis e1 (horizontal) and u x e1; core.launch's (topspin, up) basis is
-        # not perpendicular to a rising or falling path, and the fit's prior on each component (and the
-        # documented identification, tests/calibrate/test_realdata_tracks.py) is stated in this one
-        u = vel / max(float(np.linalg.norm(vel)), 1e-9)
-        e1 = np.cross([0.0, 0.0, 1.0], u)
-        if np.linalg.norm(e1) < 1e-6:  # a vertical path: any horizontal axis
-            e1 = np.array([1.0, 0.0, 0.0])
-        e1 /= np.linalg.norm(e1)
-        if np.cross(e1, u)[2] > 0.0:  # e1 = the topspin axis: w x v points down
-            e1 = -e1
-        self.axes = np.stack([e1, np.cross(u, e1)], axis=1)
+        # nothing): core.launch's topspin axis h and up axis u, built from the velocity vector itself
+        # (path_spin_basis; through the angles they differ by round-off only, which moves the weakly
+        # determined knots of the documented identification by a few 1e-3)
+        self.axes = np.stack(path_spin_basis(vel), axis=1)
         spin0 = (flight.spin_rpm or 0.0) * RPM
         self.p0 = np.concatenate([pos, vel, [np.clip(spin0, -MAX_SPIN / 2, MAX_SPIN / 2), 0.0]])
         if drag_sigma is not None:

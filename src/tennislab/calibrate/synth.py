@@ -11,7 +11,7 @@ import io
 
 import numpy as np
 
-from tennislab.calibrate.aim import launch_states
+from tennislab.calibrate.aim import serve_states
 from tennislab.calibrate.predict import SpinAxis
 from tennislab.calibrate.serves import FAMILIES, Serves, check_serves, serves_from_columns
 from tennislab.core.flight import FlightParams, fly_batch
@@ -59,7 +59,7 @@ def synthetic_serves(
         elev = np.radians(rng.uniform(-9.0, 0.0, m))
         ft = np.asarray(axis.top)[fam]
         fs = np.asarray(axis.side)[fam]
-        states = launch_states(pos, speed, rate * axis.rate_scale, elev, heading, ft, fs)
+        states = serve_states(pos, speed, rate * axis.rate_scale, elev, heading, ft, fs)
         tab = fly_batch(states, params)
         lx, ly = tab["land_x"], tab["land_y"]
         ok = tab.ok & (np.abs(lx) > 3.5) & (np.abs(lx) < 6.4) & (np.abs(ly) < 4.1) & (np.sign(lx) == -side)

@@ -17,6 +17,8 @@ the strap and a post the cord is modelled as a straight line: the strap pulls a
 taut cord down at one point, so each half is a near-straight segment (a cord
 sagging under its own weight only would be a catenary; the difference is a few
 millimetres for a cord at 1 kN tension).  Outside the posts there is no net.
+The same cord in compiled code, for the flight kernels: :mod:`tennislab.core._net` (this module
+loads no Numba).
 
 References
 ----------
@@ -27,30 +29,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 
-from tennislab.core._jit import JIT
 from tennislab.errors import InputError, check_range
-
-
-@nb.njit(**JIT, inline="always")
-def net_height_linear(y, h_center, h_post, y_post):
-    """Height of the net cord [m] at lateral position ``y`` [m]; 0 beyond the posts."""
-    ay = abs(y)
-    if ay > y_post:
-        return 0.0
-    return h_center + (h_post - h_center) * ay / y_post
-
-
-@nb.njit(**JIT)
-def net_blocks(y, z, h_center, h_post, y_post):
-    """True when the point (0, y, z) of the net plane is net: between the posts, at or below the cord.
-
-    The net hangs from the cord down to the ground (ITF rule 1: it must fill the
-    space between the posts); a ball touching the plane there meets the net.
-    """
-    return abs(y) <= y_post and z <= net_height_linear(y, h_center, h_post, y_post)
 
 
 @dataclass(frozen=True)

@@ -32,10 +32,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tennislab.core._net import net_blocks
 from tennislab.core.aero import DEFAULT_AERO, AeroModel, get_aero_model, inline_tag
 from tennislab.core.atmosphere import Atmosphere
 from tennislab.core.ball import Ball
-from tennislab.core.court import ITF_COURT, Court, net_blocks
+from tennislab.core.court import ITF_COURT, Court
 from tennislab.core.dynamics import derivative_call
 from tennislab.core.events import (
     ALWAYS,

@@ -26,8 +26,8 @@ import numpy as np
 from numba import types
 
 from tennislab.core._jit import JIT
+from tennislab.core._net import net_blocks, net_height_linear
 from tennislab.core.aero import _CAP_BLEND, AERO_FUNCTION_TYPE, CAP_ZONE, CAP_ZONE_ERR, cap_distance
-from tennislab.core.court import net_blocks, net_height_linear
 from tennislab.core.dynamics import derivative
 from tennislab.core.events import (
     ALWAYS,

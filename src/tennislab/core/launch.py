@@ -74,6 +74,27 @@ def spin_basis(elevation, heading) -> tuple[np.ndarray, np.ndarray]:
     return h, u
 
 
+def path_spin_basis(velocity) -> tuple[np.ndarray, np.ndarray]:
+    """(h, u) (3,) of :func:`spin_basis` for the direction of a velocity vector (3,), built from the vector.
+
+    The same basis, perpendicular to the path: h = unit(e_z x d) (the topspin axis), u = d x h, d the
+    unit velocity; computed by cross products of the vector itself instead of through its elevation and
+    heading (:func:`describe_velocity`, then :func:`spin_basis`), so the two differ by round-off only
+    (~1e-15).  A fit whose parameters are spin components about these axes (the track identification,
+    :mod:`tennislab.calibrate.identify`) uses this form.  A vertical path (no horizontal direction) takes
+    h = e_x.
+    """
+    v = np.asarray(velocity, dtype=float)
+    d = v / max(float(np.linalg.norm(v)), 1e-9)
+    h = np.cross([0.0, 0.0, 1.0], d)
+    if np.linalg.norm(h) < 1e-6:  # a vertical path: any horizontal axis
+        h = np.array([1.0, 0.0, 0.0])
+    h /= np.linalg.norm(h)
+    if np.cross(h, d)[2] > 0.0:  # h = the topspin axis: h x v points down (the Magnus force of topspin)
+        h = -h
+    return h, np.cross(d, h)
+
+
 def launch_velocity(speed, elevation, heading) -> np.ndarray:
     """Velocity (..., 3) [m/s] from speed [m/s], elevation and heading [rad]."""
     return np.asarray(speed, dtype=float)[..., None] * direction(elevation, heading)

@@ -57,7 +57,7 @@ if TYPE_CHECKING:
         MachineSpec,
         Range,
         Settings,
-        launch_states,
+        machine_states,
         settings_states,
         speed_in_kmh,
     )
@@ -120,9 +120,9 @@ __all__ = [
     "friction_coefficient",
     "inverse_aim",
     "launch_spin",
-    "launch_states",
     "launcher_params",
     "load_drill",
+    "machine_states",
     "make_grid",
     "parse_drill",
     "plan_fill",
@@ -144,4 +144,12 @@ def __getattr__(name: str):
             stacklevel=2,
         )
         return importlib.import_module("tennislab.core.launch").launch_spin
+    if name == "launch_states":  # the old name: core.launch.launch_states builds states from launch-frame spin
+        warnings.warn(
+            "tennislab.launcher.launch_states is now machine_states (tennislab.core.launch.launch_states takes "
+            "the spin's launch-frame components)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return importlib.import_module("tennislab.launcher.machine").machine_states
     return _getattr(name)

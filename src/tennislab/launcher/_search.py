@@ -41,7 +41,7 @@ import numpy as np
 import tennislab.launcher._spin as _spin
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.shoot import shoot
-from tennislab.launcher.machine import MachineSpec, Range, launch_states
+from tennislab.launcher.machine import MachineSpec, Range, machine_states
 from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm
 from tennislab.launcher.reach import ReachMap
 from tennislab.units import KMH, RPM
@@ -211,7 +211,7 @@ class Shooter:
         self.spec, self.params, self.flights = spec, params, 0
 
     def __call__(self, h, v, a, b, w, g) -> FlightTable:
-        st = launch_states(self.spec, h, v, a, b, w, g)
+        st = machine_states(self.spec, h, v, a, b, w, g)
         self.flights += len(st)
         return fly_batch(st, self.params, parallel=False)
 

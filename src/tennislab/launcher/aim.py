@@ -1,6 +1,6 @@
 """Forward model and inverse aiming of the launcher (Wojcicki, Pucilowski & Kulesza 2010).
 
-Forward: :class:`~.machine.Settings` -> launch state (:func:`~.machine.launch_states`)
+Forward: :class:`~.machine.Settings` -> launch state (:func:`~.machine.machine_states`)
 -> flight (:func:`tennislab.core.flight.fly_dense` / ``fly_batch``; the ``standard`` physics by
 default, ``preset="seed002"`` the paper's eqs 1-7, aero ``launcher2015``) -> first ground contact, net clearance,
 trajectory.
@@ -43,7 +43,8 @@ from tennislab.launcher.machine import (
     DEFAULT_SPEC,
     MachineSpec,
     Settings,
-    launch_states,
+    machine_entry,
+    machine_states,
     settings_states,
     speed_in_kmh,
 )
@@ -88,9 +89,9 @@ def fly_settings(settings: Settings, spec: MachineSpec = DEFAULT_SPEC, params: F
 def fly_settings_batch(
     spec: MachineSpec, params: FlightParams | None = None, rtol: float = 1e-7, atol: float = 1e-7, **settings_arrays
 ):
-    """Forward model for arrays of settings (keywords of :func:`launch_states`) -> ``FlightTable``."""
+    """Forward model for arrays of settings (keywords of :func:`machine_states`) -> ``FlightTable``."""
     params = params or launcher_params()
-    return fly_batch(launch_states(spec, **settings_arrays), params, rtol=rtol, atol=atol)
+    return fly_batch(machine_states(spec, **settings_arrays), params, rtol=rtol, atol=atol)
 
 
 @dataclass(frozen=True)
@@ -204,15 +205,6 @@ def rollers_rpm(st: Settings, spec: MachineSpec, params: FlightParams) -> tuple[
     g = roller_geometry(spec, params.ball)
     w1, w2 = roller_speeds(st.speed_kmh * KMH, st.spin_rpm * RPM, spec.roller_radius, g.deformed_radius)
     return float(w1) / RPM, float(w2) / RPM
-
-
-def machine_entry(spec: MachineSpec, position=None) -> dict:
-    """The ``machine`` entry of a launcher result: where it stands [m] and its rollers [m]."""
-    return {
-        "position": list(spec.position if position is None else position),
-        "roller_radius_m": spec.roller_radius,
-        "roller_axis_distance_m": spec.roller_axis_distance,
-    }
 
 
 @dataclass(frozen=True)

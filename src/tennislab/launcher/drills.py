@@ -24,16 +24,19 @@ from __future__ import annotations
 
 import re
 from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tennislab.core.court import ITF_COURT
-from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError
-from tennislab.launcher.aim import AimSolution, aim, fly_settings, launcher_params, machine_entry, rollers_rpm
-from tennislab.launcher.machine import MachineSpec
+from tennislab.launcher.machine import MachineSpec, machine_entry
 from tennislab.launcher.preferences import DEFAULT_SPIN_AXIS_TOLERANCE_DEG, Preferences
 from tennislab.results import Table
+
+if TYPE_CHECKING:
+    from tennislab.core.flight import FlightParams
+    from tennislab.launcher.aim import AimSolution
 
 
 @dataclass(frozen=True)
@@ -398,6 +401,8 @@ class CompiledDrill(Table):
 
 
 def _aim_shot(shot: ShotSpec, spec: MachineSpec, params: FlightParams) -> AimSolution:
+    from tennislab.launcher.aim import aim  # the aim and its flights: loaded by what compiles a drill
+
     p = shot.preferences
     return aim(
         shot.target,
@@ -424,6 +429,8 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
     :class:`InputError` naming the shot; a landing outside its zone is reported as a failed
     check (``CompiledDrill.ok`` False), not raised.
     """
+    from tennislab.launcher.aim import launcher_params, rollers_rpm
+
     params = params or launcher_params()
     spec = drill.spec
     names = expand_program(drill)
@@ -464,6 +471,8 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
 
 def drill_trajectories(compiled: CompiledDrill, params: FlightParams | None = None) -> list:
     """The trajectory of every distinct shot of a compiled drill (reference integrator), for figures."""
+    from tennislab.launcher.aim import fly_settings, launcher_params
+
     params = params or launcher_params()
     return [
         None if u.solution is None else fly_settings(u.solution.settings, compiled.drill.spec, params)

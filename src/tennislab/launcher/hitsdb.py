@@ -32,7 +32,6 @@ from tennislab.core.ball import Ball
 from tennislab.core.court import ITF_COURT
 from tennislab.errors import InputError
 from tennislab.io.drill import drill_format, read_drill_bytes
-from tennislab.launcher.aim import machine_entry
 from tennislab.launcher.drill_schema import (
     drill_record,
     find_drill_source,
@@ -42,7 +41,7 @@ from tennislab.launcher.drill_schema import (
 )
 from tennislab.launcher.drills import Drill, ShotSpec, drill_key, expand_program
 from tennislab.launcher.hitsdb_results import DbInfo, DrillList, DrillsImported, LookupResult, PlayResult
-from tennislab.launcher.machine import MachineSpec, Range, Settings, speed_in_kmh
+from tennislab.launcher.machine import MachineSpec, Range, Settings, machine_entry, speed_in_kmh
 from tennislab.launcher.preferences import Preferences, Tolerances
 from tennislab.launcher.rollers import roller_geometry, roller_speeds
 from tennislab.units import KMH, RPM

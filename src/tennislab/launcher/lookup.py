@@ -30,11 +30,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from tennislab.core.aero import get_aero_model
 from tennislab.core.court import ITF_COURT
-from tennislab.core.flight import FlightParams
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher.aim import aim
 from tennislab.launcher.db import HIT_COLUMNS, HIT_SETTINGS, DatabaseFileError, has_column, stored_json
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW, Preferences
 
@@ -633,6 +630,9 @@ SOURCES = ("table", "refined", "inverse-map")
 def params_from_physics(p: dict):
     """The :class:`~tennislab.core.flight.FlightParams` a file's ``physics`` record describes, or None when
     it cannot be rebuilt (a table aero model: its grid is not stored)."""
+    from tennislab.core.aero import get_aero_model  # the flight physics: only when a lookup falls back
+    from tennislab.core.flight import FlightParams
+
     try:
         model = get_aero_model(p["aero"]["name"])
         model = dataclasses.replace(model, params=np.asarray(p["aero"]["params"], dtype=float))
@@ -661,6 +661,8 @@ def fallback(spec, physics: dict, target, hit: dict | None, asked: dict, toleran
     the lookup's tolerances and preferences.  Returns a hit-shaped dict (``id`` None, plus ``source``) or
     None when there is no answer (no speed, physics that cannot be rebuilt, an unreachable target).
     """
+    from tennislab.launcher.aim import aim  # the machine's aim (and its flights): only here
+
     params = params_from_physics(physics)
     speed = asked.get("speed_kmh") if asked.get("speed_kmh") is not None else (hit or {}).get("speed_kmh")
     if params is None or speed is None:

@@ -43,6 +43,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
@@ -214,15 +215,10 @@ def launch_direction(elevation_rad, heading_rad):
     return launch.direction(elevation_rad, heading_rad), h, u
 
 
-def spin_vector(spin_rads, elevation_rad, heading_rad, spin_axis_rad):
-    """Spin vector omega [rad/s] (..., 3): spin about the axis cos g h + sin g u (:func:`core.launch.launch_spin`)."""
-    return launch.launch_spin(spin_rads, elevation_rad, heading_rad, spin_axis_rad)
-
-
-def launch_states(
+def machine_states(
     spec: MachineSpec, height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm=0.0, spin_axis_deg=0.0
 ) -> np.ndarray:
-    """Initial flight states (N, 9) for :func:`tennislab.core.flight.fly_batch`.
+    """Initial flight states (N, 9) of machine settings, for :func:`tennislab.core.flight.fly_batch`.
 
     Every argument is a scalar or an array (edge units: m, km/h, deg, rpm, deg);
     they broadcast together and are flattened to N rows of (x, y, z, vx, vy, vz,
@@ -239,7 +235,7 @@ def launch_states(
             )
         )
     except ValueError as exc:
-        raise InputError(f"launch_states: settings arrays do not broadcast together ({exc})") from None
+        raise InputError(f"machine_states: settings arrays do not broadcast together ({exc})") from None
     h, v, a, b, w, g = (x.reshape(-1) for x in (h, v, a, b, w, g))
     pos = np.empty((h.size, 3))
     pos[:, 0], pos[:, 1], pos[:, 2] = spec.position[0], spec.position[1], h
@@ -248,11 +244,11 @@ def launch_states(
 
 
 def settings_states(spec: MachineSpec, settings) -> np.ndarray:
-    """:func:`launch_states` for one :class:`Settings` or a sequence of them."""
+    """:func:`machine_states` for one :class:`Settings` or a sequence of them."""
     if isinstance(settings, Settings):
         settings = [settings]
     cols = {f: np.array([getattr(s, f) for s in settings], dtype=float) for f in SETTING_RANGES}
-    return launch_states(spec, **cols)
+    return machine_states(spec, **cols)
 
 
 def validate_arrays(spec: MachineSpec, **arrays) -> None:
@@ -268,6 +264,16 @@ def validate_arrays(spec: MachineSpec, **arrays) -> None:
 
 
 DEFAULT_SPEC = MachineSpec()
+
+
+def machine_entry(spec: MachineSpec, position=None) -> dict:
+    """The ``machine`` entry of a launcher result: where it stands [m] and its rollers [m]."""
+    return {
+        "position": list(spec.position if position is None else position),
+        "roller_radius_m": spec.roller_radius,
+        "roller_axis_distance_m": spec.roller_axis_distance,
+    }
+
 
 #: Speed units of the launch vocabulary: parameter name -> (km/h per unit, unit label).
 SPEED_UNITS = {"speed_kmh": (1.0, "km/h"), "speed_ms": (3.6, "m/s"), "speed_mph": (1.609344, "mph")}
@@ -297,3 +303,21 @@ def speed_in_kmh(
             f"{name}: {v:g} {unit} is outside the allowed range [{r.lo / factor:.4g}, {r.hi / factor:.4g}] {unit}"
         )
     return min(max(v * factor, r.lo), r.hi)
+
+
+#: Old names of this module and what they are now (one name, one thing: ``core.launch.launch_states`` and
+#: ``core.launch.spin_vector`` take the spin's launch-frame components, not a machine's settings).
+_RENAMED = {
+    "launch_states": ("machine_states", "tennislab.core.launch.launch_states takes launch-frame spin components"),
+    "spin_vector": ("launch_spin", "tennislab.core.launch_spin, the same arguments"),
+}
+
+
+def __getattr__(name: str):
+    """``launch_states`` (now :func:`machine_states`) and ``spin_vector`` (now
+    :func:`tennislab.core.launch.launch_spin`): kept working with a :class:`DeprecationWarning`."""
+    if name in _RENAMED:
+        new, why = _RENAMED[name]
+        warnings.warn(f"tennislab.launcher.machine.{name} is now {new} ({why})", DeprecationWarning, stacklevel=2)
+        return launch.launch_spin if new == "launch_spin" else machine_states
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

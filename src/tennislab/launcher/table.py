@@ -10,7 +10,7 @@ headings of one speed and spin: compact landing patches, which keeps the
 R*Tree tight.
 
 Each chunk is flown with :func:`tennislab.core.flight.fly_batch` on
-:func:`tennislab.launcher.machine.launch_states` (:func:`fly_chunk`, through
+:func:`tennislab.launcher.machine.machine_states` (:func:`fly_chunk`, through
 :func:`tennislab.batch.run_batch` on any of its schedulers); :func:`select_hits` keeps a row
 when the ball lands (status 0), clears the net (``net_status`` over) and lands
 in the doubles area of the half opposite the machine plus
@@ -43,9 +43,8 @@ import tennislab.launcher.db as _db
 from tennislab.batch import run_batch
 from tennislab.batch.grid import GridSpec
 from tennislab.core.events import NET_OVER, STATUS_OK
-from tennislab.core.flight import fly_batch
 from tennislab.errors import InputError, check_finite
-from tennislab.launcher.machine import launch_states
+from tennislab.launcher.machine import machine_states
 from tennislab.launcher.preferences import BRANCH_HIGH, BRANCH_LOW
 from tennislab.results import Result, jsonable
 from tennislab.units import RPM
@@ -199,7 +198,9 @@ def fly_chunk(indices: dict, spec, params) -> dict:
     if n == 0:
         out.update({c: np.empty(0) for c in ROW_COLUMNS if c not in out})
         return out
-    states = launch_states(
+    from tennislab.core.flight import fly_batch  # the compiled flight: loaded by what flies (not by readers)
+
+    states = machine_states(
         spec,
         vals["height_m"],
         vals["speed_kmh"],
@@ -239,7 +240,9 @@ def flight_branch(rows: dict, spec, params) -> np.ndarray:
     branch of distance against elevation (a drive), "nearer" the falling one (a lob), the same
     split as ``launcher aim``'s low and high solutions.
     """
-    st = launch_states(
+    from tennislab.core.flight import fly_batch  # the compiled flight: loaded by what flies (not by readers)
+
+    st = machine_states(
         spec,
         rows["height_m"],
         rows["speed_kmh"],
