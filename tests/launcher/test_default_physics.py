@@ -9,7 +9,7 @@ import pytest
 
 from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.launcher.aim import aim_all, fly_settings, launcher_params
-from tennislab.launcher.machine import DEFAULT_SPEC, launch_states
+from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
 from tennislab.launcher.preferences import Tolerances
 
 CASES = [
@@ -35,7 +35,7 @@ def test_default_physics_aim_round_trip(target, kw):
     for sol in sols.values():
         assert sol.to_dict(DEFAULT_SPEC, params)["physics"] == params.to_dict()
         a = sol.asked
-        y0 = launch_states(
+        y0 = machine_states(
             DEFAULT_SPEC,
             sol.settings.height_m,
             a.speed_kmh,
