@@ -559,6 +559,7 @@ def test_one_name_one_thing_across_the_package_apis():
         ("launcher.machine", "launch_states", "machine_states"),
         ("launcher", "launch_states", "machine_states"),
         ("calibrate.aim", "launch_states", "serve_states"),
+        ("serve.pipeline", "fly", "fly_serves"),
     ],
 )
 def test_the_old_names_of_the_primitives_still_work(module, old, new):

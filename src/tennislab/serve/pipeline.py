@@ -10,7 +10,7 @@ Every serve workflow runs the same four stages on one :class:`Setup` (everything
    and the toss -> court-frame initial states (N, 9), one compiled kernel for every workflow (the
    algebra of :mod:`tennislab.core.impact_3d`: velocity v_n n + v_t t, spin omega (t x n)).  A ball
    launch given directly (speed, spin, elevation, heading) enters here as its states.
-3. **flight** (:func:`fly`): :func:`tennislab.core.flight.fly_batch` with the setup's
+3. **flight** (:func:`fly_serves`): :func:`tennislab.core.flight.fly_batch` with the setup's
    :class:`~tennislab.core.flight.FlightParams` -- all of it (aero, ball, air, wind, court,
    ``t_max``, ``net_obstacle``): the workers receive the parameters themselves, never a copy of a few
    fields.
@@ -31,6 +31,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numba as nb
@@ -58,7 +59,7 @@ __all__ = [
     "box_name",
     "check_serve_options",
     "flights",
-    "fly",
+    "fly_serves",
     "impacts",
     "judge",
     "launch",
@@ -295,7 +296,7 @@ def launch_3d(v_n, v_t, omega, beta, azimuth=0.0, brush=0.0):
 
 
 # ------------------------------------------------------------------ stage 3: flight
-def fly(setup: Setup, states) -> FlightTable:
+def fly_serves(setup: Setup, states) -> FlightTable:
     """Stage 3: the flights of initial states (N, 9) with the setup's physics (every field)."""
     return fly_batch(states, setup.flight, rtol=setup.rtol, atol=setup.rtol)
 
@@ -354,7 +355,7 @@ def flights(inputs: dict, *, setup: Setup) -> dict[str, np.ndarray]:
             inputs.get("azimuth", 0.0),
             inputs.get("height"),
         )
-    table = fly(setup, states)
+    table = fly_serves(setup, states)
     j = judge(setup, table)
     return {
         "land_x": table["land_x"],
@@ -375,5 +376,18 @@ def serves(setup: Setup, alpha_deg, beta_deg, azimuth_deg=0.0) -> dict:
     A, B, Z = np.radians(a), np.radians(b), np.radians(z)
     imp = impacts(setup, A, B, Z)
     states = launch(setup, imp["v_n"], imp["v_t"], imp["omega"], B, Z)
-    table = fly(setup, states)
+    table = fly_serves(setup, states)
     return {"impact": imp, "states": states, "table": table, **judge(setup, table)}
+
+
+def __getattr__(name: str):
+    """``fly``: the old name of :func:`fly_serves`, kept working with a :class:`DeprecationWarning`
+    (``tennislab.trajectory.fly`` is the flight workflow: one name, one thing)."""
+    if name == "fly":
+        warnings.warn(
+            "tennislab.serve.pipeline.fly is now fly_serves (tennislab.trajectory.fly is the flight workflow)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return fly_serves
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
