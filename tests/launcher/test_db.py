@@ -163,6 +163,17 @@ def test_hash_is_stable_and_sees_every_constant(params):
     assert base not in hashes and len(hashes) == len(others)
 
 
+def test_a_files_physics_is_rebuilt_with_its_court():
+    """The lookup's fallback aims with the physics the file was filled with, its court included (the
+    table kept the hits landing in that court; the rebuilt physics had taken the ITF court)."""
+    import dataclasses
+
+    from tennislab.core import Court
+
+    for p in (launcher_params(), dataclasses.replace(launcher_params(), court=Court(net_center_height=1.2))):
+        assert lk.params_from_physics(db._stored_physics(p)) == p
+
+
 def test_canonical_json_ignores_key_order():
     a = {"b": 1.0, "a": [1, 2, {"y": 0.1, "x": np.float64(0.2)}]}
     b = {"a": [1, 2, {"x": 0.2, "y": 0.1}], "b": 1.0}

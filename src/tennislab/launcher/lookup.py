@@ -628,12 +628,15 @@ SOURCES = ("table", "refined", "inverse-map")
 
 
 def params_from_physics(p: dict):
-    """The :class:`~tennislab.core.flight.FlightParams` a file's ``physics`` record describes, or None when
-    it cannot be rebuilt (a table aero model: its grid is not stored)."""
+    """The :class:`~tennislab.core.flight.FlightParams` a file's ``physics`` record describes (its court
+    too: the table kept the hits that land in it), or None when it cannot be rebuilt (a table aero model:
+    its grid is not stored)."""
     from tennislab.core.aero import get_aero_model  # the flight physics: only when a lookup falls back
+    from tennislab.core.court import Court
     from tennislab.core.flight import FlightParams
 
     try:
+        court = Court(**p["court"]) if "court" in p else None
         model = get_aero_model(p["aero"]["name"])
         model = dataclasses.replace(model, params=np.asarray(p["aero"]["params"], dtype=float))
         ball, atm = p["ball"], p["atmosphere"]
@@ -647,6 +650,7 @@ def params_from_physics(p: dict):
             wind=atm["wind"],
             spin_decay=p["spin_decay"],
             t_max=p["t_max"],
+            court=court,
         )
     except (InputError, KeyError, TypeError, ValueError):
         return None
