@@ -560,6 +560,8 @@ def test_one_name_one_thing_across_the_package_apis():
         ("launcher", "launch_states", "machine_states"),
         ("calibrate.aim", "launch_states", "serve_states"),
         ("serve.pipeline", "fly", "fly_serves"),
+        ("calibrate.aim", "spin_components", "spin_from_fractions"),
+        ("launcher.preferences", "spin_components", "spin_rpm_components"),
     ],
 )
 def test_the_old_names_of_the_primitives_still_work(module, old, new):

@@ -41,12 +41,12 @@ __all__ = [
     "aim_through_net",
     "first_guess",
     "serve_states",
-    "spin_components",
+    "spin_from_fractions",
     "spin_vectors",
 ]
 
 
-def spin_components(rate, f_top, f_side) -> np.ndarray:
+def spin_from_fractions(rate, f_top, f_side) -> np.ndarray:
     """Spin components (..., 3) (topspin, sidespin, along the path) [rad/s] from the rate [rad/s] and the
     axis fractions (module docstring; fractions beyond the unit circle give the axis direction only)."""
     ft = np.asarray(f_top, dtype=float)
@@ -61,20 +61,21 @@ def spin_components(rate, f_top, f_side) -> np.ndarray:
 def spin_vectors(rate, elevation, heading, f_top, f_side) -> np.ndarray:
     """Spin vectors (N, 3) [rad/s] from the rate [rad/s] and the axis fractions (built by
     :func:`tennislab.core.launch.spin_vector`)."""
-    c = spin_components(rate, f_top, f_side)
+    c = spin_from_fractions(rate, f_top, f_side)
     return launch.spin_vector(elevation, heading, c[..., 0], c[..., 1], c[..., 2])
 
 
 def serve_states(position, speed, rate, elevation, heading, f_top, f_side) -> np.ndarray:
     """Initial states (N, 9) of serves launched at (elevation, heading) [rad] with a spin rate [rad/s] about
     the axis of the fractions (module docstring): :func:`tennislab.core.launch.launch_states` of
-    :func:`spin_components`."""
-    c = spin_components(rate, f_top, f_side)
+    :func:`spin_from_fractions`."""
+    c = spin_from_fractions(rate, f_top, f_side)
     return launch.launch_states(position, speed, elevation, heading, c[..., 0], c[..., 1], c[..., 2])
 
 
 def __getattr__(name: str):
-    """``launch_states``: the old name of :func:`serve_states`, kept working with a :class:`DeprecationWarning`
+    """``launch_states`` and ``spin_components``: the old names of :func:`serve_states` and
+    :func:`spin_from_fractions`, kept working with a :class:`DeprecationWarning`
     (``core.launch.launch_states`` takes the launch-frame components: one name, one thing)."""
     if name == "launch_states":
         warnings.warn(
@@ -84,6 +85,14 @@ def __getattr__(name: str):
             stacklevel=2,
         )
         return serve_states
+    if name == "spin_components":
+        warnings.warn(
+            "tennislab.calibrate.aim.spin_components is now spin_from_fractions (linecall's spin_components "
+            "describes a fitted spin)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return spin_from_fractions
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -138,5 +147,7 @@ def aim_through_net(
     fs = np.broadcast_to(np.asarray(f_side, dtype=float), (n,))
     if np.any(p[:, 0] == 0.0):
         raise InputError("position: an impact point lies on the net plane x = 0")
-    s = shoot(p, v, target, params, spin=spin_components(w, ft, fs), at="net", start=start, tol=tol, max_iter=max_iter)
+    s = shoot(
+        p, v, target, params, spin=spin_from_fractions(w, ft, fs), at="net", start=start, tol=tol, max_iter=max_iter
+    )
     return Aim(s.elevation, s.heading, s.states, s.table, s.miss, s.converged, s.iterations, s.flights)

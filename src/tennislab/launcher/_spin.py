@@ -2,7 +2,7 @@
 
 A candidate of the search (:mod:`._search`) is a launch whose landing L0 [m] is known (flown, or
 predicted) for a spin vector omega_b (two components about the flight, topspin and sidespin [rpm],
-:func:`~.preferences.spin_components`), with the sensitivity J [m/rpm] of its landing to those
+:func:`~.preferences.spin_rpm_components`), with the sensitivity J [m/rpm] of its landing to those
 components.  The Magnus force of the seed's model is linear in omega (Wojcicki, Pucilowski & Kulesza
 2010, eq 3), so the landing is nearly linear in it::
 

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tennislab.core.launch import axis_components
 from tennislab.errors import InputError, check_range
 from tennislab.results import OldAsDict
 
@@ -185,16 +186,31 @@ def wrap_deg(angle):
     return (np.asarray(angle, dtype=float) + 180.0) % 360.0 - 180.0
 
 
-def spin_components(spin_rpm, spin_axis_deg) -> np.ndarray:
-    """(..., 2) components of a spin vector about its flight [rpm]: (topspin axis h, up axis u) of core.launch."""
-    g = np.radians(np.asarray(spin_axis_deg, dtype=float))
-    w = np.asarray(spin_rpm, dtype=float)
-    return np.stack([w * np.cos(g), w * np.sin(g)], axis=-1)
+def spin_rpm_components(spin_rpm, spin_axis_deg) -> np.ndarray:
+    """(..., 2) components of a spin vector about its flight [rpm]: (topspin axis h, up axis u) of core.launch
+    (:func:`tennislab.core.launch.axis_components` in rpm and degrees)."""
+    top, side = axis_components(spin_rpm, np.radians(np.asarray(spin_axis_deg, dtype=float)))
+    return np.stack([top, side], axis=-1)
+
+
+def __getattr__(name: str):
+    """``spin_components``: the old name of :func:`spin_rpm_components`, kept working with a
+    :class:`DeprecationWarning` (``linecall``'s ``spin_components`` describes a fitted spin)."""
+    if name == "spin_components":
+        import warnings
+
+        warnings.warn(
+            "tennislab.launcher.preferences.spin_components is now spin_rpm_components",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return spin_rpm_components
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def spin_change_rpm(spin_rpm, spin_axis_deg, asked_rpm: float, asked_axis_deg: float):
     """|omega - omega_asked| [rpm] between spin vectors given by rate and axis angle."""
-    d = spin_components(spin_rpm, spin_axis_deg) - spin_components(asked_rpm, asked_axis_deg)
+    d = spin_rpm_components(spin_rpm, spin_axis_deg) - spin_rpm_components(asked_rpm, asked_axis_deg)
     return np.hypot(d[..., 0], d[..., 1])
 
 
