@@ -947,11 +947,19 @@ def test_a_hostile_trigger_never_runs(cwd, capsys, crafted_db):
     """Issue 24 point 1: `after insert on drills begin delete from hits` made `drills import` delete every
     hit and exit 0; now the import is refused and the hits stay."""
     _write({"x.sqlite": crafted_db["trigger-deletes-hits"]})
+
+    def hits() -> int:
+        con = sqlite3.connect("file:x.sqlite?mode=ro&immutable=1", uri=True)
+        try:
+            return con.execute("SELECT count(*) FROM hits").fetchone()[0]
+        finally:
+            con.close()
+
+    before = hits()
+    assert before > 100
     assert _main(["launcher", "drills", "import", "--db", "x.sqlite", "lobs"]) == 2
     assert sorted(os.listdir(".")) == ["x.sqlite"]  # no -wal, no -shm
-    con = sqlite3.connect("file:x.sqlite?mode=ro&immutable=1", uri=True)
-    assert con.execute("SELECT count(*) FROM hits").fetchone()[0] == 861
-    con.close()
+    assert hits() == before
 
 
 @pytest.mark.parametrize("suffix", ["-wal", "-shm", "-journal"])
