@@ -113,3 +113,33 @@ def test_the_command_line_s_net_rule_is_the_library_s():
     fly_args = parser.parse_args(["fly", "--speed-kmh", "120", "--elevation-deg", "6"])
     call_args = parser.parse_args(["call", "--position", "-11.885", "0", "1", "--velocity", "30", "0", "1"])
     assert fly_args.net == call_args.net == DEFAULT_NET == "obstacle"
+
+
+def test_a_track_fit_flies_its_wind():
+    """call_track fits with the flight's wind: a track flown in a cross wind is followed to the micrometre
+    with that wind, not without it (the fit's free drag, lift and spin cannot make up a wind)."""
+    from tennislab.linecall import call_track
+
+    windy = _with(wind=(0.0, 4.0, 0.0))
+    frame = fly(**SHOT, params=windy).to_frame()
+    frame = frame[frame.segment == 0]
+    t, xyz = frame.t_s.to_numpy(), frame[["x_m", "y_m", "z_m"]].to_numpy()
+    fit_windy, fit_calm = (call_track(t, xyz, params=p).to_dict() for p in (windy, BASE))
+    assert fit_windy["physics"]["wind"] == [0.0, 4.0, 0.0]
+    assert fit_windy["fit"]["rms_mm"] < 0.01 < 0.1 < fit_calm["fit"]["rms_mm"]
+
+
+def test_the_inverse_map_and_a_drill_fly_their_wind():
+    """The launcher's inverse map (refined on the real kernel) and a compiled drill aim with the wind."""
+    from tennislab.launcher import compile_drill, inverse_aim, load_drill
+
+    calm = inverse_aim((8.0, 0.0), 80, params=launcher_params()).to_dict()
+    head = inverse_aim((8.0, 0.0), 80, params=launcher_params(wind=(-5.0, 0.0, 0.0))).to_dict()
+    assert head["physics"]["wind"] == [-5.0, 0.0, 0.0]
+    assert head["settings"]["elevation_deg"] > calm["settings"]["elevation_deg"] + 1.0
+    assert head["miss_mm"] < 20.0
+    drill = load_drill("baseline_rally")
+    still, tail = compile_drill(drill), compile_drill(drill, params=launcher_params(wind=(3.0, 0.0, 0.0)))
+    assert tail.to_dict()["physics"]["wind"] == [3.0, 0.0, 0.0] and still.to_dict()["physics"]["wind"] == [0.0] * 3
+    moved = [a != b for a, b in zip(still.rows(), tail.rows())]
+    assert any(moved) and all(r["miss_mm"] < 50.0 for r in tail.rows())

@@ -323,6 +323,7 @@ class CompiledDrill(Table):
     drill: Drill
     unique: list
     shots: list = field(default_factory=list)  # (index, time_s, CompiledShot)
+    params: FlightParams | None = None  #: the physics the shots were aimed with
 
     @property
     def ok(self) -> bool:
@@ -375,6 +376,7 @@ class CompiledDrill(Table):
             "description": d.description,
             "source": d.source,
             "machine": machine_entry(d.spec),
+            **({"physics": self.params.to_dict()} if self.params is not None else {}),
             "ok": self.ok,
             "n_shots": len(self.shots),
             "n_distinct": len(self.unique),
@@ -461,7 +463,7 @@ def compile_drill(drill: Drill, params: FlightParams | None = None) -> CompiledD
         c = CompiledShot(name, shot, sol, rollers_rpm(sol.settings, spec, params), in_zone, clears, problem)
         compiled[name] = c
         unique.append(c)
-    out = CompiledDrill(drill, unique)
+    out = CompiledDrill(drill, unique, params=params)
     t = 0.0
     for i, name in enumerate(names):
         out.shots.append((i, t, compiled[name]))

@@ -36,6 +36,9 @@ from tennislab.units import DEG, KMH, RPM
 
 #: Newton steps on the real kernel after the map's guess (one brings it from ~cm to ~um)
 NEWTON_STEPS = 1
+#: [m] a refined answer farther than this from the target gets more Newton steps (up to 6 more): the
+#: map is fitted without wind, so a windy flight can start centimetres to decimetres off
+REFINE_MISS_M = 0.02
 
 
 @dataclass(frozen=True)
@@ -149,17 +152,19 @@ def inverse_aim(
     a0, b0 = float(m["elevation_deg"][0]) * DEG, beta - float(m["phi"][0])
     split = float(m["split_deg"][0]) * DEG
     bounds = (-0.5 * math.pi, max(split, a0)) if branch == "low" else (min(split, a0), 0.5 * math.pi)
-    s = shoot_mod.shoot(
-        (px, py, h),
-        v * KMH,
-        (tx, ty),
-        params,
-        spin=(top * RPM, side * RPM, 0.0),
-        branch=branch,
-        start=(a0, b0),
-        bounds=bounds,
-        max_iter=newton_steps,
-    )
+    spin = (top * RPM, side * RPM, 0.0)
+
+    def refine(start, steps):
+        return shoot_mod.shoot(
+            (px, py, h), v * KMH, (tx, ty), params, spin=spin, branch=branch, start=start, bounds=bounds,
+            max_iter=steps,
+        )  # fmt: skip
+
+    s = refine((a0, b0), newton_steps)
+    flights = int(s.flights)
+    if newton_steps and not s.miss[0] <= REFINE_MISS_M:  # the map's guess was far (a wind the map has not)
+        s = refine((s.elevation[0], s.heading[0]), 6)
+        flights += int(s.flights)
     tab = s.table
     if not tab.ok[0]:
         raise InputError(
@@ -182,11 +187,11 @@ def inverse_aim(
         float(tab["apex_z"][0]),
         float(tab.clearance[0]),
         (time.perf_counter() - t0) * 1e3,
-        int(s.flights),
+        flights,
         spec,
         params,
         use,
     )
 
 
-__all__ = ["NEWTON_STEPS", "InverseResult", "inverse_aim"]
+__all__ = ["NEWTON_STEPS", "REFINE_MISS_M", "InverseResult", "inverse_aim"]
