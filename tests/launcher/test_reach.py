@@ -54,7 +54,8 @@ def test_inverse_aim_lands_within_2_cm_of_any_reachable_target(x, y, v, w, g, h,
     lx, ly = _reference_landing(res)
     assert math.hypot(lx - x, ly - y) * 1e3 < 20.0
     assert abs(math.hypot(lx - x, ly - y) * 1e3 - res.miss_mm) < 0.1
-    assert res.solution == branch and res.flights == 4
+    # one Newton step from the map's guess: at most 4 flights (3 when the step's own flight has converged)
+    assert res.solution == branch and res.flights <= 4
 
 
 def test_map_guess_and_refined_angles():
