@@ -111,9 +111,8 @@ def test_lockstep_agrees_on_any_launch(name, obstacle, seed, n, speed, rpm):
 
 
 def test_auto_takes_lockstep_where_it_is_faster():
-    for name in SMOOTH[:-1]:
+    for name in SMOOTH:
         assert lockstep_suits(_params(name).aero.kernel), name
-    assert not lockstep_suits(CONSTANT.kernel)
     assert not lockstep_suits(get_aero_model("tennislab2026").kernel)
     assert not lockstep_suits(get_aero_model(lambda v, w: (0.55, 0.1)).kernel)
     S = shot_states(20, seed=3)

@@ -695,9 +695,9 @@ def fly_batch(
     in SIMD lanes (:mod:`tennislab.core.lockstep`), ``"per-shot"`` one after the other
     (:func:`~tennislab.core.integrators.integrate_one`, its reference); both give the same table to
     round-off (1e-9 m for the smooth models).  ``"auto"`` (default) takes the lockstep kernel where it
-    is faster (:func:`~tennislab.core.lockstep.lockstep_suits`: ``stepanek1988`` and the linear-lift
-    models such as the default; docs/benchmarks.md) and the per-shot one otherwise (``constant``, too
-    cheap to gain; a user's kernel, called through a pointer no SIMD lane can share; the table and
+    is faster (:func:`~tennislab.core.lockstep.lockstep_suits`: ``constant``, ``stepanek1988`` and the
+    linear-lift models such as the default; docs/benchmarks.md) and the per-shot one otherwise (a
+    user's kernel, called through a pointer no SIMD lane can share; the table and
     curve models, whose cell search is a loop).
 
     Rows outside the physical range are not refused but marked (``status``, see
