@@ -407,25 +407,34 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
 
 
 @nb.njit(**JIT, inline="always")
-def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1, wz1):
-    """The factor of a step's error: :data:`~tennislab.core.aero.CAP_ZONE_ERR` if the step from
-    velocity/spin 0 to 1 starts or ends in the capped lift's blend zone or crosses the cap, else 1
-    (branch-free, so that the lockstep kernel evaluates it in SIMD lanes)."""
-    ux = vx0 - c.wind_x
-    uy = vy0 - c.wind_y
-    uz = vz0 - c.wind_z
-    d0 = cap_distance(
-        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx0 * wx0 + wy0 * wy0 + wz0 * wz0), c.radius, ap
+def cap_gap(aero, ap, c, vx, vy, vz, wx, wy, wz):
+    """c_l S - cap [-] at velocity/spin (v, w) in the wind of ``c``: where a capped lift's blend zone is
+    (:func:`~tennislab.core.aero.cap_distance`; -inf for a model without a cap)."""
+    ux = vx - c.wind_x
+    uy = vy - c.wind_y
+    uz = vz - c.wind_z
+    return cap_distance(
+        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx * wx + wy * wy + wz * wz), c.radius, ap
     )
-    ux = vx1 - c.wind_x
-    uy = vy1 - c.wind_y
-    uz = vz1 - c.wind_z
-    d1 = cap_distance(
-        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx1 * wx1 + wy1 * wy1 + wz1 * wz1), c.radius, ap
-    )
+
+
+@nb.njit(**JIT, inline="always")
+def cap_zone_scale(d0, d1):
+    """The factor of a step's error from the :func:`cap_gap` ``d0`` at its start and ``d1`` at its end:
+    :data:`~tennislab.core.aero.CAP_ZONE_ERR` if the step starts or ends in the capped lift's blend zone
+    or crosses the cap, else 1 (branch-free, so that the lockstep kernel evaluates it in SIMD lanes)."""
     zone = CAP_ZONE * _CAP_BLEND
     near = (abs(d0) < zone) | (abs(d1) < zone) | (d0 * d1 < 0.0)
     return CAP_ZONE_ERR if near else 1.0
+
+
+@nb.njit(**JIT, inline="always")
+def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1, wz1):
+    """:func:`cap_zone_scale` of a step from velocity/spin 0 to 1 (the lockstep kernel keeps the start's
+    :func:`cap_gap` from the step before instead: the same numbers)."""
+    return cap_zone_scale(
+        cap_gap(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0), cap_gap(aero, ap, c, vx1, vy1, vz1, wx1, wy1, wz1)
+    )
 
 
 @nb.njit(**JIT, inline="always")

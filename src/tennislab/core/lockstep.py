@@ -67,7 +67,8 @@ from tennislab.core.integrators import (
     _aim_event,
     _finish_row,
     aim_step,
-    cap_scale,
+    cap_gap,
+    cap_zone_scale,
     start_flight,
     step_events,
     step_factor,
@@ -99,10 +100,11 @@ _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel,
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c):
+def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
-    ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state
-    and the error factor of a capped lift's blend zone (``cap_scale``)."""
+    ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state,
+    the :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the error factor of a capped lift's
+    blend zone from it and ``D0``, that of ``Y`` (``cap_zone_scale``: the per-shot kernel's ``cap_scale``)."""
     k = c.k
     g = c.gravity
     r = c.radius
@@ -144,7 +146,8 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c):
     for la in range(n):
         errsum[la] = 0.0
         ysum[la] = 0.0
-    for i in range(9):
+    ne = 6 if dec == 0.0 else 9  # without spin decay the spin's stages are 0: no error to add
+    for i in range(ne):
         for la in range(n):
             acc = (
                 _E1 * K[0, i, la]
@@ -157,12 +160,12 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c):
             sc = c.atol + c.rtol * max(abs(Y[i, la]), abs(YN[i, la]))
             e_i = h[la] * acc / sc
             errsum[la] += e_i * e_i
+    for i in range(9):
+        for la in range(n):
             ysum[la] += YN[i, la]
     for la in range(n):
-        zscale[la] = cap_scale(
-            aero, ap, c, Y[3, la], Y[4, la], Y[5, la], Y[6, la], Y[7, la], Y[8, la],
-            YN[3, la], YN[4, la], YN[5, la], YN[6, la], YN[7, la], YN[8, la],
-        )  # fmt: skip
+        D1[la] = cap_gap(aero, ap, c, YN[3, la], YN[4, la], YN[5, la], YN[6, la], YN[7, la], YN[8, la])
+        zscale[la] = cap_zone_scale(D0[la], D1[la])
 
 
 @nb.njit(**JIT)
@@ -179,9 +182,9 @@ def _crosses(ev, evw, YN, lane):
 
 
 @nb.njit(**JIT)
-def _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
+def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
     """Give ``lane`` the next shot from ``nxt`` on that needs integrating (the others finish at their
-    start); returns the next unused row.  A lane left without a shot idles at rest (``shot`` -1)."""
+    start), and its start's ``cap_gap`` in ``D0``; returns the next unused row.  A lane left without a shot idles at rest (``shot`` -1)."""
     while nxt < i1:
         i = nxt
         nxt += 1
@@ -191,6 +194,7 @@ def _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, ou
             for j in range(9):
                 Y[j, lane] = y1[j]
                 F[j, lane] = f1[j]
+            D0[lane] = cap_gap(aero, ap, c, y1[3], y1[4], y1[5], y1[6], y1[7], y1[8])
             t[lane] = 0.0
             h[lane] = _H0
             nst[lane] = 0
@@ -199,6 +203,7 @@ def _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, ou
             return nxt
     shot[lane] = -1
     h[lane] = 0.0
+    D0[lane] = 0.0
     for j in range(9):
         Y[j, lane] = 0.0
         F[j, lane] = 0.0
@@ -219,6 +224,8 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     errsum = np.empty(nl)
     ysum = np.empty(nl)
     zscale = np.empty(nl)
+    D0 = np.empty(nl)
+    D1 = np.empty(nl)
     shot = np.empty(nl, dtype=np.int64)
     nst = np.zeros(nl, dtype=np.int64)
     att = np.zeros(nl, dtype=np.int64)
@@ -232,13 +239,13 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     aim_c = int(ev[aim_e, EV_COMPONENT]) if aim_e >= 0 else 0
     nxt = i0
     for lane in range(nl):
-        nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+        nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
     while True:
         busy = 0
         for lane in range(nl):  # before the step: the attempt limit, the aim at the ground, t_max
             while shot[lane] >= 0 and att[lane] >= c.max_steps:
                 _finish_row(out[shot[lane]], c, STATUS_FAILED, nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
             if shot[lane] < 0:
                 continue
             busy += 1
@@ -253,7 +260,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
         for i in range(9):
             for la in range(nl):
                 K[0, i, la] = F[i, la]
-        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, aero, ap, c)
+        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c)
         for lane in range(nl):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
@@ -279,15 +286,16 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                     w[4, e] = 0.0
             if stop_e >= 0:
                 _finish_row(out[shot[lane]], c, int(ev[stop_e, EV_STATUS]), nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
                 continue
             t[lane] += h[lane]
             for j in range(9):
                 Y[j, lane] = YN[j, lane]
                 F[j, lane] = K[6, j, lane]
+            D0[lane] = D1[lane]
             if not t[lane] < c.t_max:
                 _finish_row(out[shot[lane]], c, STATUS_NO_LANDING, nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
                 continue
             h[lane] *= step_factor(err)
 
