@@ -215,8 +215,9 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, up to :data:`LANES` at a time."""
     nl = max(1, min(LANES, i1 - i0))  # lanes: no more than the block has shots
     Y = np.empty((9, nl))
-    F = np.empty((9, nl))
     K = np.empty((7, 9, nl))
+    F = K[0]  # the slopes at Y: the first stage of the next step
+    acc = np.zeros(nl, dtype=np.bool_)
     YT = np.empty((9, nl))
     YN = np.empty((9, nl))
     h = np.empty(nl)
@@ -257,9 +258,6 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
             return
-        for i in range(9):
-            for la in range(nl):
-                K[0, i, la] = F[i, la]
         _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c)
         for lane in range(nl):  # after the step, lane by lane
             if shot[lane] < 0:
@@ -289,15 +287,21 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
                 continue
             t[lane] += h[lane]
-            for j in range(9):
-                Y[j, lane] = YN[j, lane]
-                F[j, lane] = K[6, j, lane]
-            D0[lane] = D1[lane]
             if not t[lane] < c.t_max:
                 _finish_row(out[shot[lane]], c, STATUS_NO_LANDING, nst[lane])
                 nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
                 continue
+            acc[lane] = True
             h[lane] *= step_factor(err)
+        for i in range(9):  # the lanes that go on from their accepted step (SIMD, masked)
+            for la in range(nl):
+                if acc[la]:
+                    Y[i, la] = YN[i, la]
+                    F[i, la] = K[6, i, la]
+        for la in range(nl):
+            if acc[la]:
+                D0[la] = D1[la]
+            acc[la] = False
 
 
 @nb.njit(**JIT, parallel=True)
