@@ -184,7 +184,8 @@ def _crosses(ev, evw, YN, lane):
 @nb.njit(**JIT)
 def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
     """Give ``lane`` the next shot from ``nxt`` on that needs integrating (the others finish at their
-    start), and its start's ``cap_gap`` in ``D0``; returns the next unused row.  A lane left without a shot idles at rest (``shot`` -1)."""
+    start), and its start's ``cap_gap`` in ``D0``; returns the next unused row.  A lane left without a
+    shot idles at rest (``shot`` -1)."""
     while nxt < i1:
         i = nxt
         nxt += 1
