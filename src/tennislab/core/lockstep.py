@@ -74,13 +74,15 @@ from tennislab.core.integrators import (
     step_factor,
 )
 
-#: shots advanced together at most (a block of fewer shots takes as many lanes as it has shots).
-#: 64 lanes, not the 8 of one 512-bit register: LLVM vectorises each loop over the lanes 4 wide and
-#: interleaved, so a short loop runs mostly in its scalar remainder, and the stages' square roots and
-#: divisions are latency-bound unless several vectors are in flight.  One thread, 5 x 10^4 mixed shots
-#: of the default model, quiet machine: 8 lanes 288 k traj/s, 32 lanes 333 k, 64 lanes 375 k, 128
-#: lanes 372 k; on 2 threads 557 k (8) and 682 k (64)
-LANES = 64
+#: shots advanced together.  32 lanes, not the 8 of one 512-bit register: LLVM vectorises each loop over
+#: the lanes and interleaves it, so a short loop runs mostly in its scalar remainder, and the stages'
+#: square roots and divisions are latency-bound unless several vectors are in flight.  Always this many,
+#: however few shots a block has: a lane's arithmetic must not depend on where its shot sits, so that
+#: chunking a batch never changes a bit (docs/batch.md; a lane count following the block size, or 64
+#: lanes rounded to 16, did).  2 threads, quiet machine, CPU per batch of the default model: 8 lanes
+#: 27 / 81 us for 1 / 20 shots and 129 ms for 5 x 10^4; 16 lanes 33 / 102 us, 119 ms; 32 lanes
+#: 47 / 125 us, 95 ms; 64 lanes 68 / 193 us, 99 ms (one run)
+LANES = 32
 #: shots per block (one thread's unit of work): the lanes idle only while a block drains
 BLOCK = 512
 
@@ -213,8 +215,8 @@ def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev
 
 @nb.njit(**JIT)
 def _block(states, i0, i1, aero, ap, c, ev, out):
-    """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, up to :data:`LANES` at a time."""
-    nl = max(1, min(LANES, i1 - i0))  # lanes: no more than the block has shots
+    """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, :data:`LANES` at a time."""
+    nl = LANES
     Y = np.empty((9, nl))
     K = np.empty((7, 9, nl))
     F = K[0]  # the slopes at Y: the first stage of the next step
