@@ -90,11 +90,11 @@ BLOCK = 512
 def lockstep_suits(kernel) -> bool:
     """Whether the lockstep kernel is the faster for the aero ``kernel``: tennislab's smooth formulas
     (``constant``, ``stepanek1988``, the linear-lift models such as the default), which LLVM evaluates
-    in SIMD lanes (2 threads, 5 x 10^4 mixed shots, quiet machine: the default model 2.1x the per-shot
-    kernel, ``stepanek1988`` 1.6x, ``launcher2015`` 1.9x, ``constant`` 1.3x; at 200 shots 1.7-3.0x).
-    Not a user's kernel (called through a pointer: no lane can share the call) nor the ``table`` and
-    ``curves`` models (their cell search is a loop per lane: ``tennislab2026`` 0.93x), which keep the
-    per-shot kernel."""
+    in SIMD lanes (2 threads, 5 x 10^4 mixed shots, quiet machine, one run: the default model 1.5x the
+    per-shot kernel, ``stepanek1988`` 1.4x, ``launcher2015`` 1.8x, ``constant`` 1.3x; 20 shots 1.1-1.3x,
+    200 shots 1.9-3.1x).  Not a user's kernel (called through a pointer: no lane can share the call) nor
+    the ``table`` and ``curves`` models (their cell search is a loop per lane: ``tennislab2026`` 0.98x),
+    which keep the per-shot kernel."""
     return _kernel_key(kernel) in _SUITED
 
 
@@ -216,24 +216,23 @@ def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev
 @nb.njit(**JIT)
 def _block(states, i0, i1, aero, ap, c, ev, out):
     """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, :data:`LANES` at a time."""
-    nl = LANES
-    Y = np.empty((9, nl))
-    K = np.empty((7, 9, nl))
+    Y = np.empty((9, LANES))
+    K = np.empty((7, 9, LANES))
     F = K[0]  # the slopes at Y: the first stage of the next step
-    acc = np.zeros(nl, dtype=np.bool_)
-    YT = np.empty((9, nl))
-    YN = np.empty((9, nl))
-    h = np.empty(nl)
-    t = np.zeros(nl)
-    errsum = np.empty(nl)
-    ysum = np.empty(nl)
-    zscale = np.empty(nl)
-    D0 = np.empty(nl)
-    D1 = np.empty(nl)
-    shot = np.empty(nl, dtype=np.int64)
-    nst = np.zeros(nl, dtype=np.int64)
-    att = np.zeros(nl, dtype=np.int64)
-    evw = np.empty((nl, 6, MAX_EVENTS))
+    acc = np.zeros(LANES, dtype=np.bool_)
+    YT = np.empty((9, LANES))
+    YN = np.empty((9, LANES))
+    h = np.empty(LANES)
+    t = np.zeros(LANES)
+    errsum = np.empty(LANES)
+    ysum = np.empty(LANES)
+    zscale = np.empty(LANES)
+    D0 = np.empty(LANES)
+    D1 = np.empty(LANES)
+    shot = np.empty(LANES, dtype=np.int64)
+    nst = np.zeros(LANES, dtype=np.int64)
+    att = np.zeros(LANES, dtype=np.int64)
+    evw = np.empty((LANES, 6, MAX_EVENTS))
     y1 = np.empty(9)
     f1 = np.empty(9)
     yl = np.empty(9)
@@ -242,11 +241,11 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     aim_e = _aim_event(ev)
     aim_c = int(ev[aim_e, EV_COMPONENT]) if aim_e >= 0 else 0
     nxt = i0
-    for lane in range(nl):
+    for lane in range(LANES):
         nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
     while True:
         busy = 0
-        for lane in range(nl):  # before the step: the attempt limit, the aim at the ground, t_max
+        for lane in range(LANES):  # before the step: the attempt limit, the aim at the ground, t_max
             while shot[lane] >= 0 and att[lane] >= c.max_steps:
                 _finish_row(out[shot[lane]], c, STATUS_FAILED, nst[lane])
                 nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
@@ -262,7 +261,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
         if busy == 0:
             return
         _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c)
-        for lane in range(nl):  # after the step, lane by lane
+        for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
             err = math.sqrt(errsum[lane] / 9.0) * zscale[lane]
@@ -297,11 +296,11 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
             acc[lane] = True
             h[lane] *= step_factor(err)
         for i in range(9):  # the lanes that go on from their accepted step (SIMD, masked)
-            for la in range(nl):
+            for la in range(LANES):
                 if acc[la]:
                     Y[i, la] = YN[i, la]
                     F[i, la] = K[6, i, la]
-        for la in range(nl):
+        for la in range(LANES):
             if acc[la]:
                 D0[la] = D1[la]
             acc[la] = False
