@@ -76,12 +76,15 @@ from tennislab.core.integrators import (
 
 #: shots advanced together.  32 lanes, not the 8 of one 512-bit register: LLVM vectorises each loop over
 #: the lanes and interleaves it, so a short loop runs mostly in its scalar remainder, and the stages'
-#: square roots and divisions are latency-bound unless several vectors are in flight.  Always this many,
-#: however few shots a block has: a lane's arithmetic must not depend on where its shot sits, so that
-#: chunking a batch never changes a bit (docs/batch.md; a lane count following the block size, or 64
-#: lanes rounded to 16, did).  2 threads, quiet machine, CPU per batch of the default model: 8 lanes
-#: 27 / 81 us for 1 / 20 shots and 129 ms for 5 x 10^4; 16 lanes 33 / 102 us, 119 ms; 32 lanes
-#: 47 / 125 us, 95 ms; 64 lanes 68 / 193 us, 99 ms (one run)
+#: square roots and divisions are latency-bound unless several vectors are in flight.  A step computes the
+#: lanes up to the last busy one only (a batch of a few shots pays for those, not for 32); a lane's
+#: arithmetic is the same in the vector loop and in its remainder, so a shot's row does not depend on where
+#: it sits and chunking a batch never changes a bit (docs/batch.md; tests/core/test_lockstep.py).  A lane
+#: count following the block size, or 64 lanes rounded to 16, did change bits.  2 threads, quiet machine,
+#: CPU per batch of the default model when every lane was computed: 8 lanes 27 / 81 us for 1 / 20 shots and
+#: 129 ms for 5 x 10^4; 16 lanes 33 / 102 us, 119 ms; 32 lanes 47 / 125 us, 95 ms; 64 lanes 68 / 193 us,
+#: 99 ms (one run).  Up to the last busy lane, 32 lanes (one run, a slower machine, against the per-shot
+#: kernel in the same run): 31 / 84 us (per-shot 20 / 120 us), 5 x 10^4 shots 1.66x the per-shot kernel
 LANES = 32
 #: shots per block (one thread's unit of work): the lanes idle only while a block drains
 BLOCK = 512
@@ -92,9 +95,9 @@ def lockstep_suits(kernel) -> bool:
     (``constant``, ``stepanek1988``, the linear-lift models such as the default), which LLVM evaluates
     in SIMD lanes (2 threads, 5 x 10^4 mixed shots, quiet machine, one run: the default model 1.5x the
     per-shot kernel, ``stepanek1988`` 1.4x, ``launcher2015`` 1.8x, ``constant`` 1.3x; 20 shots 1.1-1.3x,
-    200 shots 1.9-3.1x).  Not a user's kernel (called through a pointer: no lane can share the call) nor
-    the ``table`` and ``curves`` models (their cell search is a loop per lane: ``tennislab2026`` 0.98x),
-    which keep the per-shot kernel."""
+    the default 1.4x since a step computes the busy lanes only; 200 shots 1.9-3.1x).  Not a user's kernel
+    (called through a pointer: no lane can share the call) nor the ``table`` and ``curves`` models (their
+    cell search is a loop per lane: ``tennislab2026`` 0.98x), which keep the per-shot kernel."""
     return _kernel_key(kernel) in _SUITED
 
 
@@ -102,7 +105,7 @@ _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel,
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c):
+def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
     ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state,
     the :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the error factor of a capped lift's
@@ -114,7 +117,6 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c):
     wy = c.wind_y
     wz = c.wind_z
     dec = c.spin_decay
-    n = Y.shape[1]  # (a loop bound LLVM does not know: it vectorises the loop instead of unrolling it)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A21 * K[0, i, la])
@@ -245,6 +247,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
         nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
     while True:
         busy = 0
+        top = 0
         for lane in range(LANES):  # before the step: the attempt limit, the aim at the ground, t_max
             while shot[lane] >= 0 and att[lane] >= c.max_steps:
                 _finish_row(out[shot[lane]], c, STATUS_FAILED, nst[lane])
@@ -252,6 +255,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
             if shot[lane] < 0:
                 continue
             busy += 1
+            top = lane + 1
             att[lane] += 1
             w = evw[lane]
             if aim_e >= 0 and w[2, aim_e] == 0.0:
@@ -260,7 +264,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
             return
-        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c)
+        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, top)
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
