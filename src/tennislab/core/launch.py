@@ -160,7 +160,12 @@ def launch_states(position, speed, elevation, heading, topspin=0.0, sidespin=0.0
     n = max(p.shape[0] if p.ndim == 2 else 1, *(c.size for c in cols))
     if any(c.size not in (1, n) for c in cols) or (p.ndim == 2 and p.shape[0] not in (1, n)):
         raise InputError("launch_states: position, speed, angles and spin do not broadcast to one number of launches")
-    v, a, b, top, side, al = cols
+    return launch_rows(p, n, *cols)
+
+
+def launch_rows(p, n, v, a, b, top, side, al) -> np.ndarray:
+    """:func:`launch_states` of inputs already checked (a hot path: no broadcasting, no check): position (3,) or
+    (n, 3) [m], speed [m/s], elevation, heading [rad] and the spin components [rad/s] scalars or (n,)."""
     ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
     out = np.empty((n, 9))
     out[:, 0:3] = p

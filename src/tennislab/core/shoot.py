@@ -52,7 +52,7 @@ import numpy as np
 from tennislab.core._jit import JIT
 from tennislab.core.events import COLUMNS
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
-from tennislab.core.launch import launch_states
+from tennislab.core.launch import launch_rows, launch_states
 from tennislab.errors import InputError
 
 #: Finite-difference step of the angles [rad] (2 mm of landing for a 20 m flight: far above the batch
@@ -361,7 +361,7 @@ def _newton(p, v, w, tgt, params, at, a, b, lo, hi, live, tol, max_iter, rtol):
         idx = np.concatenate([ia, ia, ia])
         aa = np.concatenate([a[ia], a[ia] + h, a[ia]])
         bb = np.concatenate([b[ia], b[ia], b[ia] + h])
-        st = launch_states(p[idx], v[idx], aa, bb, w[idx, 0], w[idx, 1], w[idx, 2])
+        st = launch_rows(p[idx], idx.size, v[idx], aa, bb, w[idx, 0], w[idx, 1], w[idx, 2])  # (all (3m,) already)
         tab = _fly(st, params, rtol)
         pt = _point(tab, at)
         flights += 3 * m

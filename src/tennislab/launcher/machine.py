@@ -227,20 +227,21 @@ def machine_states(
     one statement of the convention).  No range check here (hot path): call
     :meth:`MachineSpec.validate` or :func:`validate_arrays` first for user input.
     """
+    settings = (height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg)
+    cols = [np.asarray(x, dtype=float) for x in settings]
     try:
-        h, v, a, b, w, g = np.broadcast_arrays(
-            *(
-                np.asarray(x, dtype=float)
-                for x in (height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg)
-            )
-        )
+        shape = np.broadcast(*cols).shape
     except ValueError as exc:
         raise InputError(f"machine_states: settings arrays do not broadcast together ({exc})") from None
-    h, v, a, b, w, g = (x.reshape(-1) for x in (h, v, a, b, w, g))
+    flat = np.empty((6,) + shape)  # broadcast by assignment (np.broadcast_arrays costs ~30 us a call)
+    for i, x in enumerate(cols):
+        flat[i] = x
+    h, v, a, b, w, g = flat.reshape(6, -1)
     pos = np.empty((h.size, 3))
     pos[:, 0], pos[:, 1], pos[:, 2] = spec.position[0], spec.position[1], h
     top, side = launch.axis_components(w * RPM, g * DEG)
-    return launch.launch_states(pos, v * KMH, a * DEG, b * DEG, top, side)
+    # launch_states without its broadcasting checks (every column is (N,) here): the same arithmetic
+    return launch.launch_rows(pos, h.size, v * KMH, a * DEG, b * DEG, top, side, 0.0)
 
 
 def settings_states(spec: MachineSpec, settings) -> np.ndarray:
