@@ -41,7 +41,7 @@ import numpy as np
 import tennislab.launcher._spin as _spin
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.shoot import shoot
-from tennislab.launcher.machine import MachineSpec, Range, machine_states
+from tennislab.launcher.machine import MachineSpec, Range, machine_states, settings_columns
 from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm
 from tennislab.launcher.reach import ReachMap
 from tennislab.units import KMH, RPM
@@ -533,14 +533,15 @@ def _settings_key(spec: MachineSpec, h, v, a, b, w, g) -> np.ndarray:
     """One int64 per setting combination (the step index of each setting, in mixed radix), or, for a machine
     with more steps than 2^62 combinations, one bytes-like key per row."""
     lo, step, sizes, fits = _key_radix(spec)
-    cols = np.broadcast_arrays(*(np.asarray(x, float) for x in (h, v, a, b, w, g)))
+    shape = np.broadcast(*(np.asarray(x) for x in (h, v, a, b, w, g))).shape
+    cols = settings_columns(h, v, a, b, w, g)
     if fits:
-        out = np.empty(cols[0].size, np.int64)
-        _key_kernel(np.stack([c.reshape(-1) for c in cols]), lo, step, sizes, out)
-        return out.reshape(cols[0].shape)
+        out = np.empty(cols.shape[1], np.int64)
+        _key_kernel(cols, lo, step, sizes, out)
+        return out.reshape(shape)
     idx = [np.rint((c - lo[i]) / step[i]).astype(np.int64) + 1 for i, c in enumerate(cols)]
     arr = np.ascontiguousarray(np.stack(idx, axis=-1))
-    return arr.view(np.dtype((np.void, 8 * len(cols)))).reshape(np.shape(idx[0]))
+    return arr.view(np.dtype((np.void, 8 * len(cols)))).reshape(shape)
 
 
 @nb.njit(cache=True, error_model="numpy")
