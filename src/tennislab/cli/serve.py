@@ -460,38 +460,29 @@ def comparison_table(win) -> list[str]:
 
 
 def empty_window_hint(win, args) -> str | None:
-    """For a window where nothing goes in: why the serves fail and, in 3-D, the azimuth toward the box
-    that lets serves in (checked on a coarser window of the same physics); None if some go in."""
-    if win.success.any():
-        return None
-    fails = win.failures()
-    words = ", ".join(f"{n} {REASON_WORDS.get(k, k)}" for k, n in sorted(fails.items(), key=lambda kv: -kv[1]))
-    hint = f"no serve of the window goes in ({words})"
-    other = "; try another player (--racket-speed, --impact-height) or a finer --step"
-    if args.target is None:
-        return hint + other
-    from tennislab.serve import window
+    """The words of :func:`tennislab.serve.hint.window_hint` for ``win``: why its serves fail and, in 3-D,
+    the azimuth toward the box that lets serves in; None if some go in."""
+    from tennislab.serve import window_hint
 
-    flight = _physics(args)["flight"]
-    x0, x1, y0, y1 = flight.court.area_bounds(f"{args.target}-box")
-    psi = math.degrees(math.atan2(0.5 * (y0 + y1) - args.server_y, 0.5 * (x0 + x1) - win.criteria.server_x))
-    psi = round(psi * 2) / 2
-    if abs(psi - args.azimuth_deg) < 0.5:
-        return hint + other
-    step = max(args.step, 2.0)
-    check = window(
-        win.player,
-        step=step,
+    h = window_hint(
+        win,
         target=args.target,
         server_y=args.server_y,
-        azimuth_deg=psi,
+        azimuth_deg=args.azimuth_deg,
         brush_deg=args.brush_deg,
+        step=args.step,
         **_physics(args),
     )
-    n = int(check.success.sum())
-    if n:
-        return hint + f"; turned toward the box's centre (--azimuth {psi:g}), {n} serves go in ({step:g}-deg grid)"
-    return hint + f"; even turned toward the box's centre (--azimuth {psi:g}) none goes in ({step:g}-deg grid)"
+    if h is None:
+        return None
+    words = ", ".join(f"{n} {REASON_WORDS.get(k, k)}" for k, n in sorted(h.failures.items(), key=lambda kv: -kv[1]))
+    hint = f"no serve of the window goes in ({words})"
+    if h.azimuth_deg is None:
+        return hint + "; try another player (--racket-speed, --impact-height) or a finer --step"
+    turn = f"(--azimuth {h.azimuth_deg:g})"
+    if h.n_in:
+        return hint + f"; turned toward the box's centre {turn}, {h.n_in} serves go in ({h.step_deg:g}-deg grid)"
+    return hint + f"; even turned toward the box's centre {turn} none goes in ({h.step_deg:g}-deg grid)"
 
 
 def _mapper(args):

@@ -13,6 +13,8 @@ the command's ``--json``):
   (``serve --speed-kmh ...``)
 * :func:`default_serve` -> :class:`DefaultServe`, a serve that goes in for a player with the most room
   for error
+* :func:`window_hint` -> :class:`WindowHint`: why no serve of a window goes in, and the azimuth toward
+  the box that lets some in (``serve-window``'s ``hint``)
 
 All of them run the one serve pipeline (impact -> launch -> flight -> judgement) of
 :mod:`tennislab.serve.pipeline`.
@@ -27,6 +29,7 @@ from tennislab._lazy import attach_stub
 if TYPE_CHECKING:
     from tennislab.serve import published
     from tennislab.serve.from_ball import BallLaunch, BallWindow, RacketForBall, ball_window, racket_for
+    from tennislab.serve.hint import WindowHint, window_hint
     from tennislab.serve.mc import MonteCarloResult, block_size, monte_carlo
     from tennislab.serve.pipeline import DEFAULT_PRESET, REASON_CODES, default_flight
     from tennislab.serve.players import (
@@ -85,5 +88,7 @@ __all__ = [
     "simulate",
     "window",
     "windows",
+    "WindowHint",
+    "window_hint",
 ]
 __getattr__, __dir__ = attach_stub(__name__, __file__)
