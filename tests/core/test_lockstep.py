@@ -131,15 +131,16 @@ def test_unknown_kernel_is_refused():
         fly_batch(shot_states(1), FlightParams(), kernel="simd")
 
 
-@pytest.mark.parametrize("name", ["choppin2018", "constant"])
-def test_a_shot_lands_the_same_whatever_batch_it_is_flown_in(name):
+@pytest.mark.parametrize("name", ["choppin2018", "constant", "stepanek1988"])
+@pytest.mark.parametrize("obstacle", [False, True])
+def test_a_shot_lands_the_same_whatever_batch_it_is_flown_in(name, obstacle):
     """Only the lanes up to the last busy one are computed (a batch of a few shots pays for those), yet a
     shot's row is the same bit for bit alone, in a short batch (the lanes of the vector loop's remainder) and in
-    a long one: single shots, batches of 3, 6 and LANES + 5 against the whole batch, both threadings."""
+    a long one: batches of 1 to LANES + 5 shots against the whole batch, both threadings."""
     S = shot_states(3 * LANES + 7, seed=5)
-    p = _params(name)
+    p = _params(name, net_obstacle=obstacle)
     whole = fly_batch(S, p, kernel="lockstep").data
-    for size in (1, 3, 6, LANES + 5):
+    for size in (1, 2, 3, 5, 6, 7, 9, 17, LANES - 1, LANES + 1, LANES + 5):
         for parallel in (False, True):
             parts = [
                 fly_batch(S[i : i + size], p, kernel="lockstep", parallel=parallel).data for i in range(0, len(S), size)
