@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from tennislab.errors import InputError
 from tennislab.serve import WindowHint, get_player, window, window_hint
 from tennislab.serve.hint import box_azimuth_deg
 from tennislab.serve.pipeline import default_flight
@@ -34,6 +35,11 @@ def test_an_empty_window_points_at_the_box_and_counts_what_goes_in_there(empty):
     assert window_hint(turned, step=6.0, azimuth_deg=h.azimuth_deg, **SERVER) is None  # some go in: no hint
     d = h.to_dict()
     assert d["azimuth_deg"] == h.azimuth_deg and d["n_in"] == h.n_in
+
+
+def test_an_unknown_box_is_refused_by_name(empty):
+    with pytest.raises(InputError, match="target: unknown 'middle'; choose from deuce, ad"):
+        window_hint(empty, target="middle")
 
 
 def test_the_check_is_at_least_two_degrees_coarse_and_2d_has_nothing_to_turn(empty):

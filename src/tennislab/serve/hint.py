@@ -38,7 +38,9 @@ class WindowHint(Result):
 def box_azimuth_deg(flight: FlightParams, target: str, server_x: float, server_y: float) -> float:
     """Azimuth [deg] from the server at (``server_x``, ``server_y``) [m] toward the centre of the
     ``target`` (``deuce``/``ad``) service box, rounded to :data:`AZIMUTH_STEP_DEG`."""
-    x0, x1, y0, y1 = flight.court.area_bounds(f"{target}-box")
+    from tennislab.serve.pipeline import box_name
+
+    x0, x1, y0, y1 = flight.court.area_bounds(box_name(target))
     psi = math.degrees(math.atan2(0.5 * (y0 + y1) - server_y, 0.5 * (x0 + x1) - server_x))
     return round(psi / AZIMUTH_STEP_DEG) * AZIMUTH_STEP_DEG
 
