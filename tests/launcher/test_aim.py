@@ -35,16 +35,7 @@ def paper_physics(monkeypatch):
 def _fly_exact(sol, spec=DEFAULT_SPEC):
     """The continuous solution: the asked speed, spin and axis at the exact elevation and heading (and the
     chosen height: the asked one, or the one the search chose)."""
-    a = sol.asked
-    y0 = machine_states(
-        spec,
-        sol.settings.height_m,
-        a.speed_kmh,
-        sol.exact_elevation_deg,
-        sol.exact_heading_deg,
-        a.spin_rpm,
-        a.spin_axis_deg,
-    )[0]
+    y0 = sol.exact_state(spec)
     return fly_dense(y0[0:3], y0[3:6], y0[6:9], PARAMS)
 
 

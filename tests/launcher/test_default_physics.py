@@ -9,7 +9,7 @@ import pytest
 
 from tennislab.core.flight import FlightParams, fly_dense
 from tennislab.launcher.aim import aim_all, fly_settings, launcher_params
-from tennislab.launcher.machine import DEFAULT_SPEC, machine_states
+from tennislab.launcher.machine import DEFAULT_SPEC
 from tennislab.launcher.preferences import Tolerances
 
 CASES = [
@@ -34,19 +34,10 @@ def test_default_physics_aim_round_trip(target, kw):
     tol = Tolerances()
     for sol in sols.values():
         assert sol.to_dict(DEFAULT_SPEC, params)["physics"] == params.to_dict()
-        a = sol.asked
-        y0 = machine_states(
-            DEFAULT_SPEC,
-            sol.settings.height_m,
-            a.speed_kmh,
-            sol.exact_elevation_deg,
-            sol.exact_heading_deg,
-            a.spin_rpm,
-            a.spin_axis_deg,
-        )[0]
+        y0 = sol.exact_state(DEFAULT_SPEC)
         exact = fly_dense(y0[0:3], y0[3:6], y0[6:9], params).landing
         assert math.hypot(exact.x - target[0], exact.y - target[1]) < 1e-3
-        s = sol.settings
+        s, a = sol.settings, sol.asked
         DEFAULT_SPEC.validate(s, require_steps=True)
         assert abs(s.speed_kmh - a.speed_kmh) <= tol.speed_kmh + 1e-9
         assert tol.allows(s.spin_rpm, s.spin_axis_deg, a.spin_rpm, a.spin_axis_deg)

@@ -154,6 +154,15 @@ class AimSolution:
             "heading_deg": s.heading_deg - self.exact_heading_deg,
         }
 
+    def exact_state(self, spec: MachineSpec | None = None) -> np.ndarray:
+        """The launch state (9,) [m, m/s, rad/s] of the continuous solution on machine ``spec``: the asked
+        speed, spin and axis at the exact elevation and heading, from the chosen height (the asked one, or
+        the one the search chose), for :func:`~tennislab.core.flight.fly_dense` or ``fly_batch``."""
+        a = self.asked or self.settings
+        e, b = self.exact_elevation_deg, self.exact_heading_deg
+        h = self.settings.height_m
+        return machine_states(spec or DEFAULT_SPEC, h, a.speed_kmh, e, b, a.spin_rpm, a.spin_axis_deg)[0]
+
     def to_dict(self, spec: MachineSpec | None = None, params: FlightParams | None = None) -> dict:
         """The JSON of this solution on machine ``spec`` flown with ``params`` (``launcher aim``'s keys,
         below)."""
