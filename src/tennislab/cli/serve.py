@@ -464,15 +464,7 @@ def empty_window_hint(win, args) -> str | None:
     the azimuth toward the box that lets serves in; None if some go in."""
     from tennislab.serve import window_hint
 
-    h = window_hint(
-        win,
-        target=args.target,
-        server_y=args.server_y,
-        azimuth_deg=args.azimuth_deg,
-        brush_deg=args.brush_deg,
-        step=args.step,
-        **_physics(args),
-    )
+    h = window_hint(win, step=args.step)
     if h is None:
         return None
     words = ", ".join(f"{n} {REASON_WORDS.get(k, k)}" for k, n in sorted(h.failures.items(), key=lambda kv: -kv[1]))

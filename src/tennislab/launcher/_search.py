@@ -533,8 +533,8 @@ def _settings_key(spec: MachineSpec, h, v, a, b, w, g) -> np.ndarray:
     """One int64 per setting combination (the step index of each setting, in mixed radix), or, for a machine
     with more steps than 2^62 combinations, one bytes-like key per row."""
     lo, step, sizes, fits = _key_radix(spec)
-    shape = np.broadcast(*(np.asarray(x) for x in (h, v, a, b, w, g))).shape
-    cols = settings_columns(h, v, a, b, w, g)
+    grid = settings_columns(h, v, a, b, w, g)
+    shape, cols = grid.shape[1:], grid.reshape(len(grid), -1)
     if fits:
         out = np.empty(cols.shape[1], np.int64)
         _key_kernel(cols, lo, step, sizes, out)

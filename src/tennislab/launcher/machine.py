@@ -216,17 +216,17 @@ def launch_direction(elevation_rad, heading_rad):
 
 
 def settings_columns(*settings) -> np.ndarray:
-    """Scalars and arrays of settings broadcast together and flattened: (k, N) floats (broadcast by
-    assignment: ``np.broadcast_arrays`` costs ~30 us a call, a hot path of the aim's search)."""
+    """Scalars and arrays of settings broadcast together: one (k, *shape) float array, row i setting i
+    (broadcast by assignment: ``np.broadcast_arrays`` costs ~30 us a call, a hot path of the aim's search)."""
     cols = [np.asarray(x, dtype=float) for x in settings]
     try:
         shape = np.broadcast(*cols).shape
     except ValueError as exc:
         raise InputError(f"machine_states: settings arrays do not broadcast together ({exc})") from None
-    flat = np.empty((len(cols),) + shape)
+    out = np.empty((len(cols),) + shape)
     for i, x in enumerate(cols):
-        flat[i] = x
-    return flat.reshape(len(cols), -1)
+        out[i] = x
+    return out
 
 
 def machine_states(
@@ -241,7 +241,8 @@ def machine_states(
     one statement of the convention).  No range check here (hot path): call
     :meth:`MachineSpec.validate` or :func:`validate_arrays` first for user input.
     """
-    h, v, a, b, w, g = settings_columns(height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg)
+    cols = settings_columns(height_m, speed_kmh, elevation_deg, heading_deg, spin_rpm, spin_axis_deg)
+    h, v, a, b, w, g = cols.reshape(6, -1)
     pos = np.empty((h.size, 3))
     pos[:, 0], pos[:, 1], pos[:, 2] = spec.position[0], spec.position[1], h
     top, side = launch.axis_components(w * RPM, g * DEG)

@@ -6,7 +6,8 @@ Workflows (plain parameters in, a frozen :class:`tennislab.results.Result` out; 
 the command's ``--json``):
 
 * :func:`simulate` -> :class:`ServeResult` (``tennislab serve``)
-* :func:`window` / :func:`windows` -> :class:`ServeWindow` / :class:`ServeWindows` (``serve-window``)
+* :func:`window` / :func:`windows` -> :class:`ServeWindow` / :class:`ServeWindows` (``serve-window``);
+  :func:`window_of_setup` flies another window of a window's ``setup``
 * :func:`monte_carlo` -> :class:`MonteCarloResult` (``serve-mc``)
 * :func:`impact` -> :class:`ImpactSummary` (``tennislab impact``)
 * :func:`racket_for` -> :class:`RacketForBall`: the racket (V, alpha, beta) that gives a ball launch
@@ -49,7 +50,15 @@ if TYPE_CHECKING:
         seed_impact_params,
     )
     from tennislab.serve.single import REASONS, ServeResult, Verdict, simulate
-    from tennislab.serve.window import DefaultServe, ServeWindow, ServeWindows, default_serve, window, windows
+    from tennislab.serve.window import (
+        DefaultServe,
+        ServeWindow,
+        ServeWindows,
+        default_serve,
+        window,
+        window_of_setup,
+        windows,
+    )
 
 __all__ = [
     "PEAK_SPIN_ALPHA",
@@ -87,6 +96,7 @@ __all__ = [
     "seed_impact_params",
     "simulate",
     "window",
+    "window_of_setup",
     "windows",
     "WindowHint",
     "window_hint",

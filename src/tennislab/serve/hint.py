@@ -11,9 +11,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from tennislab.core.flight import FlightParams
-from tennislab.core.impact import ImpactParams
 from tennislab.results import Result
+from tennislab.serve.pipeline import box_name
+from tennislab.serve.window import ServeWindow, angle_grid, window_of_setup
 
 #: Coarsest grid step of the check at the box's azimuth [deg] (a window at least this coarse: the hint is a
 #: pointer, not a second full window)
@@ -38,55 +41,30 @@ class WindowHint(Result):
 def box_azimuth_deg(flight: FlightParams, target: str, server_x: float, server_y: float) -> float:
     """Azimuth [deg] from the server at (``server_x``, ``server_y``) [m] toward the centre of the
     ``target`` (``deuce``/``ad``) service box, rounded to :data:`AZIMUTH_STEP_DEG`."""
-    from tennislab.serve.pipeline import box_name
-
     x0, x1, y0, y1 = flight.court.area_bounds(box_name(target))
     psi = math.degrees(math.atan2(0.5 * (y0 + y1) - server_y, 0.5 * (x0 + x1) - server_x))
     return round(psi / AZIMUTH_STEP_DEG) * AZIMUTH_STEP_DEG
 
 
-def window_hint(
-    win,
-    *,
-    target: str | None = None,
-    server_y: float = 0.0,
-    azimuth_deg: float = 0.0,
-    brush_deg: float = 0.0,
-    step: float = 1.0,
-    flight: FlightParams | None = None,
-    impact_params: ImpactParams | None = None,
-    method: str = "rk4",
-    dt: float = 0.0,
-) -> WindowHint | None:
-    """The hint for ``win`` (a :class:`~tennislab.serve.window.ServeWindow` run with these options and
-    physics), None when some of its serves go in.  With a ``target`` box and a face that does not point at
-    its centre, one more window of the same player and physics is flown at the box's azimuth on a grid of
-    ``max(step, CHECK_STEP_DEG)`` [deg]."""
+def window_hint(win: ServeWindow, step: float | None = None) -> WindowHint | None:
+    """The hint for ``win`` (from :func:`~tennislab.serve.window.window`), None when some of its serves go
+    in.  For a 3-D window whose face does not point at the box's centre, one more window of the same
+    player, physics and options (``win.setup``) is flown at the box's azimuth on a grid of
+    ``max(step, CHECK_STEP_DEG)`` [deg] (``step`` default: the window's alpha step)."""
     if win.success.any():
         return None
     fails = dict(win.failures())
-    if target is None:
+    setup = win.setup
+    if setup is None or setup.target is None:
         return WindowHint(fails)
-    from tennislab.serve.pipeline import default_flight
-    from tennislab.serve.window import window
-
-    flight = flight or default_flight()
-    psi = box_azimuth_deg(flight, target, win.criteria.server_x, server_y)
-    if abs(psi - azimuth_deg) < AZIMUTH_STEP_DEG:
+    psi = box_azimuth_deg(setup.flight, setup.target, setup.criteria.server_x, setup.server_y)
+    if abs(psi - win.azimuth_deg) < AZIMUTH_STEP_DEG:
         return WindowHint(fails)
+    if step is None:
+        step = float(np.min(np.diff(win.alpha_deg))) if win.alpha_deg.size > 1 else CHECK_STEP_DEG
     coarse = max(step, CHECK_STEP_DEG)
-    check = window(
-        win.player,
-        step=coarse,
-        target=target,
-        server_y=server_y,
-        azimuth_deg=psi,
-        brush_deg=brush_deg,
-        flight=flight,
-        impact_params=impact_params,
-        method=method,
-        dt=dt,
-    )
+    grid = angle_grid(coarse)
+    check = window_of_setup(setup, grid, grid, psi)
     return WindowHint(fails, psi, coarse, int(check.success.sum()))
 
 

@@ -38,7 +38,16 @@ from tennislab.serve.published import OPTIMUM, PEAK_SPIN_ALPHA, TABLE1
 from tennislab.serve.setup import CATEGORIES, SeedCriteria
 from tennislab.units import RPM
 
-__all__ = ["DefaultServe", "ServeWindow", "ServeWindows", "default_serve", "window", "window_chunk", "windows"]
+__all__ = [
+    "DefaultServe",
+    "ServeWindow",
+    "ServeWindows",
+    "default_serve",
+    "window",
+    "window_chunk",
+    "window_of_setup",
+    "windows",
+]
 
 SUMMARY_KEYS = ("beta", "alpha", "spin_rpm", "speed", "landing_x", "net_height", "launch_angle")
 
@@ -86,6 +95,9 @@ class ServeWindow(Table):
     mode: str = "seed-2d"  #: success test: ``seed-2d`` or ``deuce-box`` / ``ad-box`` (3-D)
     caveats: tuple[str, ...] = ()  #: model caveats shown next to the numbers
     reason: np.ndarray | None = None  #: why each serve fails (index into REASON_CODES; 0 in)
+    #: what the window was flown with (physics, criteria, 3-D options; :func:`window_of_setup` flies another)
+    setup: Setup | None = field(default=None, repr=False)
+    azimuth_deg: float = field(default=0.0, repr=False)  #: face azimuth of a 3-D window [deg]
 
     def grid(self, name: str) -> np.ndarray:
         """Any per-serve quantity broadcast to (n_beta, n_alpha)."""
@@ -287,8 +299,17 @@ def window(
         method=method,
         steps=steps,
     )
-    a = np.asarray(angle_grid(step) if alpha_deg is None else alpha_deg, float)
-    b = np.asarray(angle_grid(step) if beta_deg is None else beta_deg, float)
+    a = angle_grid(step) if alpha_deg is None else alpha_deg
+    b = angle_grid(step) if beta_deg is None else beta_deg
+    return window_of_setup(setup, a, b, azimuth_deg, mapper)
+
+
+def window_of_setup(setup: Setup, alpha_deg, beta_deg, azimuth_deg: float = 0.0, mapper=None) -> ServeWindow:
+    """:func:`window` of a :class:`~tennislab.serve.pipeline.Setup` (checked by ``make_setup``; a window's
+    own is ``ServeWindow.setup``) over the angles ``alpha_deg`` x ``beta_deg`` [deg] at the face azimuth
+    ``azimuth_deg`` [deg]."""
+    a = np.asarray(alpha_deg, float)
+    b = np.asarray(beta_deg, float)
     if a.size == 0 or b.size == 0:
         raise InputError("alpha, beta: empty grid")
     if np.any(np.abs(a) > 90):
@@ -328,6 +349,8 @@ def window(
         setup.mode,
         setup.caveats(),
         np.asarray(out["reason"]).astype(np.int8).reshape(shape),
+        setup,
+        float(azimuth_deg),
     )
 
 
