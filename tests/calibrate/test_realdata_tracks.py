@@ -62,19 +62,17 @@ def test_the_documented_identification(points):
 
     d = calibrate_tracks(points=points).to_dict()
     assert d["split"] == {"name": "parity (odd games fitted, even held out)", "n_fit": 111, "n_held_out": 128}
-    # each knot within a tenth of its own standard error (and 6e-4) of the registered curves: the weakly
-    # determined knots (C_D at 10 m/s: +-0.078) move by a few 1e-3 when the compiled kernels' floating-point
-    # order changes (fast-math, inlining), far inside what the data determine
-    sd_cd = np.array(
-        [d["sd"].get(k, 0.0) for k in sorted((k for k in d["sd"] if k.startswith("cd@")), key=lambda k: float(k[3:]))]
-    )
-    tol_cd = np.maximum(6e-4, 0.1 * sd_cd) if sd_cd.size == len(aero.TENNISLAB2026_CD) else 6e-4
-    assert np.all(np.abs(np.array(d["curves"]["cd"]) - np.array(aero.TENNISLAB2026_CD)) <= tol_cd)
-    sd_cl = np.array(
-        [d["sd"].get(k, 0.0) for k in sorted((k for k in d["sd"] if k.startswith("cl@")), key=lambda k: float(k[3:]))]
-    )
-    tol_cl = np.maximum(6e-4, 0.1 * sd_cl) if sd_cl.size == len(aero.TENNISLAB2026_CL) else 2e-3
-    assert np.all(np.abs(np.array(d["curves"]["cl"]) - np.array(aero.TENNISLAB2026_CL)) <= tol_cl)
+    # each knot within a tenth of its own standard error (and 6e-4) of the registered curves; a knot held
+    # fixed (no standard error: C_L at S 0.1, the lift anchor) within 6e-4.  The weakly determined knots
+    # (C_D at 10 m/s: +-0.078, C_L at S 0.4: +-0.10) move by a few 1e-3 when the compiled kernels'
+    # floating-point order changes (fast-math, inlining, the host's vector width, the libraries' versions),
+    # far inside what the data determine
+    c = d["curves"]
+    for name, registered in (("cd", aero.TENNISLAB2026_CD), ("cl", aero.TENNISLAB2026_CL)):
+        sd = np.array([0.0 if v is None else v for v in c[f"{name}_sd"]])
+        assert len(c[name]) == len(registered) == sd.size, name
+        tol = np.maximum(6e-4, 0.1 * sd)
+        assert np.all(np.abs(np.array(c[name]) - np.array(registered)) <= tol), (name, c[name], list(tol))
     assert d["spin_decay_per_s"] == pytest.approx(aero.TENNISLAB2026_SPIN_DECAY, abs=max(6e-4, 0.1 * d["sd"]["decay"]))
     assert d["sd"]["cd@25"] == pytest.approx(0.017, rel=0.3) and d["sd"]["decay"] == pytest.approx(0.112, rel=0.3)
     h = d["held_out"]
