@@ -69,6 +69,39 @@ def test_map_guess_and_refined_angles():
     assert res.heading_deg == pytest.approx(ex.exact_heading_deg, abs=1e-4)
 
 
+def test_the_maps_guess_is_within_a_twentieth_of_a_degree_low_launches_too():
+    """The map's elevation against the refined one over random reachable requests, a third launched from
+    below 0.4 m, where rho climbs by metres within a degree of a = 0 (the map's elevation variable is the
+    vacuum flight time: launcher.reach's docstring).  Measured: median 0.0035 deg, p95 0.024, max 0.081
+    (226 requests); with the elevation itself as the variable: p95 0.10, max 0.37."""
+    rng = np.random.default_rng(7)
+    err = []
+    for i in range(300):
+        x, y = rng.uniform(0.5, 11.8), rng.uniform(-5.4, 5.4)
+        v, w, g = rng.uniform(40, 160), rng.uniform(0, 2000), rng.uniform(-180, 180)
+        h = rng.uniform(0.1, 0.4) if i % 3 == 0 else rng.uniform(0.1, 3.0)
+        try:
+            r = inverse_aim((x, y), v, w, g, h, trajectory=("low", "high")[i % 2])
+        except InputError:
+            continue
+        err.append(abs(r.elevation_deg - r.map_elevation_deg))
+    e = np.array(err)
+    assert e.size > 200 and np.percentile(e, 95) < 0.05 and e.max() < 0.15
+    # hypothesis's counterexample of the 4-flight promise with the old variable: 0.29 deg off, 10 flights
+    r = inverse_aim((5.0, 0.0), 131, 1489, 180, 0.125, trajectory="low")
+    assert abs(r.elevation_deg - r.map_elevation_deg) < 0.05 and r.flights == 4 and r.miss_mm < 20.0
+
+
+@given(st.floats(-20.0, 80.0), st.floats(0.05, 3.0), st.floats(5.0, 60.0), st.floats(9.0, 10.0))
+def test_the_vacuum_flight_time_and_its_elevation_invert_each_other(a, h, v, g):
+    """tau(a) is when h + v sin(a) t - g t^2 / 2 = 0, and the elevation of that tau is a again."""
+    tau = R._vacuum_time(a, h, v, g)
+    s = math.sin(math.radians(a))
+    assert tau > 0 and abs(h + v * s * tau - 0.5 * g * tau * tau) < 1e-9 * (1.0 + v * tau)
+    assert R._vacuum_elevation(tau, h, v, g) == pytest.approx(a, abs=1e-6)
+    assert R._vacuum_time(a + 0.01, h, v, g) > tau  # it rises with the elevation
+
+
 @pytest.mark.parametrize(
     "kw,frag",
     [
@@ -113,7 +146,13 @@ def test_map_is_cached_on_disk_and_rebuilt_when_stale(tmp_path, monkeypatch):
 
 def _map_file(path, **over):
     good = dict(
-        lo=np.zeros(5), hi=np.ones(5), rho=np.zeros(R.NODES), phi=np.zeros(R.NODES), key=np.array("k"), build_s=1.0
+        lo=np.zeros(5),
+        hi=np.ones(5),
+        rho=np.zeros(R.NODES),
+        phi=np.zeros(R.NODES),
+        gravity=9.81,
+        key=np.array("k"),
+        build_s=1.0,
     )
     np.savez(path, **{**good, **over})
     return path
@@ -128,6 +167,8 @@ def _map_file(path, **over):
         {"lo": np.full(5, np.nan)},
         {"key": np.array("another")},
         {"phi": np.zeros(3)},
+        {"gravity": np.nan},
+        {"gravity": np.zeros(2)},  # not a scalar
     ],
 )
 def test_a_damaged_or_foreign_cache_file_is_rebuilt_never_an_error(tmp_path, over):
@@ -215,7 +256,7 @@ def test_compiled_inverse_map_inverts_the_fitted_curve():
         a = out["elevation_deg"]
         assert np.isnan(a[3]) and np.isnan(out["phi"][3]) and out["reach"][3, 1] < 400.0
         rho, phi = m.landing(h[:3], 90.0, a[:3], 800.0, -150.0)
-        assert np.abs(rho - d[:3]).max() < 5e-3  # linear between grid points 0.5 deg apart
+        assert np.abs(rho - d[:3]).max() < 1e-9  # solved on the fitted curve (the grid only brackets it)
         assert np.allclose(phi, out["phi"][:3], atol=1e-12)
         side = a[:3] <= out["split_deg"][:3] if branch == "low" else a[:3] >= out["split_deg"][:3]
         assert side.all() and (np.sign(out["slope"][:3]) == (1 if branch == "low" else -1)).all()

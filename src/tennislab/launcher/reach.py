@@ -10,17 +10,30 @@ landing seen from the launch point::
     rho(h, v, a, t, s),  phi(h, v, a, t, s)
 
 :class:`ReachMap` holds both as tensor-product Chebyshev interpolants (Trefethen 2013) over the
-machine's ranges: ``NODES`` Chebyshev points per setting (in sqrt(h), v, a, t, s), one compiled batch
+machine's ranges: ``NODES`` Chebyshev points per setting (in sqrt(h), v, tau, t, s), one compiled batch
 flight per node (:func:`tennislab.core.flight.fly_batch`, ~60,000 flights: about a second), the
 coefficients by a discrete cosine transform along each axis.  Evaluating it costs no flight.
 
+The elevation enters through tau, the flight time the launch would have in a vacuum (the projectile's
+time of flight from a height, Halliday, Resnick & Walker 2014, chapter 4),
+
+    tau(a; h, v) = (v sin a + sqrt(v^2 sin^2 a + 2 g h)) / g,   sin a = (g tau^2 - 2 h) / (2 v tau),
+
+scaled to [-1, 1] over the machine's elevations at that height and speed (both directions in closed
+form; tau rises with a).  rho is far from a polynomial in a itself: from a low launch it climbs from
+decimetres to metres within a degree or two of a = 0 (below, the ball meets the court after
+h / tan|a|; above, gravity brings it down after about sqrt(2 h / g)), a knee that sixteen points over
+the elevation range cannot follow (at h = 0.125 m, 131 km/h, 1489 rpm backspin the map in a was off
+by 0.9-2 m at every elevation, its guess 0.3 deg).  In tau the knee is the geometry of the fall,
+which rho follows nearly linearly (rho ~ v tau cos a), and the nodes gather where rho changes fast.
+
 The inverse map (:meth:`ReachMap.aim`): for a target at distance D and bearing beta from the
-machine and given h, v, t, s, the 1-D polynomial rho(a) is evaluated on a fine elevation grid; its
-crossings of D on the rising (low) and falling (high) side of its maximum give the elevation, and
-b = beta - phi(a) the heading.  Its error (cm at court distances, more at the edges of the reach:
-docs/launcher.md) is then removed by one or two Newton steps on the real kernel
-(:func:`tennislab.core.shoot.shoot` started there): the map is where a search starts, never an
-answer by itself.
+machine and given h, v, t, s, the 1-D polynomial rho is evaluated on a fine grid uniform in tau; its
+crossings of D on the rising (low) and falling (high) side of its maximum, bracketed there and solved
+on the polynomial, give the elevation, and b = beta - phi(a) the heading.  Its error (hundredths of
+a degree, more at the edges of the reach: docs/launcher.md) is then removed by one or two Newton steps
+on the real kernel (:func:`tennislab.core.shoot.shoot` started there): the map is where a search
+starts, never an answer by itself.
 
 A map depends on the physics (aero model and its coefficients, ball, air, spin decay, the flight's
 ``t_max``) and the machine's ranges, not on its position, the court or the wind (a wind breaks the
@@ -32,6 +45,8 @@ match its key is built again; a folder that cannot be written is no error (the m
 
 References
 ----------
+Halliday, D., Resnick, R. & Walker, J. (2014), Fundamentals of Physics, 10th ed., Wiley, chapter 4
+(projectile motion: the time of flight from a height).
 Trefethen, L. N. (2013), Approximation Theory and Approximation Practice, SIAM, chapters 2-3
 (Chebyshev points and interpolants).
 Wojcicki, Pucilowski & Kulesza (2010), Mathematical analysis for a new tennis ball launcher,
@@ -62,13 +77,16 @@ from tennislab.core.launch import launch_states
 from tennislab.launcher.machine import MachineSpec
 from tennislab.units import DEG, KMH, RPM
 
-#: Version of the map's layout and fit (part of its key: a new version is built anew)
-FORMAT = 1
-#: Chebyshev points per setting: height (in sqrt h), speed, elevation, topspin, sidespin
+#: Version of the map's layout and fit (part of its key: a new version is built anew); 2: the elevation in
+#: the vacuum flight time (module docstring)
+FORMAT = 2
+#: Chebyshev points per setting: height (in sqrt h), speed, elevation (in tau), topspin, sidespin
 NODES = (6, 10, 16, 8, 8)
 AXES = ("height_m", "speed_kmh", "elevation_deg", "topspin_rpm", "sidespin_rpm")
-#: Elevation grid on which the 1-D curves rho(a) are evaluated to find crossings [deg]
+#: Points (uniform in tau) on which the 1-D curves rho(a) are evaluated to bracket crossings, each then
+#: solved on the fitted curve itself (:data:`CROSSING_ITER` steps of regula falsi, Illinois variant)
 CURVE_POINTS = 201
+CROSSING_ITER = 6
 
 
 def _cheb_points(n: int) -> np.ndarray:
@@ -82,17 +100,39 @@ def _vander(u, n: int) -> np.ndarray:
     return np.cos(theta[..., None] * np.arange(n))
 
 
+@nb.njit(**JIT)
+def _vacuum_time(a_deg, h, v, g):
+    """tau [s]: the flight time of a launch at elevation ``a_deg`` [deg] from height ``h`` [m] at speed ``v``
+    [m/s] under gravity ``g`` [m/s^2] without air (module docstring); scalars or arrays."""
+    vs = v * np.sin(np.radians(a_deg))
+    return (vs + np.sqrt(vs * vs + 2.0 * g * h)) / g
+
+
+@nb.njit(**JIT)
+def _vacuum_elevation(tau, h, v, g):
+    """The elevation [deg] whose vacuum flight time is ``tau`` [s] (the inverse of :func:`_vacuum_time`)."""
+    return np.degrees(np.arcsin(np.minimum(np.maximum((g * tau * tau - 2.0 * h) / (2.0 * v * tau), -1.0), 1.0)))
+
+
+@nb.njit(**JIT)
+def _tau_span(a_lo, a_hi, h, v, g):
+    """(tau at ``a_lo``, tau at ``a_hi``): the ends of the elevation's Chebyshev variable at (h [m], v [m/s])."""
+    return _vacuum_time(a_lo, h, v, g), _vacuum_time(a_hi, h, v, g)
+
+
 @dataclass(frozen=True)
 class ReachMap:
     """The fitted reach (module docstring): domain ``lo``/``hi`` (5,) in the fitted variables (sqrt of
     the height [m^0.5], speed [km/h], elevation [deg], topspin and sidespin [rpm]), coefficient
-    tensors ``rho`` [m] and ``phi`` [rad] of shape :data:`NODES`, the ``key`` of the physics and
+    tensors ``rho`` [m] and ``phi`` [rad] of shape :data:`NODES` (the elevation's axis in the vacuum
+    flight time, module docstring), ``gravity`` [m/s^2] of that time, the ``key`` of the physics and
     ranges it was built for, and ``build_s`` the time its fit took [s] (NaN when unknown)."""
 
     lo: np.ndarray
     hi: np.ndarray
     rho: np.ndarray
     phi: np.ndarray
+    gravity: float
     key: str
     build_s: float = math.nan
 
@@ -116,11 +156,19 @@ class ReachMap:
             out.append(np.einsum("qj,qja->qa", tv, per_h))
         return out[0], out[1]
 
+    def _u_elevation(self, a, h, v) -> np.ndarray:
+        """The elevation's Chebyshev variable in [-1, 1] of elevations ``a`` [deg] at (h [m], v [km/h])."""
+        if self.hi[2] <= self.lo[2]:
+            return np.zeros_like(np.asarray(a, dtype=float))
+        vm = v * KMH
+        t0, t1 = _tau_span(self.lo[2], self.hi[2], h, vm, self.gravity)
+        return (2.0 * _vacuum_time(a, h, vm, self.gravity) - (t0 + t1)) / (t1 - t0)
+
     def landing(self, h, v, a, t: float, s: float) -> tuple[np.ndarray, np.ndarray]:
         """(rho [m], phi [rad]) of launches of one spin (t, s) [rpm] (h [m], v [km/h], a [deg] broadcast)."""
         h, v, a = (np.asarray(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(h, v, a))
         cr, cp = self._reduce(h, v, t, s)
-        ta = _vander(self._u(2, a), cr.shape[1])
+        ta = _vander(self._u_elevation(a, h, v), cr.shape[1])
         return (cr * ta).sum(axis=1), (cp * ta).sum(axis=1)
 
     def aim(self, distance, h, v, t: float, s: float, branch: str, elevation=None) -> dict:
@@ -130,8 +178,9 @@ class ReachMap:
         Returns a dict of (Q,) arrays: ``elevation_deg`` (NaN where the map finds none),
         ``phi`` [rad] the landing's angle at it, ``split_deg`` the elevation of the longest flight,
         ``reach`` (Q, 2) the shortest and longest distance [m] over ``elevation`` (default: the
-        map's range), ``slope`` [m/deg] d rho / d a at the solution.  One compiled pass
-        (:func:`_aim_rows`): tens of microseconds a row.
+        map's range) on the grid of :data:`CURVE_POINTS`, ``slope`` [m/deg] d rho / d a at the solution
+        (over the grid interval of the crossing).  The crossing is solved on the fitted curve.  One
+        compiled pass (:func:`_aim_rows`): tens of microseconds a row.
         """
         return self.aim_both(distance, h, v, t, s, elevation)[0 if branch == "low" else 1]
 
@@ -140,7 +189,10 @@ class ReachMap:
         d, h, v = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
         g0, g1 = (self.lo[2], self.hi[2]) if elevation is None else (float(elevation[0]), float(elevation[1]))
         out = np.empty((2, d.size, 6))
-        _aim_rows(self.rho, self.phi, self.lo, self.hi, d, h, v, float(t), float(s), g0, g1, CURVE_POINTS, out)
+        _aim_rows(
+            self.rho, self.phi, self.lo, self.hi, self.gravity, d, h, v, float(t), float(s), g0, g1, CURVE_POINTS,
+            CROSSING_ITER, out,
+        )  # fmt: skip
         return tuple(  # type: ignore[return-value]
             {
                 "elevation_deg": o[:, 0],
@@ -170,12 +222,47 @@ def _scaled(x: float, lo: float, hi: float) -> float:
 
 
 @nb.njit(**JIT)
-def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, g0, g1, npts, out):
+def _cheb_sum(c: np.ndarray, u: float, work: np.ndarray) -> float:
+    """sum_k c[k] T_k(u)."""
+    _cheb_into(u, work)
+    acc = 0.0
+    for k in range(c.size):
+        acc += c[k] * work[k]
+    return acc
+
+
+@nb.njit(**JIT)
+def _crossing(c: np.ndarray, d: float, ua: float, ub: float, fa: float, fb: float, iters: int, work) -> float:
+    """The u in [ua, ub] where the curve sum_k c[k] T_k(u) meets ``d`` (fa, fb: curve - d at the ends, of
+    opposite signs): regula falsi, Illinois variant (a retained end's value halved)."""
+    u = ua - fa * (ub - ua) / (fb - fa) if fb != fa else 0.5 * (ua + ub)
+    side = 0
+    for _ in range(iters):
+        f = _cheb_sum(c, u, work) - d
+        if f == 0.0:
+            return u
+        if (f < 0.0) == (fa < 0.0):
+            ua, fa = u, f
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            ub, fb = u, f
+            if side == 1:
+                fa *= 0.5
+            side = 1
+        u = ua - fa * (ub - ua) / (fb - fa) if fb != fa else 0.5 * (ua + ub)
+    return u
+
+
+@nb.njit(**JIT)
+def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
     """:meth:`ReachMap.aim_both` for Q rows: per row the coefficients in the elevation (spin, height and speed
-    contracted), the curve rho(a) on ``npts`` elevations of [g0, g1], the crossing of the row's distance on
-    each branch's side of the longest flight (linear between grid points), phi there and the slope.
-    ``out`` (2, Q, 6), low then high: elevation [deg], phi [rad], split [deg], shortest and longest distance
-    [m], slope."""
+    contracted), the curve rho on ``npts`` points uniform in the elevation's variable (the vacuum flight time,
+    module docstring) between elevations g0 and g1 [deg], on each branch's side of the longest flight the
+    crossing of the row's distance (bracketed on the grid, then solved on the fitted curve), phi there and the
+    slope.  ``out`` (2, Q, 6), low then high: elevation [deg], phi [rad], split [deg], shortest and longest
+    distance [m], slope [m/deg]."""
     nh, nv, na, nt, ns = rho.shape
     tt, ts = np.empty(nt), np.empty(ns)
     _cheb_into(_scaled(t, lo[3], hi[3]), tt)
@@ -197,19 +284,29 @@ def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, g0, g1, npts, out):
                         ap += phi[i, j, k, m, n] * spin[m, n]
                 sr[i, j, k] = ar
                 sp[i, j, k] = ap
-    th, tv, ta = np.empty(nh), np.empty(nv), np.empty(na)
+    th, tv, work = np.empty(nh), np.empty(nv), np.empty(na)
     cr, cp = np.empty(na), np.empty(na)
-    grid = np.empty(npts)
-    dg = (g1 - g0) / (npts - 1)
-    for k in range(npts):
-        grid[k] = g0 + k * dg
+    full = g0 == lo[2] and g1 == hi[2]  # the grid in u is then the same for every row
+    ugrid, agrid = np.empty(npts), np.empty(npts)
     tgrid = np.empty((npts, na))
-    for k in range(npts):
-        _cheb_into(_scaled(grid[k], lo[2], hi[2]), tgrid[k])
+    if full:
+        for k in range(npts):
+            ugrid[k] = -1.0 + 2.0 * k / (npts - 1)
+            _cheb_into(ugrid[k], tgrid[k])
     curve = np.empty(npts)
     for q in range(d.size):
         _cheb_into(_scaled(math.sqrt(max(h[q], 0.0)), lo[0], hi[0]), th)
         _cheb_into(_scaled(v[q], lo[1], hi[1]), tv)
+        vm = v[q] * KMH
+        tau0, tau1 = _tau_span(lo[2], hi[2], h[q], vm, grav)
+        if not full:
+            u0 = _scaled(_vacuum_time(g0, h[q], vm, grav), tau0, tau1)
+            u1 = _scaled(_vacuum_time(g1, h[q], vm, grav), tau0, tau1)
+            for k in range(npts):
+                ugrid[k] = u0 + (u1 - u0) * k / (npts - 1)
+                _cheb_into(ugrid[k], tgrid[k])
+        for k in range(npts):
+            agrid[k] = _vacuum_elevation(0.5 * (ugrid[k] * (tau1 - tau0) + tau0 + tau1), h[q], vm, grav)
         for k in range(na):
             ar = 0.0
             ap = 0.0
@@ -241,7 +338,7 @@ def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, g0, g1, npts, out):
                         found = g
                         break
             o = out[side, q]
-            o[2] = grid[k_max]
+            o[2] = agrid[k_max]
             o[3] = curve.min()
             o[4] = curve.max()
             if found < 0:
@@ -250,15 +347,10 @@ def _aim_rows(rho, phi, lo, hi, d, h, v, t, s, g0, g1, npts, out):
                 o[5] = np.nan
                 continue
             f0, f1 = curve[found] - d[q], curve[found + 1] - d[q]
-            frac = f0 / (f0 - f1) if f1 != f0 else 0.5
-            a = grid[found] + frac * dg
-            _cheb_into(_scaled(a, lo[2], hi[2]), ta)
-            p = 0.0
-            for k in range(na):
-                p += cp[k] * ta[k]
-            o[0] = a
-            o[1] = p
-            o[5] = (curve[found + 1] - curve[found]) / dg
+            u = _crossing(cr, d[q], ugrid[found], ugrid[found + 1], f0, f1, iters, work)
+            o[0] = _vacuum_elevation(0.5 * (u * (tau1 - tau0) + tau0 + tau1), h[q], vm, grav)
+            o[1] = _cheb_sum(cp, u, work)
+            o[5] = (curve[found + 1] - curve[found]) / (agrid[found + 1] - agrid[found])
 
 
 def still_air(params: FlightParams) -> FlightParams:
@@ -300,16 +392,19 @@ def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
     t0 = time.perf_counter()
     lo, hi = domain(spec, params)
     pts = []
-    for n, a, b in zip(NODES, lo, hi):
+    for axis, (n, a, b) in enumerate(zip(NODES, lo, hi)):
         u = _cheb_points(n) if b > a else np.zeros(1)
-        pts.append(0.5 * (u * (b - a) + a + b))
+        pts.append(u if axis == 2 else 0.5 * (u * (b - a) + a + b))  # the elevation's nodes stay in u (of tau)
     shape = tuple(len(p) for p in pts)
     g = [x.reshape(-1) for x in np.meshgrid(*pts, indexing="ij")]
     h = g[0] ** 2
+    grav = float(params.atmosphere.gravity)
+    tau0, tau1 = _tau_span(lo[2], hi[2], h, g[1] * KMH, grav)  # each (h, v)'s elevation nodes (module docstring)
+    a = _vacuum_elevation(0.5 * (g[2] * (tau1 - tau0) + tau0 + tau1), h, g[1] * KMH, grav)
     st = launch_states(
         np.column_stack([np.zeros_like(h), np.zeros_like(h), h]),
         g[1] * KMH,
-        g[2] * DEG,
+        a * DEG,
         0.0,
         g[3] * RPM,
         g[4] * RPM,
@@ -319,7 +414,7 @@ def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
     rho = np.where(tab.ok, np.hypot(x, y), np.nan).reshape(shape)
     phi = np.where(tab.ok, np.arctan2(y, x), np.nan).reshape(shape)
     coef = [np.ascontiguousarray(_coefficients(_fill(f), shape)) for f in (rho, phi)]
-    return ReachMap(lo, hi, coef[0], coef[1], map_key(spec, params), time.perf_counter() - t0)
+    return ReachMap(lo, hi, coef[0], coef[1], grav, map_key(spec, params), time.perf_counter() - t0)
 
 
 def _fill(f: np.ndarray) -> np.ndarray:
@@ -428,9 +523,10 @@ def _load(path: Path, key: str) -> ReachMap | None:
     try:
         with np.load(path, allow_pickle=False) as z:
             build_s = float(z["build_s"]) if "build_s" in z.files else math.nan
-            m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], str(z["key"]), build_s)
+            m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], float(z["gravity"]), str(z["key"]), build_s)
         good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
         good = good and all(x.dtype == np.float64 and np.isfinite(x).all() for x in (m.lo, m.hi, m.rho, m.phi))
+        good = good and math.isfinite(m.gravity) and m.gravity > 0.0
     except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
         return None
     return m if good else None
@@ -443,7 +539,9 @@ def _save(path: Path, m: ReachMap) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=".reach-", suffix=".npz", dir=path.parent)
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, lo=m.lo, hi=m.hi, rho=m.rho, phi=m.phi, key=np.array(m.key), build_s=m.build_s)
+            np.savez(
+                f, lo=m.lo, hi=m.hi, rho=m.rho, phi=m.phi, gravity=m.gravity, key=np.array(m.key), build_s=m.build_s
+            )
         os.replace(tmp, path)
         tmp = None
     except OSError:
