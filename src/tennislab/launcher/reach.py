@@ -115,6 +115,12 @@ def _vacuum_elevation(tau, h, v, g):
 
 
 @nb.njit(**JIT)
+def _elevation_at(u, tau0, tau1, h, v, g):
+    """The elevation [deg] at ``u`` in [-1, 1] of the elevation's variable, tau from ``tau0`` to ``tau1``."""
+    return _vacuum_elevation(0.5 * (u * (tau1 - tau0) + tau0 + tau1), h, v, g)
+
+
+@nb.njit(**JIT)
 def _tau_span(a_lo, a_hi, h, v, g):
     """(tau at ``a_lo``, tau at ``a_hi``): the ends of the elevation's Chebyshev variable at (h [m], v [m/s])."""
     return _vacuum_time(a_lo, h, v, g), _vacuum_time(a_hi, h, v, g)
@@ -287,7 +293,7 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
     th, tv, work = np.empty(nh), np.empty(nv), np.empty(na)
     cr, cp = np.empty(na), np.empty(na)
     full = g0 == lo[2] and g1 == hi[2]  # the grid in u is then the same for every row
-    ugrid, agrid = np.empty(npts), np.empty(npts)
+    ugrid = np.empty(npts)
     tgrid = np.empty((npts, na))
     if full:
         for k in range(npts):
@@ -305,8 +311,6 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
             for k in range(npts):
                 ugrid[k] = u0 + (u1 - u0) * k / (npts - 1)
                 _cheb_into(ugrid[k], tgrid[k])
-        for k in range(npts):
-            agrid[k] = _vacuum_elevation(0.5 * (ugrid[k] * (tau1 - tau0) + tau0 + tau1), h[q], vm, grav)
         for k in range(na):
             ar = 0.0
             ap = 0.0
@@ -338,7 +342,7 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
                         found = g
                         break
             o = out[side, q]
-            o[2] = agrid[k_max]
+            o[2] = _elevation_at(ugrid[k_max], tau0, tau1, h[q], vm, grav)
             o[3] = curve.min()
             o[4] = curve.max()
             if found < 0:
@@ -348,9 +352,11 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
                 continue
             f0, f1 = curve[found] - d[q], curve[found + 1] - d[q]
             u = _crossing(cr, d[q], ugrid[found], ugrid[found + 1], f0, f1, iters, work)
-            o[0] = _vacuum_elevation(0.5 * (u * (tau1 - tau0) + tau0 + tau1), h[q], vm, grav)
+            o[0] = _elevation_at(u, tau0, tau1, h[q], vm, grav)
             o[1] = _cheb_sum(cp, u, work)
-            o[5] = (curve[found + 1] - curve[found]) / (agrid[found + 1] - agrid[found])
+            a0 = _elevation_at(ugrid[found], tau0, tau1, h[q], vm, grav)
+            a1 = _elevation_at(ugrid[found + 1], tau0, tau1, h[q], vm, grav)
+            o[5] = (curve[found + 1] - curve[found]) / (a1 - a0)
 
 
 def still_air(params: FlightParams) -> FlightParams:
@@ -400,7 +406,7 @@ def build(spec: MachineSpec, params: FlightParams) -> ReachMap:
     h = g[0] ** 2
     grav = float(params.atmosphere.gravity)
     tau0, tau1 = _tau_span(lo[2], hi[2], h, g[1] * KMH, grav)  # each (h, v)'s elevation nodes (module docstring)
-    a = _vacuum_elevation(0.5 * (g[2] * (tau1 - tau0) + tau0 + tau1), h, g[1] * KMH, grav)
+    a = _elevation_at(g[2], tau0, tau1, h, g[1] * KMH, grav)
     st = launch_states(
         np.column_stack([np.zeros_like(h), np.zeros_like(h), h]),
         g[1] * KMH,
