@@ -290,6 +290,13 @@ def test_compiled_inverse_map_inverts_the_fitted_curve():
         assert np.allclose(phi, out["phi"][:3], atol=1e-12)
         side = a[:3] <= out["split_deg"][:3] if branch == "low" else a[:3] >= out["split_deg"][:3]
         assert side.all() and (np.sign(out["slope"][:3]) == (1 if branch == "low" else -1)).all()
+    # a narrower elevation range (its own grid per row): the same crossings inside it, none outside
+    d, h = np.array([5.0, 10.0, 15.0, 20.0]), np.array([0.2, 1.0, 2.0, 3.0])
+    full = m.aim(d, h, 100.0, 500.0, -200.0, "low")["elevation_deg"]
+    part = m.aim(d, h, 100.0, 500.0, -200.0, "low", elevation=(0.0, 30.0))["elevation_deg"]
+    inside = (full >= 0.0) & (full <= 30.0)
+    assert inside.any() and not inside.all()
+    assert np.allclose(part[inside], full[inside], atol=1e-9) and np.isnan(part[~inside]).all()
 
 
 @pytest.mark.slow
