@@ -322,3 +322,30 @@ def test_material_rejects_flags_it_ignores(tmp_path, flag):
         text=True,
     )
     assert p.returncode == 2 and "unrecognized arguments" in p.stderr and p.stderr.count("\n") == 1
+
+
+def test_inverse_text_json_and_refusals(capsys):
+    """`launcher inverse`: the continuous angles of `launcher.inverse_aim` (text and JSON: its `to_dict()` and
+    the physics preset); a target outside the reach, a height or spin outside the machine's range: one line,
+    exit 2."""
+    from tennislab.launcher import inverse_aim
+
+    rc, out, _ = run(capsys, "launcher", "inverse", "--target", 9, 2, "--speed-kmh", 100, "--spin-rpm", 1000)
+    assert rc == 0 and out.startswith("low solution for target (9, 2) m (continuous angles):")
+    assert "4 flights" in out and "miss 0.000 mm" in out and "preset standard" in out
+    rc, out, _ = run(
+        capsys, "launcher", "inverse", "--target", 9, 2, "--speed-kmh", 100, "--spin-rpm", 1000,
+        "--spin-axis", "backspin", "--height", 0.5, "--trajectory", "high", "--json",
+    )  # fmt: skip
+    d = json.loads(out)
+    ref = inverse_aim((9.0, 2.0), 100, 1000, 180.0, 0.5, trajectory="high").to_dict()
+    assert rc == 0 and set(d) == set(ref) | {"physics_preset"} and d["solution"] == "high"
+    assert d["settings"]["elevation_deg"] == pytest.approx(ref["settings"]["elevation_deg"], abs=1e-9)
+    assert d["miss_mm"] < 1.0 and d["flights"] == 4 and d["physics_preset"] == "standard"
+    for args, start in (
+        (("--target", 30, 2), "tennislab launcher: error: --target: (30, 2) m, 42.43 m from the machine, is outside"),
+        (("--target", 9, 2, "--height", 5), "tennislab launcher: error: height_m: 5 m is outside the allowed range"),
+        (("--target", 9, 2, "--spin-rpm", 3000), "tennislab launcher: error: --spin-rpm: 3000 rpm is outside"),
+    ):
+        rc, out, err = run(capsys, "launcher", "inverse", "--speed-kmh", 100, *args)
+        assert rc == 2 and out == "" and err.startswith(start) and err.count("\n") == 1, err

@@ -1,6 +1,6 @@
 """``tennislab launcher``: the two-roller launcher of Wójcicki, Puciłowski & Kulesza (2010).
 
-Sub-commands: ``aim``, ``rollers``, ``power``, ``drill`` (here) and the database's ``table``,
+Sub-commands: ``aim``, ``inverse``, ``rollers``, ``power``, ``drill`` (here) and the database's ``table``,
 ``lookup``, ``info``, ``play``, ``drills`` (:mod:`tennislab.cli._launcher_db`).  Each parses its
 flags, calls a workflow of :mod:`tennislab.launcher` and prints its result (``--json``: the
 result's ``to_dict()``).  JSON keys named in the issues are a contract (extend, never rename).
@@ -44,6 +44,7 @@ from tennislab.launcher import (
     roller_report,
     speed_in_kmh,
 )
+from tennislab.launcher.preferences import TRAJECTORIES
 from tennislab.plot import save_figure, spin_axis_name
 from tennislab.units import KMH, RPM
 
@@ -110,6 +111,24 @@ def register(sub) -> None:
     add_tolerance_flags(a, speed=3.0, spin=100.0)
     add_output_flags(a, plot="draw the shot on the court", json_first=True)
     _model_flags(a, run_aim)
+
+    v = lsub.add_parser(
+        "inverse",
+        help="the exact launch angles for a target, at once (the reach map and one Newton step)",
+        description="Any target at once: the continuous elevation and heading that land the asked speed and spin "
+        "from the asked height on the target, from the machine's reach map refined by one Newton step on the "
+        "flight kernel (docs/launcher.md, 'Any target at once').  Not on the machine's steps: `launcher aim` "
+        "searches those.",
+    )
+    v.add_argument("--target", type=float, nargs=2, required=True, metavar=("X", "Y"), help="bounce point on court [m]")
+    add_speed(v, required=True, note="(30-200)")
+    add_spin_flags(v)
+    v.add_argument("--height", type=float, default=1.0, help="launch height [m] (0.1-3.0, default 1)")
+    v.add_argument(
+        "--trajectory", choices=TRAJECTORIES, default="low", help="low (default), high (lob) or any (low if it exists)"
+    )
+    add_output_flags(v, json_first=True)
+    _model_flags(v, run_inverse)
 
     r = lsub.add_parser("rollers", help="roller speeds, pull-in and no-slip checks (the paper's eqs 8-17)")
     add_speed(r, required=True, note="(30-200)")
@@ -209,6 +228,41 @@ def run_aim(args) -> int:
     print(f"  {physics_words(params, args.physics_preset)}")
     if args.plot:
         print(f"figure: {args.plot}")
+    return 0
+
+
+def run_inverse(args) -> int:
+    from tennislab.launcher import inverse_aim
+
+    params = physics_from_args(args)
+    res = inverse_aim(
+        tuple(args.target),
+        spin_rpm=args.spin_rpm,
+        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
+        height_m=args.height,
+        spec=spec_from_args(args),
+        params=params,
+        trajectory=args.trajectory,
+        **speed_kwargs(args),
+    )
+    out = res.to_dict()
+    if args.json:
+        emit_json({**out, "physics_preset": args.physics_preset})
+        return 0
+    s, m, use = out["settings"], out["map"], out["reach_map"]
+    print(f"{res.solution} solution for target ({res.target[0]:g}, {res.target[1]:g}) m (continuous angles):")
+    print(
+        f"  elevation {s['elevation_deg']:.4f} deg, heading {s['heading_deg']:.4f} deg (the map's guess "
+        f"{m['elevation_deg']:.4f}, {m['heading_deg']:.4f}); height {s['height_m']:g} m, speed "
+        f"{s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, spin axis {s['spin_axis_deg']:g} deg "
+        f"({spin_axis_name(s['spin_axis_deg'])})"
+    )
+    print(
+        f"  lands at ({res.landing[0]:.4f}, {res.landing[1]:.4f}) m, miss {res.miss_mm:.3f} mm; apex "
+        f"{res.apex_z_m:.2f} m, {res.flight_time_s:.2f} s in the air, net clearance {res.net_clearance_m:.3f} m"
+    )
+    print(f"  {res.flights} flights, {res.elapsed_ms:.1f} ms (the reach map: {use['source']}, {use['seconds']:.2f} s)")
+    print(f"  {physics_words(params, args.physics_preset)}")
     return 0
 
 
