@@ -122,6 +122,18 @@ def test_the_corners_of_the_machines_ranges():
     assert 2400 < n < 2800 and over < 120
 
 
+def test_without_gravity_the_map_takes_the_elevation_itself():
+    """g = 0 (the physics allows it): no vacuum fall to stand for the elevation, so the map is fitted in the
+    elevation itself, as before the vacuum flight time; the answers still land within 2 cm."""
+    import dataclasses
+
+    p0 = dataclasses.replace(PARAMS, atmosphere=dataclasses.replace(PARAMS.atmosphere, gravity=0.0))
+    assert R._vacuum_time(12.5, 1.0, 30.0, 0.0) == 12.5 and R._vacuum_elevation(12.5, 1.0, 30.0, 0.0) == 12.5
+    for target in ((5.0, 0.0), (9.0, 2.0), (11.0, -3.0)):
+        r = inverse_aim(target, 100, 2000, 0, 1.0, params=p0)
+        assert r.miss_mm < 20.0 and abs(r.elevation_deg - r.map_elevation_deg) < 3.0
+
+
 @given(st.floats(-20.0, 80.0), st.floats(0.05, 3.0), st.floats(5.0, 60.0), st.floats(9.0, 10.0))
 def test_the_vacuum_flight_time_and_its_elevation_invert_each_other(a, h, v, g):
     """tau(a) is when h + v sin(a) t - g t^2 / 2 = 0, and the elevation of that tau is a again."""
@@ -198,11 +210,15 @@ def _map_file(path, **over):
         {"key": np.array("another")},
         {"phi": np.zeros(3)},
         {"gravity": np.nan},
+        {"gravity": -1.0},
         {"gravity": np.zeros(2)},  # not a scalar
     ],
 )
 def test_a_damaged_or_foreign_cache_file_is_rebuilt_never_an_error(tmp_path, over):
     assert R._load(_map_file(tmp_path / "m.npz"), "k") is not None  # the undamaged file is read
+    with np.load(_map_file(tmp_path / "m.npz")) as z:  # a file of format 1 (no gravity) is rebuilt
+        np.savez(tmp_path / "old.npz", **{k: z[k] for k in z.files if k != "gravity"})
+    assert R._load(tmp_path / "old.npz", "k") is None
     assert R._load(_map_file(tmp_path / "bad.npz", **over), "k") is None
     (tmp_path / "half.npz").write_bytes((tmp_path / "m.npz").read_bytes()[:200])  # truncated
     assert R._load(tmp_path / "half.npz", "k") is None
@@ -290,6 +306,12 @@ def test_compiled_inverse_map_inverts_the_fitted_curve():
         assert np.allclose(phi, out["phi"][:3], atol=1e-12)
         side = a[:3] <= out["split_deg"][:3] if branch == "low" else a[:3] >= out["split_deg"][:3]
         assert side.all() and (np.sign(out["slope"][:3]) == (1 if branch == "low" else -1)).all()
+        up, down = (m.landing(h[:3], 90.0, a[:3] + da, 800.0, -150.0)[0] for da in (1e-4, -1e-4))
+        assert np.allclose(out["slope"][:3], (up - down) / 2e-4, rtol=1e-4)  # [m/deg] of the fitted curve
+    # the slope where the grid is coarse in the elevation (low, fast launches, short of the knee)
+    low = m.aim(np.array([1.0, 0.6]), np.array([0.1, 0.1]), np.array([200.0, 100.0]), 0.0, 0.0, "low")
+    up, down = (m.landing([0.1, 0.1], [200.0, 100.0], low["elevation_deg"] + da, 0.0, 0.0)[0] for da in (1e-4, -1e-4))
+    assert np.allclose(low["slope"], (up - down) / 2e-4, rtol=1e-4)
     # a narrower elevation range (its own grid per row): the same crossings inside it, none outside
     d, h = np.array([5.0, 10.0, 15.0, 20.0]), np.array([0.2, 1.0, 2.0, 3.0])
     full = m.aim(d, h, 100.0, 500.0, -200.0, "low")["elevation_deg"]

@@ -8,6 +8,8 @@ result's ``to_dict()``).  JSON keys named in the issues are a contract (extend, 
 
 from __future__ import annotations
 
+import math
+
 import tennislab.cli._launcher_db as _launcher_db
 from tennislab.cli._launcher_args import (
     add_preference_flags,
@@ -250,6 +252,7 @@ def run_inverse(args) -> int:
         emit_json({**out, "physics_preset": args.physics_preset})
         return 0
     s, m, use = out["settings"], out["map"], out["reach_map"]
+    s, m = ({k: round(v, 4) + 0.0 if isinstance(v, float) else v for k, v in d.items()} for d in (s, m))  # no -0
     print(f"{res.solution} solution for target ({res.target[0]:g}, {res.target[1]:g}) m (continuous angles):")
     print(
         f"  elevation {s['elevation_deg']:.4f} deg, heading {s['heading_deg']:.4f} deg (the map's guess "
@@ -257,9 +260,10 @@ def run_inverse(args) -> int:
         f"{s['speed_kmh']:g} km/h, spin {s['spin_rpm']:g} rpm, spin axis {s['spin_axis_deg']:g} deg "
         f"({spin_axis_name(s['spin_axis_deg'])})"
     )
+    net = f", net clearance {res.net_clearance_m:.3f} m" if math.isfinite(res.net_clearance_m) else ""
     print(
         f"  lands at ({res.landing[0]:.4f}, {res.landing[1]:.4f}) m, miss {res.miss_mm:.3f} mm; apex "
-        f"{res.apex_z_m:.2f} m, {res.flight_time_s:.2f} s in the air, net clearance {res.net_clearance_m:.3f} m"
+        f"{res.apex_z_m:.2f} m, {res.flight_time_s:.2f} s in the air{net}"
     )
     print(f"  {res.flights} flights, {res.elapsed_ms:.1f} ms (the reach map: {use['source']}, {use['seconds']:.2f} s)")
     print(f"  {physics_words(params, args.physics_preset)}")

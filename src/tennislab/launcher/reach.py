@@ -103,7 +103,10 @@ def _vander(u, n: int) -> np.ndarray:
 @nb.njit(**JIT)
 def _vacuum_time(a_deg, h, v, g):
     """tau [s]: the flight time of a launch at elevation ``a_deg`` [deg] from height ``h`` [m] at speed ``v``
-    [m/s] under gravity ``g`` [m/s^2] without air (module docstring); scalars or arrays."""
+    [m/s] under gravity ``g`` [m/s^2] without air (module docstring); scalars or arrays.  Without gravity
+    (``g`` <= 0: nothing brings a vacuum's ball down) the elevation itself [deg] stands for it."""
+    if g <= 0.0:
+        return a_deg + 0.0 * (h * v)  # broadcast as the other branch
     vs = v * np.sin(np.radians(a_deg))
     return (vs + np.sqrt(vs * vs + 2.0 * g * h)) / g
 
@@ -111,7 +114,18 @@ def _vacuum_time(a_deg, h, v, g):
 @nb.njit(**JIT)
 def _vacuum_elevation(tau, h, v, g):
     """The elevation [deg] whose vacuum flight time is ``tau`` [s] (the inverse of :func:`_vacuum_time`)."""
+    if g <= 0.0:
+        return tau + 0.0 * (h * v)
     return np.degrees(np.arcsin(np.minimum(np.maximum((g * tau * tau - 2.0 * h) / (2.0 * v * tau), -1.0), 1.0)))
+
+
+@nb.njit(**JIT)
+def _vacuum_time_slope(a_deg, h, v, g):
+    """d tau / d a [s/deg] of :func:`_vacuum_time` (1 without gravity: the elevation stands for tau)."""
+    if g <= 0.0:
+        return 1.0
+    vs = v * math.sin(math.radians(a_deg))
+    return v * math.cos(math.radians(a_deg)) * (1.0 + vs / math.sqrt(vs * vs + 2.0 * g * h)) / g * (math.pi / 180.0)
 
 
 @nb.njit(**JIT)
@@ -185,7 +199,7 @@ class ReachMap:
         ``phi`` [rad] the landing's angle at it, ``split_deg`` the elevation of the longest flight,
         ``reach`` (Q, 2) the shortest and longest distance [m] over ``elevation`` (default: the
         map's range) on the grid of :data:`CURVE_POINTS`, ``slope`` [m/deg] d rho / d a at the solution
-        (over the grid interval of the crossing).  The crossing is solved on the fitted curve.  One
+        (of the fitted curve).  The crossing is solved on the fitted curve.  One
         compiled pass (:func:`_aim_rows`): tens of microseconds a row.
         """
         return self.aim_both(distance, h, v, t, s, elevation)[0 if branch == "low" else 1]
@@ -234,6 +248,18 @@ def _cheb_sum(c: np.ndarray, u: float, work: np.ndarray) -> float:
     acc = 0.0
     for k in range(c.size):
         acc += c[k] * work[k]
+    return acc
+
+
+@nb.njit(**JIT)
+def _cheb_slope(c: np.ndarray, u: float) -> float:
+    """d/du sum_k c[k] T_k(u) = sum_k c[k] k U_{k-1}(u) (U the Chebyshev polynomials of the second kind)."""
+    u = min(max(u, -1.0), 1.0)
+    acc = 0.0
+    um2, um1 = 0.0, 1.0  # U_{-1}, U_0
+    for k in range(1, c.size):
+        acc += c[k] * k * um1
+        um2, um1 = um1, 2.0 * u * um1 - um2
     return acc
 
 
@@ -354,9 +380,8 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
             u = _crossing(cr, d[q], ugrid[found], ugrid[found + 1], f0, f1, iters, work)
             o[0] = _elevation_at(u, tau0, tau1, h[q], vm, grav)
             o[1] = _cheb_sum(cp, u, work)
-            a0 = _elevation_at(ugrid[found], tau0, tau1, h[q], vm, grav)
-            a1 = _elevation_at(ugrid[found + 1], tau0, tau1, h[q], vm, grav)
-            o[5] = (curve[found + 1] - curve[found]) / (a1 - a0)
+            # d rho / d a at the crossing: the fitted curve's slope in u times du / d a
+            o[5] = _cheb_slope(cr, u) * 2.0 / (tau1 - tau0) * _vacuum_time_slope(o[0], h[q], vm, grav)
 
 
 def still_air(params: FlightParams) -> FlightParams:
@@ -532,7 +557,7 @@ def _load(path: Path, key: str) -> ReachMap | None:
             m = ReachMap(z["lo"], z["hi"], z["rho"], z["phi"], float(z["gravity"]), str(z["key"]), build_s)
         good = m.key == key and m.rho.shape == m.phi.shape == NODES and m.lo.shape == m.hi.shape == (5,)
         good = good and all(x.dtype == np.float64 and np.isfinite(x).all() for x in (m.lo, m.hi, m.rho, m.phi))
-        good = good and math.isfinite(m.gravity) and m.gravity > 0.0
+        good = good and math.isfinite(m.gravity) and m.gravity >= 0.0
     except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
         return None
     return m if good else None
