@@ -171,6 +171,20 @@ def register(sub) -> None:
     _launcher_db.register(lsub)
 
 
+def _shot_request(args, spec, params) -> dict:
+    """The keywords ``launcher aim`` and ``launcher inverse`` share: target, speed, spin, axis, height,
+    machine and physics."""
+    return dict(
+        target=tuple(args.target),
+        spin_rpm=args.spin_rpm,
+        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
+        height_m=args.height,
+        spec=spec,
+        params=params,
+        **speed_kwargs(args),
+    )
+
+
 def run_aim(args) -> int:
     from tennislab.launcher import aim, fly_settings
     from tennislab.plot import plot_aim
@@ -179,14 +193,8 @@ def run_aim(args) -> int:
     params = physics_from_args(args)
     spec = spec_from_args(args)
     res = aim(
-        tuple(args.target),
-        spin_rpm=args.spin_rpm,
-        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
-        height_m=args.height,
-        spec=spec,
-        params=params,
+        **_shot_request(args, spec, params),
         solution=args.solution,
-        **speed_kwargs(args),
         **tolerance_kwargs(args),
         **preference_kwargs(args),
     )
@@ -237,16 +245,7 @@ def run_inverse(args) -> int:
     from tennislab.launcher import inverse_aim
 
     params = physics_from_args(args)
-    res = inverse_aim(
-        tuple(args.target),
-        spin_rpm=args.spin_rpm,
-        spin_axis_deg=spin_axis_deg(args, 0.0) or 0.0,
-        height_m=args.height,
-        spec=spec_from_args(args),
-        params=params,
-        trajectory=args.trajectory,
-        **speed_kwargs(args),
-    )
+    res = inverse_aim(**_shot_request(args, spec_from_args(args), params), trajectory=args.trajectory)
     out = res.to_dict()
     if args.json:
         emit_json({**out, "physics_preset": args.physics_preset})
