@@ -205,7 +205,9 @@ def _speed_steps(rng: Range, asked: float, tol: float, count: int | None) -> np.
 
 
 class Shooter:
-    """Flies arrays of settings from the machine (one ``fly_batch`` per call) and counts the flights."""
+    """Flies arrays of settings from the machine (one ``fly_batch`` per call, on every core: even a batch of 8
+    flights is faster so on 2 cores, 28 against 32 us, 512 flights 0.47 against 0.94 ms; worker processes run
+    with one thread each, :mod:`tennislab.batch.schedulers`) and counts the flights."""
 
     def __init__(self, spec: MachineSpec, params: FlightParams):
         self.spec, self.params, self.flights = spec, params, 0
@@ -213,7 +215,7 @@ class Shooter:
     def __call__(self, h, v, a, b, w, g) -> FlightTable:
         st = machine_states(self.spec, h, v, a, b, w, g)
         self.flights += len(st)
-        return fly_batch(st, self.params, parallel=False)
+        return fly_batch(st, self.params)
 
 
 def _polar(tab: FlightTable, pos, b0) -> np.ndarray:
