@@ -593,35 +593,18 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     flown = _combos(shoot5, spec, ask, ra, flown)
     pr = _predicted(spec, ask, ra, flown, need_net, prefs)
     rows_e = pr.entries["row"]
-    branch = ra.branch[rows_e]  # per entry
-    fin = np.isfinite(pr.pred)
+    low = ra.low[rows_e]  # per entry
     parent_ok = _parent_ok(pr.entries["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    every = np.ones(branch.size, bool)
+    every = np.ones(low.size, bool)
     pools = [(every, TOP), (parent_ok, TOP // 2)]  # masks of the entries
     if ask.height_free:
         ref = ra.full[rows_e]
         pools += [(ref, TOP), (ref & parent_ok, TOP // 2)]
-    ranked = []
-    variant = np.arange(pr.k)
-    for name in ("low", "high"):
-        on = branch == name
-        for mask, top in pools:
-            idx = (np.flatnonzero(mask & on)[:, None] * pr.k + variant).reshape(-1)  # their candidates, in order
-            idx = idx[fin[idx]]
-            if idx.size > 8 * top:  # the best few first (a partition), then in order
-                idx = idx[np.argpartition(pr.pred[idx], 8 * top)[: 8 * top]]
-            ranked.append((idx[np.argsort(pr.pred[idx], kind="stable")], top))
-    some = np.unique(np.concatenate([r[0] for r in ranked]))  # the keys of these only
-    sub = _settings_key(spec, *(pr.at(c, some) for c in cols))
-    keys = np.empty(pr.pred.size, dtype=sub.dtype)
-    keys[some] = sub
-    chosen = []
-    for idx, top in ranked:
-        _, first = np.unique(keys[idx], return_index=True)
-        chosen.append(idx[np.sort(first)][:top])
-    pick = np.unique(np.concatenate(chosen))
-    seen = set(keys[pick].tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys[pick]}
+    members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])  # (pools, entries)
+    tops = np.array([top for _ in (0, 1) for _, top in pools], np.int64)
+    pick, keys = _pool_picks(spec, pr, members, tops, cols)
+    seen = set(keys.tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr.at("row", pick), [pr.at(c, pick) for c in cols])]
     extra = _clearing_parents(spec, ask, ra, flown, flown_c[0], need_net, prefs, seen)
     if extra is not None:
@@ -632,6 +615,93 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
             break
         flown_c.append(_fly_candidates(shoot5, spec, ask, new[0], new[1:]))
     return _concat(flown_c)
+
+
+def _pool_picks(spec: MachineSpec, pr: Predicted, members: np.ndarray, tops: np.ndarray, cols) -> tuple:
+    """The candidates of :func:`search` to fly: per pool p (``members[p]``: its entries), the ``8 * tops[p]``
+    best predicted (ties to the first), then in that order the first ``tops[p]`` of distinct settings; all pools'
+    picks once (sorted indices) and their settings keys (:func:`_settings_key`).  Compiled: the selection
+    (:func:`_best_kernel`, a bounded heap: no sort of the ~10^4 candidates) and the walk (:func:`_walk_kernel`)."""
+    cand = np.empty(int((8 * tops).sum()), np.int64)
+    ends = np.empty(len(tops) + 1, np.int64)
+    _best_kernel(pr.pred, pr.k, members, 8 * tops, cand, ends)
+    some = np.unique(cand[: ends[-1]])
+    sub = _settings_key(spec, *(pr.at(c, some) for c in cols))
+    if sub.dtype == np.int64:
+        ids = sub
+    else:  # a machine of more than 2^62 settings: the distinct keys numbered
+        ids = np.unique(sub, return_inverse=True)[1].astype(np.int64).reshape(-1)
+    taken = np.zeros(some.size, bool)
+    _walk_kernel(np.searchsorted(some, cand[: ends[-1]]), ends, ids, tops, taken)
+    return some[taken], sub[taken]
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _best_kernel(pred, k, members, sizes, cand, ends):
+    """Per pool p, the (up to) ``sizes[p]`` candidates j of smallest (pred[j], j) among the finite ones of its
+    entries (``members[p, j // k]``), in that order: into ``cand[ends[p]:ends[p + 1]]`` (``ends[0]`` = 0)."""
+    ends[0] = 0
+    for p in range(members.shape[0]):
+        m = sizes[p]
+        hv = np.empty(m)
+        hi = np.empty(m, np.int64)
+        n = 0
+        for e in range(members.shape[1]):
+            if not members[p, e]:
+                continue
+            for j in range(e * k, e * k + k):
+                v = pred[j]
+                if not np.isfinite(v):
+                    continue
+                if n < m:  # a max-heap of (value, index): sift up
+                    c = n
+                    n += 1
+                    while c > 0:
+                        q = (c - 1) // 2
+                        if hv[q] > v or (hv[q] == v and hi[q] > j):
+                            break
+                        hv[c], hi[c] = hv[q], hi[q]
+                        c = q
+                    hv[c], hi[c] = v, j
+                elif v < hv[0]:  # replaces the worst kept (j grows: a tie never does): sift down
+                    c = 0
+                    while True:
+                        a = 2 * c + 1
+                        if a >= n:
+                            break
+                        if a + 1 < n and (hv[a + 1] > hv[a] or (hv[a + 1] == hv[a] and hi[a + 1] > hi[a])):
+                            a += 1
+                        if hv[a] < v or (hv[a] == v and hi[a] < j):
+                            break
+                        hv[c], hi[c] = hv[a], hi[a]
+                        c = a
+                    hv[c], hi[c] = v, j
+        idx = hi[:n].copy()
+        idx.sort()
+        order = np.argsort(pred[idx], kind="mergesort")  # by value, ties by index
+        s = ends[p]
+        for i in range(n):
+            cand[s + i] = idx[order[i]]
+        ends[p + 1] = s + n
+
+
+@nb.njit(cache=True)
+def _walk_kernel(pos, ends, ids, tops, taken):
+    """Per pool p, along ``pos[ends[p]:ends[p + 1]]`` (indices into ``ids``), the first ``tops[p]`` of distinct
+    ``ids`` marked in ``taken``."""
+    for p in range(ends.size - 1):
+        seen = {np.int64(0)}
+        seen.clear()
+        got = 0
+        for i in range(ends[p], ends[p + 1]):
+            if got >= tops[p]:
+                break
+            key = ids[pos[i]]
+            if key in seen:
+                continue
+            seen.add(key)
+            taken[pos[i]] = True
+            got += 1
 
 
 def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidates, need_net, prefs, seen: set):
