@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from tennislab.launcher import _search
+from tennislab.launcher import _select
 
 
 def _reference(pred, k, members, tops, ids):
@@ -28,8 +28,8 @@ def test_pool_picks_match_the_numpy_rule(seed):
     ids = rng.integers(0, 40, n * k).astype(np.int64)  # repeated settings
     cand = np.empty(int((8 * tops).sum()), np.int64)
     ends = np.empty(tops.size + 1, np.int64)
-    _search._best_kernel(pred, k, members, 8 * tops, cand, ends)
+    _select._best_kernel(pred, k, members, 8 * tops, cand, ends)
     some = np.unique(cand[: ends[-1]])
     taken = np.zeros(some.size, bool)
-    _search._walk_kernel(np.searchsorted(some, cand[: ends[-1]]), ends, ids[some], tops, taken)
+    _select._walk_kernel(np.searchsorted(some, cand[: ends[-1]]), ends, ids[some], tops, taken)
     np.testing.assert_array_equal(some[taken], _reference(pred, k, members, tops, ids))

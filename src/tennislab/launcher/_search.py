@@ -38,10 +38,11 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+import tennislab.launcher._select as _select
 import tennislab.launcher._spin as _spin
 from tennislab.core.flight import FlightParams, FlightTable, fly_batch
 from tennislab.core.shoot import shoot
-from tennislab.launcher.machine import MachineSpec, Range, machine_states, settings_columns
+from tennislab.launcher.machine import MachineSpec, Range, machine_states
 from tennislab.launcher.preferences import Preferences, Tolerances, spin_change_rpm
 from tennislab.launcher.reach import ReachMap
 from tennislab.units import KMH, RPM
@@ -517,47 +518,6 @@ class Predicted:
         return self.entries[name][idx // self.k]
 
 
-_KEY_FIELDS = ("height", "speed", "elevation", "heading", "spin", "spin_axis")
-
-
-@functools.lru_cache(maxsize=16)
-def _key_radix(spec: MachineSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """Per machine (cached): the lowest value, step and number of indices of each setting of :func:`_settings_key`
-    and whether their product fits an int64."""
-    ranges = [getattr(spec, f) for f in _KEY_FIELDS]
-    sizes = [int(round((r.hi - r.lo) / r.step)) + 2 for r in ranges]
-    lo = np.array([r.lo for r in ranges], float)
-    step = np.array([r.step for r in ranges], float)
-    return lo, step, np.array(sizes, np.int64), math.prod(sizes) < 2**62
-
-
-def _settings_key(spec: MachineSpec, h, v, a, b, w, g) -> np.ndarray:
-    """One int64 per setting combination (the step index of each setting, in mixed radix), or, for a machine
-    with more steps than 2^62 combinations, one bytes-like key per row."""
-    lo, step, sizes, fits = _key_radix(spec)
-    grid = settings_columns(h, v, a, b, w, g)
-    shape, cols = grid.shape[1:], grid.reshape(len(grid), -1)
-    if fits:
-        out = np.empty(cols.shape[1], np.int64)
-        _key_kernel(cols, lo, step, sizes, out)
-        return out.reshape(shape)
-    idx = [np.rint((c - lo[i]) / step[i]).astype(np.int64) + 1 for i, c in enumerate(cols)]
-    arr = np.ascontiguousarray(np.stack(idx, axis=-1))
-    return arr.view(np.dtype((np.void, 8 * len(cols)))).reshape(shape)
-
-
-@nb.njit(cache=True, error_model="numpy")
-def _key_kernel(cols, lo, step, sizes, out):
-    """:func:`_settings_key` in mixed radix: each setting's step index (rounded half to even, as NumPy's rint), + 1,
-    clipped to [0, size - 1]."""
-    for j in range(cols.shape[1]):
-        key = 0
-        for i in range(cols.shape[0]):
-            k = np.int64(np.rint((cols[i, j] - lo[i]) / step[i])) + 1
-            key = key * sizes[i] + min(max(k, 0), sizes[i] - 1)
-        out[j] = key
-
-
 def _fly_candidates(shoot5, spec: MachineSpec, ask: Ask, rows_idx, cols) -> Candidates:
     h, v, a, b, w, g = cols
     tab = shoot5(h, v, a, b, w, g)
@@ -603,7 +563,7 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
         pools += [(ref, TOP), (ref & parent_ok, TOP // 2)]
     members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])  # (pools, entries)
     tops = np.array([top for _ in (0, 1) for _, top in pools], np.int64)
-    pick, keys = _pool_picks(spec, pr, members, tops, cols)
+    pick, keys = _select.pool_picks(spec, pr, members, tops, cols)
     seen = set(keys.tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr.at("row", pick), [pr.at(c, pick) for c in cols])]
     extra = _clearing_parents(spec, ask, ra, flown, flown_c[0], need_net, prefs, seen)
@@ -615,93 +575,6 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
             break
         flown_c.append(_fly_candidates(shoot5, spec, ask, new[0], new[1:]))
     return _concat(flown_c)
-
-
-def _pool_picks(spec: MachineSpec, pr: Predicted, members: np.ndarray, tops: np.ndarray, cols) -> tuple:
-    """The candidates of :func:`search` to fly: per pool p (``members[p]``: its entries), the ``8 * tops[p]``
-    best predicted (ties to the first), then in that order the first ``tops[p]`` of distinct settings; all pools'
-    picks once (sorted indices) and their settings keys (:func:`_settings_key`).  Compiled: the selection
-    (:func:`_best_kernel`, a bounded heap: no sort of the ~10^4 candidates) and the walk (:func:`_walk_kernel`)."""
-    cand = np.empty(int((8 * tops).sum()), np.int64)
-    ends = np.empty(len(tops) + 1, np.int64)
-    _best_kernel(pr.pred, pr.k, members, 8 * tops, cand, ends)
-    some = np.unique(cand[: ends[-1]])
-    sub = _settings_key(spec, *(pr.at(c, some) for c in cols))
-    if sub.dtype == np.int64:
-        ids = sub
-    else:  # a machine of more than 2^62 settings: the distinct keys numbered
-        ids = np.unique(sub, return_inverse=True)[1].astype(np.int64).reshape(-1)
-    taken = np.zeros(some.size, bool)
-    _walk_kernel(np.searchsorted(some, cand[: ends[-1]]), ends, ids, tops, taken)
-    return some[taken], sub[taken]
-
-
-@nb.njit(cache=True, error_model="numpy")
-def _best_kernel(pred, k, members, sizes, cand, ends):
-    """Per pool p, the (up to) ``sizes[p]`` candidates j of smallest (pred[j], j) among the finite ones of its
-    entries (``members[p, j // k]``), in that order: into ``cand[ends[p]:ends[p + 1]]`` (``ends[0]`` = 0)."""
-    ends[0] = 0
-    for p in range(members.shape[0]):
-        m = sizes[p]
-        hv = np.empty(m)
-        hi = np.empty(m, np.int64)
-        n = 0
-        for e in range(members.shape[1]):
-            if not members[p, e]:
-                continue
-            for j in range(e * k, e * k + k):
-                v = pred[j]
-                if not np.isfinite(v):
-                    continue
-                if n < m:  # a max-heap of (value, index): sift up
-                    c = n
-                    n += 1
-                    while c > 0:
-                        q = (c - 1) // 2
-                        if hv[q] > v or (hv[q] == v and hi[q] > j):
-                            break
-                        hv[c], hi[c] = hv[q], hi[q]
-                        c = q
-                    hv[c], hi[c] = v, j
-                elif v < hv[0]:  # replaces the worst kept (j grows: a tie never does): sift down
-                    c = 0
-                    while True:
-                        a = 2 * c + 1
-                        if a >= n:
-                            break
-                        if a + 1 < n and (hv[a + 1] > hv[a] or (hv[a + 1] == hv[a] and hi[a + 1] > hi[a])):
-                            a += 1
-                        if hv[a] < v or (hv[a] == v and hi[a] < j):
-                            break
-                        hv[c], hi[c] = hv[a], hi[a]
-                        c = a
-                    hv[c], hi[c] = v, j
-        idx = hi[:n].copy()
-        idx.sort()
-        order = np.argsort(pred[idx], kind="mergesort")  # by value, ties by index
-        s = ends[p]
-        for i in range(n):
-            cand[s + i] = idx[order[i]]
-        ends[p + 1] = s + n
-
-
-@nb.njit(cache=True)
-def _walk_kernel(pos, ends, ids, tops, taken):
-    """Per pool p, along ``pos[ends[p]:ends[p + 1]]`` (indices into ``ids``), the first ``tops[p]`` of distinct
-    ``ids`` marked in ``taken``."""
-    for p in range(ends.size - 1):
-        seen = {np.int64(0)}
-        seen.clear()
-        got = 0
-        for i in range(ends[p], ends[p + 1]):
-            if got >= tops[p]:
-                break
-            key = ids[pos[i]]
-            if key in seen:
-                continue
-            seen.add(key)
-            taken[pos[i]] = True
-            got += 1
 
 
 def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidates, need_net, prefs, seen: set):
@@ -727,7 +600,7 @@ def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidat
     cols = [h[order], v[order], a[order], np.atleast_1d(b)[order]]
     w = np.full(order.size, ask.q_spin_rpm)
     g = np.full(order.size, ask.q_spin_axis_deg)
-    kk = _settings_key(spec, cols[0], cols[1], cols[2], cols[3], w, g)
+    kk = _select.settings_key(spec, cols[0], cols[1], cols[2], cols[3], w, g)
     fresh = [(k.item() if kk.dtype == np.int64 else k.tobytes()) not in seen for k in kk]
     if not any(fresh):
         return None
@@ -761,7 +634,7 @@ def _refine(spec: MachineSpec, ask: Ask, ra: RowArrays, c: Candidates, need_net,
     )
     n, k = W.shape
     rep = np.repeat(idx, k)
-    keys = _settings_key(
+    keys = _select.settings_key(
         spec, c.height_m[rep], c.speed_kmh[rep], c.elevation_deg[rep], c.heading_deg[rep], W.ravel(), G.ravel()
     ).reshape(n, k)
     order = np.argsort(miss, axis=1, kind="stable")[:, : 4 * PER_REFINE]
