@@ -102,13 +102,12 @@ class Row:
 
 class RowArrays:
     """The fields of a search's rows as arrays (built once per search): ``height``, ``low`` (the branch),
-    ``branch`` (its name), ``a``, ``b``, ``b0``, ``split``, ``slope``, ``dv`` (n, 2), ``J`` (n, 2, 2) and ``full``
+    ``a``, ``b``, ``b0``, ``split``, ``slope``, ``dv`` (n, 2), ``J`` (n, 2, 2) and ``full``
     (:func:`_full_rows`)."""
 
     def __init__(self, ask: Ask, rows: list[Row]):
         self.height = np.array([r.height for r in rows], float)
         self.low = np.array([r.branch == "low" for r in rows], bool)
-        self.branch = np.array([r.branch for r in rows])
         self.a = np.array([r.a for r in rows], float)
         self.b = np.array([r.b for r in rows], float)
         self.b0 = np.array([r.b0 for r in rows], float)
