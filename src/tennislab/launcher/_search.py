@@ -181,6 +181,17 @@ class Parents:
         self.parts.append(part)
         self.keys.append(self._key(part[0], part[1], part[2]))
 
+    def keep(self, mask) -> Parents:
+        """The parents of the rows ``mask`` (over the rows they index) keeps, their rows renumbered as those
+        rows are once the others are dropped (so that they index the kept rows)."""
+        mask = np.asarray(mask, bool)
+        renumber = np.cumsum(mask) - 1
+        out = Parents(self.spec)
+        for ri, v, a, ell, info in self.parts:
+            ok = mask[ri]
+            out.add(renumber[ri[ok]], v[ok], a[ok], ell[ok], info[ok])
+        return out
+
     def arrays(self):
         """(row, speed, elevation, landing (n, 2), info (n, 4)) of every parent."""
         return tuple(np.concatenate([p[k] for p in self.parts]) for k in range(5))

@@ -398,7 +398,9 @@ def _aim_all(
             reasons[name] = (
                 f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range [{hr.lo:g}, {hr.hi:g}] deg"
             )
-    live = [r for r in rows if hr.lo <= r.b <= hr.hi]
+    inside = [hr.lo <= r.b <= hr.hi for r in rows]
+    live = [r for r, k in zip(rows, inside) if k]
+    flown = flown.keep(inside)  # its parents index the rows searched
     if not live:
         if not reasons:  # pragma: no cover - every missing branch has its reason
             raise InputError(f"target: no shot lands at ({tx:g}, {ty:g}) m with {desc}")

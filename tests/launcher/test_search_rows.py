@@ -1,0 +1,76 @@
+"""The aim's search keeps its flights tied to their rows: a row (height, branch) whose heading falls outside
+the machine's range is dropped before the search, and the flights it reuses (its parents) must follow the
+rows that remain (default physics)."""
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+
+from tennislab.launcher.aim import aim_all, fly_settings, launcher_params
+from tennislab.launcher.machine import DEFAULT_SPEC
+
+_search = importlib.import_module("tennislab.launcher._search")
+_aim = importlib.import_module("tennislab.launcher.aim")
+
+#: Machine 5 m right of the centre line; targets at headings 37-40 deg from it: with a 1500 rpm spin
+#: some heights' (or a branch's) exact heading passes the range's 40 deg and others do not.
+SPEC = DEFAULT_SPEC.with_position(-12.385, -5.0)
+EDGE = [(17.0, 37.0, -60.0), (17.0, 40.0, 0.0), (20.0, 37.0, -60.0)]
+
+
+def _target(dist, heading_deg):
+    px, py = SPEC.position
+    return (px + dist * math.cos(math.radians(heading_deg)), py + dist * math.sin(math.radians(heading_deg)))
+
+
+def test_parents_keep_renumbers_the_rows_kept():
+    p = _search.Parents(DEFAULT_SPEC)
+    ell, info = np.arange(8.0).reshape(4, 2), np.zeros((4, 4))
+    p.add(np.array([0, 1, 2, 3]), 100.0, np.array([10.0, 11.0, 12.0, 13.0]), ell, info)
+    k = p.keep([True, False, True, False])
+    ri, v, a, e, _ = k.arrays()
+    assert ri.tolist() == [0, 1] and a.tolist() == [10.0, 12.0] and e.tolist() == [[0, 1], [4, 5]]
+    assert not k.new(np.array([1]), 100.0, np.array([12.0])).any()  # row 2 is row 1 now
+    assert k.new(np.array([0]), 100.0, np.array([12.0])).all()
+    assert len(p) == 4 and len(k) == 2  # the original is left as it was
+
+
+@pytest.mark.parametrize("dist,heading,axis", EDGE)
+def test_rows_outside_the_heading_range_leave_their_parents_behind(monkeypatch, dist, heading, axis):
+    seen = {}
+    real = _search.search
+
+    def spy(shoot5, spec, ask, rows, flown, need_net, prefs):
+        seen.update(rows=list(rows), flown=flown, ask=ask)
+        return real(shoot5, spec, ask, rows, flown, need_net, prefs)
+
+    monkeypatch.setattr(_search, "search", spy)
+    real_rows = _search.rows_of
+    dropped = []
+
+    def rows_spy(*a):
+        rows, flown = real_rows(*a)
+        dropped.append(sum(not (SPEC.heading.lo <= r.b <= SPEC.heading.hi) for r in rows))
+        return rows, flown
+
+    monkeypatch.setattr(_search, "rows_of", rows_spy)
+    target = _target(dist, heading)
+    sols, reasons = aim_all(target, 100, 1500, axis, None, SPEC)
+    assert dropped[0] > 0  # the case does drop rows (else it tests nothing)
+    rows, flown, ask = seen["rows"], seen["flown"], seen["ask"]
+    ri, v, a, ell, _ = flown.arrays()
+    assert ri.max() < len(rows)
+    # each parent is the flight of its row's height at the row's heading b0
+    pick = np.linspace(0, ri.size - 1, 12).astype(int)
+    h = np.array([rows[i].height for i in ri[pick]])
+    b0 = np.array([rows[i].b0 for i in ri[pick]])
+    tab = _search.Shooter(SPEC, launcher_params())(h, v[pick], a[pick], b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
+    np.testing.assert_allclose(_search._polar(tab, SPEC.position, b0), ell[pick], atol=1e-9)
+    assert set(sols) | set(reasons) == {"low", "high"}  # and the aim answers, or says why not
+    for sol in sols.values():
+        assert SPEC.heading.lo <= sol.settings.heading_deg <= SPEC.heading.hi
+        tr = fly_settings(sol.settings, SPEC, launcher_params())
+        assert tr.landing.x == pytest.approx(sol.landing[0], abs=1e-3)
+        assert tr.landing.y == pytest.approx(sol.landing[1], abs=1e-3)
