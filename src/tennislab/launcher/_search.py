@@ -100,22 +100,51 @@ class Row:
     J: np.ndarray
 
 
-class RowArrays:
-    """The fields of a search's rows as arrays (built once per search): ``height``, ``low`` (the branch),
-    ``a``, ``b``, ``b0``, ``split``, ``slope``, ``dv`` (n, 2), ``J`` (n, 2, 2) and ``full``
-    (:func:`_full_rows`)."""
+class Rows:
+    """A search's rows as arrays (n rows): ``height`` [m], ``low`` (the branch), ``a``, ``b``, ``b0``, ``split``
+    [deg], ``slope`` [m/deg], ``dv`` (n, 2) and ``J`` (n, 2, 2) (the fields of :class:`Row`); and, once the
+    search has them, ``full`` (:func:`_full_rows`).  ``rows[i]`` is row i as a :class:`Row`."""
 
-    def __init__(self, ask: Ask, rows: list[Row]):
-        self.height = np.array([r.height for r in rows], float)
-        self.low = np.array([r.branch == "low" for r in rows], bool)
-        self.a = np.array([r.a for r in rows], float)
-        self.b = np.array([r.b for r in rows], float)
-        self.b0 = np.array([r.b0 for r in rows], float)
-        self.split = np.array([r.split for r in rows], float)
-        self.slope = np.array([r.slope for r in rows], float)
-        self.dv = np.array([r.dv for r in rows], float).reshape(-1, 2)
-        self.J = np.array([r.J for r in rows], float).reshape(-1, 2, 2)
-        self.full = _full_rows(ask, self.height)
+    FIELDS = ("height", "low", "a", "b", "b0", "split", "slope", "dv", "J")
+
+    def __init__(self, height, low, a, b, b0, split, slope, dv, J):
+        self.height, self.low = np.asarray(height, float), np.asarray(low, bool)
+        self.a, self.b, self.b0 = np.asarray(a, float), np.asarray(b, float), np.asarray(b0, float)
+        self.split, self.slope = np.asarray(split, float), np.asarray(slope, float)
+        self.dv, self.J = np.asarray(dv, float).reshape(-1, 2), np.asarray(J, float).reshape(-1, 2, 2)
+        self.full = np.ones(self.height.size, bool)  # every row, until :meth:`searched`
+
+    @classmethod
+    def of(cls, rows: list[Row]) -> Rows:
+        """The rows of a list of :class:`Row`."""
+        cols = {k: [getattr(r, k) for r in rows] for k in cls.FIELDS if k != "low"}
+        return cls(low=[r.branch == "low" for r in rows], **cols)
+
+    def __len__(self) -> int:
+        return self.height.size
+
+    def __getitem__(self, i) -> Row:
+        i = int(i)
+        br = "low" if self.low[i] else "high"
+        a, b, b0, sp, sl = (float(getattr(self, k)[i]) for k in ("a", "b", "b0", "split", "slope"))
+        return Row(float(self.height[i]), br, a, b, b0, sp, sl, self.dv[i], self.J[i])
+
+    def __iter__(self):
+        return (self[i] for i in range(len(self)))
+
+    def take(self, idx) -> Rows:
+        """The rows ``idx`` (a mask or indices)."""
+        return Rows(*(getattr(self, k)[idx] for k in self.FIELDS))
+
+    def plus(self, other: Rows) -> Rows:
+        """These rows, then ``other``'s."""
+        return Rows(*(np.concatenate([getattr(self, k), getattr(other, k)]) for k in self.FIELDS))
+
+    def searched(self, ask: Ask) -> Rows:
+        """These rows with ``full`` (:func:`_full_rows`) for ``ask``."""
+        out = Rows(*(getattr(self, k) for k in self.FIELDS))
+        out.full = _full_rows(ask, self.height)
+        return out
 
     def on(self, name: str) -> np.ndarray:
         """Mask of the rows of branch ``name``."""
@@ -259,7 +288,7 @@ def _steps(rng: Range, lo: float, hi: float) -> np.ndarray:
     return np.round(rng.lo + np.arange(k0, k1 + 1) * rng.step, 9)
 
 
-def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask: Ask) -> tuple[list[Row], Parents]:
+def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask: Ask) -> tuple[Rows, Parents]:
     """Stage 1 (module docstring): every row's exact solution and sensitivities; and the flights at b0
     by (row index, speed, elevation) -> landing in the launch-direction frame (for reuse)."""
     P = np.asarray(spec.position, float)
@@ -268,17 +297,18 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     beta = math.degrees(math.atan2(T[1] - P[1], T[0] - P[0]))
     er = spec.elevation
     om_q = _components(ask.q_spin_rpm, ask.q_spin_axis_deg)
-    found = []  # (height, branch, a_map, phi, split)
-    for branch, m in zip(("low", "high"), rmap.aim_both(D, ask.heights, ask.q_speed_kmh, om_q[0], om_q[1])):
-        for i, h in enumerate(ask.heights):
-            if np.isfinite(m["elevation_deg"][i]):
-                found.append((float(h), branch, m["elevation_deg"][i], m["phi"][i], m["split_deg"][i]))
-    if not found:
-        return [], Parents(spec)
-    n = len(found)
-    H = np.array([f[0] for f in found])
-    b0 = beta - np.degrees([f[3] for f in found])
-    ac = np.clip(np.round([f[2] for f in found]), er.lo, er.hi)
+    maps = rmap.aim_both(D, ask.heights, ask.q_speed_kmh, om_q[0], om_q[1])  # (low, high) over the heights
+    el, phi, split = (np.concatenate([m[k] for m in maps]) for k in ("elevation_deg", "phi", "split_deg"))
+    hit = np.isfinite(el)
+    if not hit.any():
+        return Rows.of([]), Parents(spec)
+    nh = len(ask.heights)
+    H = np.tile(np.asarray(ask.heights, float), 2)[hit]
+    low = np.repeat([True, False], nh)[hit]
+    el, split = el[hit], split[hit]
+    n = H.size
+    b0 = beta - np.degrees(phi[hit])
+    ac = np.clip(np.round(el), er.lo, er.hi)
     E = np.clip(ac[:, None] + np.array([-1.0, 0.0, 1.0]), er.lo, er.hi)
     v_fd = ask.q_speed_kmh + (SPEED_FD_KMH if ask.q_speed_kmh + SPEED_FD_KMH <= spec.speed.hi else -SPEED_FD_KMH)
     fw, fg = _rate_axis(om_q + np.array([[SPIN_FD_RPM, 0.0], [0.0, SPIN_FD_RPM]]))
@@ -294,38 +324,36 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     ell = _polar(tab, P, np.concatenate([np.repeat(b0, 3), b0, b0, b0]))
     le = ell[: 3 * n].reshape(n, 3, 2)
     info = _info(tab)[: 3 * n].reshape(n, 3, 4)
-    low = np.array([f[1] == "low" for f in found])
     a, b, slope = _brackets(E, le, D, beta, low)
     base = le[:, 1]
     dv = (ell[3 * n : 4 * n] - base) / (v_fd - vq)
     J = np.stack([ell[4 * n : 5 * n] - base, ell[5 * n :] - base], axis=2) / SPIN_FD_RPM
     good = np.isfinite(a) & np.isfinite(dv).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
-    rows, flown = [], Parents(spec)
+    rows = Rows(H, low, a, b, b0, split, slope, dv, J).take(good)
+    flown = Parents(spec)
     gi = np.flatnonzero(good)
-    for i in gi.tolist():
-        h, branch, _, _, split = found[i]
-        rows.append(Row(h, branch, float(a[i]), float(b[i]), float(b0[i]), float(split), float(slope[i]), dv[i], J[i]))
     flown.add(np.repeat(np.arange(gi.size), 3), vq, E[gi].reshape(-1), le[gi].reshape(-1, 2), info[gi].reshape(-1, 4))
+    solved = []
     for i in np.flatnonzero(~good).tolist():
-        row, _ = _solve_row(shoot5, spec, params, ask, found[i][0], found[i][1], float(found[i][4]))
+        row, _ = _solve_row(shoot5, spec, params, ask, float(H[i]), "low" if low[i] else "high", float(split[i]))
         if row is not None:
-            rows.append(row)
-    return rows, flown
+            solved.append(row)
+    return (rows.plus(Rows.of(solved)) if solved else rows), flown
 
 
-def probe(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, branch: str, rows: list[Row]) -> list:
+def probe(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, branch: str, rows: Rows) -> tuple[Rows, list]:
     """A branch the map found no row for: scanned for real at a few heights (the map may miss the edge of
-    the reach).  Rows found are appended to ``rows``; returns the (height, ``Shots``) of the failed scans."""
+    the reach).  Returns ``rows`` with the row found (if any) appended, and the (height, ``Shots``) of the
+    failed scans (none once a row is found)."""
     hs = ask.heights
     picks = [hs[np.argmin(np.abs(hs - REFERENCE_HEIGHT_M))], hs.min(), hs.max()] if ask.height_free else [hs[0]]
     failed = []
     for h in dict.fromkeys(float(x) for x in picks):
         row, shots = _solve_row(shoot5, spec, params, ask, h, branch, math.nan)
         if row is not None:
-            rows.append(row)
-            return []
+            return rows.plus(Rows.of([row])), []
         failed.append((h, shots))
-    return failed
+    return rows, failed
 
 
 def _brackets(E, le, D, beta, low):
@@ -394,7 +422,7 @@ def _info(tab: FlightTable) -> np.ndarray:
     return np.column_stack([tab.clearance, tab["net_status"], tab["apex_z"], tab["land_t"]])
 
 
-def _combos(shoot5, spec: MachineSpec, ask: Ask, ra: RowArrays, flown: Parents) -> Parents:
+def _combos(shoot5, spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents) -> Parents:
     """Stage 2: per row, the speed steps and the elevation steps around each speed's exact elevation, flown
     at the row's b0 with the rounded asked spin (those of stage 1 reused).  Updates and returns ``flown``."""
     er = spec.elevation
@@ -456,7 +484,7 @@ def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarr
     return ok
 
 
-def _predicted(spec: MachineSpec, ask: Ask, ra: RowArrays, flown: Parents, need_net: bool, prefs: Preferences):
+def _predicted(spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents, need_net: bool, prefs: Preferences):
     """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring):
     a :class:`Predicted`."""
     hr = spec.heading
@@ -557,9 +585,9 @@ def _concat(parts: list[Candidates]) -> Candidates:
     return Candidates(**{k: np.concatenate([getattr(p, k) for p in parts]) for k in Candidates.__dataclass_fields__})
 
 
-def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents, need_net: bool, prefs: Preferences):
+def search(shoot5, spec: MachineSpec, ask: Ask, rows: Rows, flown: Parents, need_net: bool, prefs: Preferences):
     """Stages 2 and 3 (module docstring) on the rows of :func:`rows_of`: every candidate flown."""
-    ra = RowArrays(ask, rows)
+    ra = rows.searched(ask)
     flown = _combos(shoot5, spec, ask, ra, flown)
     pr = _predicted(spec, ask, ra, flown, need_net, prefs)
     rows_e = pr.entries["row"]
@@ -587,7 +615,7 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: list[Row], flown: Parents,
     return _concat(flown_c)
 
 
-def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidates, need_net, prefs, seen: set):
+def _clearing_parents(spec, ask: Ask, ra: Rows, flown: Parents, c: Candidates, need_net, prefs, seen: set):
     """A branch none of whose flown candidates clears the net (or meets the preferences): its parents that do,
     nearest the target first, with the rounded asked spin at their nearest heading step (so that a refusal
     can say how far the nearest acceptable step lands)."""
@@ -618,7 +646,7 @@ def _clearing_parents(spec, ask: Ask, ra: RowArrays, flown: Parents, c: Candidat
     return [ri[order][f]] + [x[f] for x in cols] + [w[f], g[f]]
 
 
-def _refine(spec: MachineSpec, ask: Ask, ra: RowArrays, c: Candidates, need_net, prefs, seen: set):
+def _refine(spec: MachineSpec, ask: Ask, ra: Rows, c: Candidates, need_net, prefs, seen: set):
     """New spins for the best flown candidates of each branch from their measured misses (module docstring)."""
     net_ok, pref_ok = acceptable(c, need_net, prefs)
     low = ra.low[c.row]

@@ -387,27 +387,27 @@ def _aim_all(
     rows, flown = _search.rows_of(shoot5, spec, params, use.map, ask)
     reasons = {}
     for name in SOLUTIONS:
-        if not any(r.branch == name for r in rows):
-            failed = _search.probe(shoot5, spec, params, ask, name, rows)
+        if not rows.on(name).any():
+            rows, failed = _search.probe(shoot5, spec, params, ask, name, rows)
             if failed:
                 reasons[name] = _missing(name, failed, spec, (tx, ty), dist, desc)
+    inside = (rows.b >= hr.lo) & (rows.b <= hr.hi)
     for name in SOLUTIONS:
-        heads = [r.b for r in rows if r.branch == name]
-        if heads and not any(hr.lo <= b <= hr.hi for b in heads):
-            b = min(heads, key=lambda x: abs(x))
+        heads = rows.b[rows.on(name)]
+        if heads.size and not inside[rows.on(name)].any():
+            b = float(heads[np.argmin(np.abs(heads))])
             reasons[name] = (
                 f"heading: the {name} solution needs {b:.2f} deg, outside the allowed range [{hr.lo:g}, {hr.hi:g}] deg"
             )
-    inside = [hr.lo <= r.b <= hr.hi for r in rows]
-    live = [r for r, k in zip(rows, inside) if k]
+    live = rows.take(inside)
     flown = flown.keep(inside)  # its parents index the rows searched
-    if not live:
+    if not len(live):
         if not reasons:  # pragma: no cover - every missing branch has its reason
             raise InputError(f"target: no shot lands at ({tx:g}, {ty:g}) m with {desc}")
         return {}, reasons, use
     need_net = _net_required(spec, (tx, ty))
     c = _search.search(shoot5, spec, ask, live, flown, need_net, preferences)
-    low = np.array([r.branch == "low" for r in live], bool)[c.row]
+    low = live.low[c.row]
     picked: dict[str, tuple[_search.Candidates, int, bool]] = {}
     for name in SOLUTIONS:
         if name in reasons:
