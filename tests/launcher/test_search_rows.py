@@ -74,3 +74,34 @@ def test_rows_outside_the_heading_range_leave_their_parents_behind(monkeypatch, 
         tr = fly_settings(sol.settings, SPEC, launcher_params())
         assert tr.landing.x == pytest.approx(sol.landing[0], abs=1e-3)
         assert tr.landing.y == pytest.approx(sol.landing[1], abs=1e-3)
+
+
+def test_spare_flights_are_parents_only_when_asked_for():
+    p = _search.Parents(DEFAULT_SPEC)
+    ell, info = np.arange(6.0).reshape(3, 2), np.ones((3, 4))
+    p.add_spare(np.array([0, 1, 2]), 101.0, np.array([10.0, 11.0, 12.0]), ell, info)
+    assert len(p) == 0  # spare: not parents
+    have, e, i = p.spare_of(np.array([2, 1, 0, 1]), np.array([101.0, 100.0, 101.0, 101.0]), np.full(4, 12.0))
+    assert have.tolist() == [True, False, False, False] and e.tolist() == [[4.0, 5.0]] and i.shape == (1, 4)
+    k = p.keep([False, True, True])
+    have, e, _ = k.spare_of(np.array([0, 1]), 101.0, np.array([11.0, 12.0]))  # rows 1, 2 are rows 0, 1 now
+    assert have.tolist() == [True, True] and e.tolist() == [[2.0, 3.0], [4.0, 5.0]]
+    assert not _search.Parents(DEFAULT_SPEC).spare_of(np.array([0]), 100.0, np.array([10.0]))[0].any()
+
+
+@pytest.mark.parametrize("target,kw", [((8.0, -1.0), {}), ((10.0, 2.0), dict(height_m=1.0)), ((20.0, 1.0), {})])
+def test_an_aim_flies_no_setting_twice(monkeypatch, target, kw):
+    """Every flight of an aim's search is a different launch (the speed's sensitivity flights of stage 1 are
+    reused as stage 2's parents, not flown again)."""
+    flown = []
+    real = _search.Shooter.__call__
+
+    def spy(self, h, v, a, b, w, g):
+        flown.append(np.column_stack(np.broadcast_arrays(h, v, a, b, w, g)).astype(float))
+        return real(self, h, v, a, b, w, g)
+
+    monkeypatch.setattr(_search.Shooter, "__call__", spy)
+    aim_all(target, 100, 1000, 0, spec=DEFAULT_SPEC, **kw)
+    every = np.round(np.concatenate(flown), 9)
+    assert len(every) > 150
+    assert len(np.unique(every, axis=0)) == len(every)

@@ -8,9 +8,10 @@ tolerances to land nearer, and flies only what can win.
 Rows.  One row per launch height searched (the asked one, or every step when the height is free)
 and per branch (low, high).  The reach map (:mod:`.reach`) says where each row's exact elevation
 lies; three elevation steps around it are flown at the asked (rounded) speed and spin, at a heading
-b0 near the exact one, plus three flights that give the landing's sensitivity to the speed and to
-the two spin components.  The three landings bracket the row's exact solution (else the row is
-solved by :func:`tennislab.core.shoot.shoot` from a scan, and flown again).
+b0 near the exact one, plus three flights that give the landing's sensitivity to the speed (one speed
+step away: a parent of stage 2, taken from there, not flown again) and to the two spin components.
+The three landings bracket the row's exact solution (else the row is solved by
+:func:`tennislab.core.shoot.shoot` from a scan, and flown again).
 
 Headings cost no flight.  Without wind a launch turned by db lands where it landed, turned by db
 about the machine: every heading step of a row is predicted exactly from the flights at b0.
@@ -49,7 +50,6 @@ from tennislab.units import KMH, RPM
 
 #: The height preferred when it is searched (ties of the miss go to the height nearest it) [m]
 REFERENCE_HEIGHT_M = 1.0
-SPEED_FD_KMH = 2.0  #: speed step of the sensitivity flights [km/h]
 SPIN_FD_RPM = 20.0  #: spin-component step of the sensitivity flights [rpm]
 TOP = 32  #: predicted-best candidates flown per branch
 PRUNE = 64  #: (parent flight, heading step) pairs per branch whose quantised spins are predicted
@@ -179,12 +179,15 @@ class Candidates:
 class Parents:
     """The flights at each row's heading b0 with the rounded asked spin, the parents of the candidates:
     keyed by (row index, speed step, elevation step) of machine ``spec``; the landing in the
-    launch-direction frame (n, 2) [m] and (:func:`_info`) net clearance, net status, apex and flight time."""
+    launch-direction frame (n, 2) [m] and (:func:`_info`) net clearance, net status, apex and flight time.
+    Flights of the same kind flown for another purpose wait as ``spare`` (:meth:`add_spare`): a parent the
+    search asks for is taken from them (:meth:`spare_of`) instead of flown again."""
 
     def __init__(self, spec: MachineSpec):
         self.spec = spec
         self.parts: list = []
         self.keys: list[np.ndarray] = []
+        self.spare: tuple | None = None  # (row, speed, elevation, landing, info, key) of the spare flights
 
     def _key(self, ri, v, a) -> np.ndarray:
         sr, er = self.spec.speed, self.spec.elevation
@@ -210,15 +213,38 @@ class Parents:
         self.parts.append(part)
         self.keys.append(self._key(part[0], part[1], part[2]))
 
+    def add_spare(self, ri, v, a, ell, info) -> None:
+        """Flights (one per (row, speed, elevation)) kept aside, for :meth:`spare_of` (replaces any before)."""
+        ri, v, a = (np.broadcast_to(np.asarray(x), (len(ell),)) for x in (ri, v, a))
+        ri, v, a = ri.astype(int), v.astype(float), a.astype(float)
+        self.spare = (ri, v, a, np.asarray(ell, float), np.asarray(info, float), self._key(ri, v, a))
+
+    def spare_of(self, ri, v, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Of the (row, speed, elevation) asked, the mask of those a spare flight covers and its landings (n, 2)
+        and info (n, 4)."""
+        if self.spare is None or self.spare[5].size == 0:
+            return np.zeros(np.shape(ri), bool), np.empty((0, 2)), np.empty((0, 4))
+        sk = self.spare[5]
+        order = np.argsort(sk, kind="stable")
+        k = self._key(ri, v, a)
+        pos = np.minimum(np.searchsorted(sk, k, sorter=order), sk.size - 1)
+        hit = sk[order[pos]] == k
+        idx = order[pos[hit]]
+        return hit, self.spare[3][idx], self.spare[4][idx]
+
     def keep(self, mask) -> Parents:
-        """The parents of the rows ``mask`` (over the rows they index) keeps, their rows renumbered as those
-        rows are once the others are dropped (so that they index the kept rows)."""
+        """The parents (and spare flights) of the rows ``mask`` (over the rows they index) keeps, their rows
+        renumbered as those rows are once the others are dropped (so that they index the kept rows)."""
         mask = np.asarray(mask, bool)
         renumber = np.cumsum(mask) - 1
         out = Parents(self.spec)
         for ri, v, a, ell, info in self.parts:
             ok = mask[ri]
             out.add(renumber[ri[ok]], v[ok], a[ok], ell[ok], info[ok])
+        if self.spare is not None:
+            ri, v, a, ell, info, _ = self.spare
+            ok = mask[ri]
+            out.add_spare(renumber[ri[ok]], v[ok], a[ok], ell[ok], info[ok])
         return out
 
     def arrays(self):
@@ -281,6 +307,13 @@ def _rate_axis(om) -> tuple[np.ndarray, np.ndarray]:
     return np.hypot(om[..., 0], om[..., 1]), np.degrees(np.arctan2(om[..., 1], om[..., 0]))
 
 
+def _speed_fd(spec: MachineSpec, vq: float) -> float:
+    """The speed of the speed-sensitivity flight from the step ``vq`` [km/h]: one step of the machine up (down at
+    the top of the range), so that it is a setting of the machine (a parent stage 2 may ask for)."""
+    up = round(vq + spec.speed.step, 9)
+    return up if up <= spec.speed.hi + 1e-9 else round(vq - spec.speed.step, 9)
+
+
 def _steps(rng: Range, lo: float, hi: float) -> np.ndarray:
     """The steps of ``rng`` in [lo, hi]."""
     k0 = math.ceil((max(lo, rng.lo) - rng.lo) / rng.step - 1e-9)
@@ -310,7 +343,7 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     b0 = beta - np.degrees(phi[hit])
     ac = np.clip(np.round(el), er.lo, er.hi)
     E = np.clip(ac[:, None] + np.array([-1.0, 0.0, 1.0]), er.lo, er.hi)
-    v_fd = ask.q_speed_kmh + (SPEED_FD_KMH if ask.q_speed_kmh + SPEED_FD_KMH <= spec.speed.hi else -SPEED_FD_KMH)
+    v_fd = _speed_fd(spec, ask.q_speed_kmh)
     fw, fg = _rate_axis(om_q + np.array([[SPIN_FD_RPM, 0.0], [0.0, SPIN_FD_RPM]]))
     vq, wq, gq = ask.q_speed_kmh, ask.q_spin_rpm, ask.q_spin_axis_deg
     tab = shoot5(
@@ -323,7 +356,8 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     )
     ell = _polar(tab, P, np.concatenate([np.repeat(b0, 3), b0, b0, b0]))
     le = ell[: 3 * n].reshape(n, 3, 2)
-    info = _info(tab)[: 3 * n].reshape(n, 3, 4)
+    info_all = _info(tab)
+    info = info_all[: 3 * n].reshape(n, 3, 4)
     a, b, slope = _brackets(E, le, D, beta, low)
     base = le[:, 1]
     dv = (ell[3 * n : 4 * n] - base) / (v_fd - vq)
@@ -333,6 +367,8 @@ def rows_of(shoot5, spec: MachineSpec, params: FlightParams, rmap: ReachMap, ask
     flown = Parents(spec)
     gi = np.flatnonzero(good)
     flown.add(np.repeat(np.arange(gi.size), 3), vq, E[gi].reshape(-1), le[gi].reshape(-1, 2), info[gi].reshape(-1, 4))
+    # the speed's sensitivity flights, one speed step away: stage 2 may ask for them as parents
+    flown.add_spare(np.arange(gi.size), v_fd, ac[gi], ell[3 * n : 4 * n][gi], info_all[3 * n : 4 * n][gi])
     solved = []
     for i in np.flatnonzero(~good).tolist():
         row, _ = _solve_row(shoot5, spec, params, ask, float(H[i]), "low" if low[i] else "high", float(split[i]))
@@ -407,7 +443,7 @@ def _solve_row(shoot5, spec: MachineSpec, params: FlightParams, ask: Ask, h: flo
         return None, s
     a, b = math.degrees(s.elevation[0]), math.degrees(s.heading[0])
     vq = ask.q_speed_kmh
-    v_fd = vq + (SPEED_FD_KMH if vq + SPEED_FD_KMH <= spec.speed.hi else -SPEED_FD_KMH)
+    v_fd = _speed_fd(spec, vq)
     w, g = _rate_axis(om + np.array([[0.0, 0.0], [0.0, 0.0], [SPIN_FD_RPM, 0.0], [0.0, SPIN_FD_RPM]]))
     ell = _polar(shoot5(h, [vq, v_fd, vq, vq], a, b, w, g), P, b)
     e = ell[0] / max(np.hypot(*ell[0]), 1e-300)
@@ -458,9 +494,15 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents) -> Pa
     todo = flown.new(ri, vv, aa)
     if todo.any():
         ri, vv, aa = ri[todo], vv[todo], aa[todo]
-        b0 = ra.b0[ri]
-        tab = shoot5(ra.height[ri], vv, aa, b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
-        flown.add(ri, vv, aa, _polar(tab, P, b0), _info(tab))
+        have, ell_s, info_s = flown.spare_of(ri, vv, aa)  # flown already (stage 1's speed sensitivity)
+        ell, info = np.empty((ri.size, 2)), np.empty((ri.size, 4))
+        ell[have], info[have] = ell_s, info_s
+        fly = np.flatnonzero(~have)
+        if fly.size:
+            b0 = ra.b0[ri[fly]]
+            tab = shoot5(ra.height[ri[fly]], vv[fly], aa[fly], b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
+            ell[fly], info[fly] = _polar(tab, P, b0), _info(tab)
+        flown.add(ri, vv, aa, ell, info)  # in the order asked, spare or flown
     return flown
 
 
