@@ -61,18 +61,19 @@ def pool_picks(spec: MachineSpec, pr, members: np.ndarray, tops: np.ndarray, col
     (``members[p]``: its entries), the ``8 * tops[p]`` best predicted (ties to the first), then in that order the
     first ``tops[p]`` of distinct settings; all pools' picks once (sorted indices) and their settings keys
     (:func:`settings_key`).  Compiled: the selection (:func:`_best_kernel`, a bounded heap: no sort of the ~10^4
-    candidates) and the walk (:func:`_walk_kernel`)."""
+    candidates; a pool inside an earlier one read off that one's list, :func:`_from_earlier`), the distinct
+    picks (:func:`_distinct`) and the walk (:func:`_walk_kernel`)."""
     cand = np.empty(int((8 * tops).sum()), np.int64)
     ends = np.empty(len(tops) + 1, np.int64)
     _best_kernel(pr.pred, pr.k, members, 8 * tops, cand, ends)
-    some = np.unique(cand[: ends[-1]])
+    some, pos = _distinct(cand[: ends[-1]], pr.pred.size)
     sub = settings_key(spec, *(pr.at(c, some) for c in cols))
     if sub.dtype == np.int64:
         ids = sub
     else:  # a machine of more than 2^62 settings: the distinct keys numbered
         ids = np.unique(sub, return_inverse=True)[1].astype(np.int64).reshape(-1)
     taken = np.zeros(some.size, bool)
-    _walk_kernel(np.searchsorted(some, cand[: ends[-1]]), ends, ids, tops, taken)
+    _walk_kernel(pos, ends, ids, tops, taken)
     return some[taken], sub[taken]
 
 
@@ -82,6 +83,8 @@ def _best_kernel(pred, k, members, sizes, cand, ends):
     entries (``members[p, j // k]``), in that order: into ``cand[ends[p]:ends[p + 1]]`` (``ends[0]`` = 0)."""
     ends[0] = 0
     for p in range(members.shape[0]):
+        if _from_earlier(p, k, members, sizes, cand, ends):
+            continue
         m = sizes[p]
         hv = np.empty(m)
         hi = np.empty(m, np.int64)
@@ -123,6 +126,54 @@ def _best_kernel(pred, k, members, sizes, cand, ends):
         for i in range(n):
             cand[s + i] = idx[order[i]]
         ends[p + 1] = s + n
+
+
+@nb.njit(cache=True)
+def _distinct(c, size):
+    """The distinct values of ``c`` (integers in [0, size)) in rising order, and each element's position among
+    them: ``np.unique(c)`` and ``np.searchsorted`` of ``c`` in it, in two passes."""
+    rank = np.full(size, -1, np.int64)
+    for i in range(c.size):
+        rank[c[i]] = 0
+    n = 0
+    for j in range(size):
+        if rank[j] == 0:
+            rank[j] = n
+            n += 1
+    some = np.empty(n, np.int64)
+    pos = np.empty(c.size, np.int64)
+    for i in range(c.size):
+        pos[i] = rank[c[i]]
+        some[pos[i]] = c[i]
+    return some, pos
+
+
+@nb.njit(cache=True)
+def _from_earlier(p, k, members, sizes, cand, ends) -> bool:
+    """Pool p's list of :func:`_best_kernel` read off an earlier pool q's whose entries hold p's, when that list
+    holds ``sizes[p]`` of p's candidates or all of q's: its members of p, in its order, are then p's best (a
+    candidate of p missing from q's list is worse than every one in it).  False if no earlier list serves."""
+    m, s = sizes[p], ends[p]
+    for q in range(p):
+        inside = True
+        for e in range(members.shape[1]):
+            if members[p, e] and not members[q, e]:
+                inside = False
+                break
+        if not inside:
+            continue
+        n = 0
+        for i in range(ends[q], ends[q + 1]):
+            if n >= m:
+                break
+            j = cand[i]
+            if members[p, j // k]:
+                cand[s + n] = j
+                n += 1
+        if n >= m or ends[q + 1] - ends[q] < sizes[q]:
+            ends[p + 1] = s + n
+            return True
+    return False
 
 
 @nb.njit(cache=True)
