@@ -201,7 +201,11 @@ class Parents:
         """Mask of the (row, speed, elevation) not flown yet (to a landing)."""
         if not self.keys:
             return np.ones(np.shape(ri), bool)
-        return ~np.isin(self._key(ri, v, a), np.concatenate(self.keys))
+        have = np.sort(np.concatenate(self.keys))
+        if have.size == 0:
+            return np.ones(np.shape(ri), bool)
+        k = self._key(ri, v, a)
+        return have[np.minimum(np.searchsorted(have, k), have.size - 1)] != k
 
     def __len__(self) -> int:
         return sum(k.size for k in self.keys)
@@ -482,11 +486,10 @@ def _combos(shoot5, spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents) -> Pa
     inside = (A >= er.lo - 1e-9) & (A <= er.hi + 1e-9)
     side = np.where(low[:, None, None], A <= split[:, None, None] + 1e-9, A >= split[:, None, None] - 1e-9)
     keep = inside & side
-    light = ~full[:, None, None] & (
-        ~np.isin(speeds, few)[None, :, None] | (np.abs(offs - 0.5 * er.step) > er.step)[None, None, :]
-    )
+    in_few = np.isin(speeds, few)
+    light = ~full[:, None, None] & (~in_few[None, :, None] | (np.abs(offs - 0.5 * er.step) > er.step)[None, None, :])
     keep &= ~light  # the other heights: the speeds nearest the asked one, the floor and ceil of each elevation
-    none = ~keep.any(axis=2) & (full[:, None] | np.isin(speeds, few)[None, :])  # none on the branch's side: the nearest
+    none = ~keep.any(axis=2) & (full[:, None] | in_few[None, :])  # none on the branch's side: the nearest
     A[..., 0] = np.where(none, np.clip(np.round((a_v - er.lo) / er.step) * er.step + er.lo, er.lo, er.hi), A[..., 0])
     keep[..., 0] |= none
     ri, mi, _ = np.nonzero(keep)

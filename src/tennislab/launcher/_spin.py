@@ -246,8 +246,11 @@ def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -
     o0 = w0 * np.array([np.cos(g0), np.sin(g0)])
     box = tol.spin_rpm + (w0 + tol.spin_rpm) * np.radians(tol.spin_axis_deg) if w0 > 0 else 0.0
     radius = np.hypot(*(np.asarray(omega_b, dtype=float) - o0).T) + max(tol.spin_rpm, box)
-    JtJ = np.einsum("nki,nkj->nij", J, J)
-    tr, det = JtJ[:, 0, 0] + JtJ[:, 1, 1], JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+    J = np.asarray(J, dtype=float)
+    a = J[:, 0, 0] * J[:, 0, 0] + J[:, 1, 0] * J[:, 1, 0]  # J^T J = [[a, b], [b, c]]
+    b = J[:, 0, 0] * J[:, 0, 1] + J[:, 1, 0] * J[:, 1, 1]
+    c = J[:, 0, 1] * J[:, 0, 1] + J[:, 1, 1] * J[:, 1, 1]
+    tr, det = a + c, a * c - b**2
     sigma = np.sqrt(np.maximum(0.5 * (tr + np.sqrt(np.maximum(tr * tr - 4 * det, 0.0))), 0.0))
     return sigma * radius
 
