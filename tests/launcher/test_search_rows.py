@@ -66,7 +66,8 @@ def test_rows_outside_the_heading_range_leave_their_parents_behind(monkeypatch, 
     pick = np.linspace(0, ri.size - 1, 12).astype(int)
     h = np.array([rows[i].height for i in ri[pick]])
     b0 = np.array([rows[i].b0 for i in ri[pick]])
-    tab = _search.Shooter(SPEC, launcher_params())(h, v[pick], a[pick], b0, ask.q_spin_rpm, ask.q_spin_axis_deg)
+    shoot = _search.Shooter(SPEC, launcher_params())
+    tab = shoot(h, v[pick], a[pick], b0, ask.q_spin_rpm, ask.q_spin_axis_deg, explore=True)
     np.testing.assert_allclose(_search._polar(tab, SPEC.position, b0), ell[pick], atol=1e-9)
     assert set(sols) | set(reasons) == {"low", "high"}  # and the aim answers, or says why not
     for sol in sols.values():
@@ -96,12 +97,46 @@ def test_an_aim_flies_no_setting_twice(monkeypatch, target, kw):
     flown = []
     real = _search.Shooter.__call__
 
-    def spy(self, h, v, a, b, w, g):
+    def spy(self, h, v, a, b, w, g, **kw):
         flown.append(np.column_stack(np.broadcast_arrays(h, v, a, b, w, g)).astype(float))
-        return real(self, h, v, a, b, w, g)
+        return real(self, h, v, a, b, w, g, **kw)
 
     monkeypatch.setattr(_search.Shooter, "__call__", spy)
     aim_all(target, 100, 1000, 0, spec=DEFAULT_SPEC, **kw)
     every = np.round(np.concatenate(flown), 9)
     assert len(every) > 150
     assert len(np.unique(every, axis=0)) == len(every)
+
+
+def test_the_search_explores_at_a_looser_tolerance_only_for_smooth_models(monkeypatch):
+    """Stages 1-2 fly at EXPLORE_TOL (their landings within 0.1 mm of the model's tolerance: they only guide the
+    search); the candidates, the answers, at the model's own; a piecewise-linear model explores at its own."""
+    from tennislab.core.flight import FlightParams, fly_batch
+    from tennislab.launcher.machine import machine_states
+
+    params = launcher_params()
+    assert _search.Shooter(DEFAULT_SPEC, params).explore_tol == _search.EXPLORE_TOL > params.aero.batch_tol
+    kinked = FlightParams.from_options(aero="tennislab2026")
+    assert _search.Shooter(DEFAULT_SPEC, kinked).explore_tol == kinked.aero.batch_tol
+    explored, answered = [], []
+    real = _search.Shooter.__call__
+
+    def spy(self, h, v, a, b, w, g, explore=False):
+        (explored if explore else answered).append(np.broadcast_arrays(h, v, a, b, w, g))
+        return real(self, h, v, a, b, w, g, explore=explore)
+
+    monkeypatch.setattr(_search.Shooter, "__call__", spy)
+    sols, _ = aim_all((9.0, 2.0), 100, 1000, 0, spec=DEFAULT_SPEC)
+    assert explored and answered
+    for cols in explored:
+        st = machine_states(DEFAULT_SPEC, *cols)
+        loose = fly_batch(st, params, rtol=_search.EXPLORE_TOL, atol=_search.EXPLORE_TOL)
+        tight = fly_batch(st, params)
+        ok = loose.ok & tight.ok
+        assert ok.mean() > 0.9
+        d = np.hypot(loose["land_x"] - tight["land_x"], loose["land_y"] - tight["land_y"])[ok]
+        assert d.max() < 1e-4
+    for sol in sols.values():  # the answer's landing is that of the model's tolerance
+        tr = fly_settings(sol.settings, DEFAULT_SPEC, params)
+        assert tr.landing.x == pytest.approx(sol.landing[0], abs=1e-5)
+        assert tr.landing.y == pytest.approx(sol.landing[1], abs=1e-5)
