@@ -48,7 +48,7 @@ log = logging.getLogger("tennislab.app")
 #: jobs that may take seconds (never more than ``workers - 1`` at once)
 HEAVY_JOBS = frozenset({"window", "linecall", "drill"})
 #: deadline of each job [s] (measured worst cases at the request limits on one core: window at the
-#: finest step 0.1 s, a 1 MB track 0.3-1 s, a 50-shot drill 3 s; see docs/app.md)
+#: finest step 0.1 s, a 1 MB track 0.3-1 s, a 50-shot drill 0.3 s; see docs/app.md)
 DEADLINES_S = {"flight": 20.0, "serve": 20.0, "aim": 20.0, "sample": 20.0, "window": 60.0, "linecall": 60.0}
 DEFAULT_DEADLINE_S = 60.0
 #: added to the deadline of a worker's first job of each kind: it loads (and, the first time after an
