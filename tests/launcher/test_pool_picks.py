@@ -72,3 +72,21 @@ def test_distinct_is_unique_and_its_positions():
     np.testing.assert_array_equal(pos, np.searchsorted(np.unique(c), c))
     some, pos = _select._distinct(np.empty(0, np.int64), 5)
     assert some.size == 0 and pos.size == 0
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_best_of_pools_is_the_stable_argsort_rule(seed):
+    """The prune of the predicted candidates: per pool its ``sizes[p]`` smallest finite values (ties to the first
+    index), all pools' once, sorted; as a stable argsort restricted to each pool gives them."""
+    rng = np.random.default_rng(seed)
+    n = 500
+    v = np.round(rng.uniform(0, 1, n), 2)  # ties
+    v[rng.uniform(size=n) < 0.1] = np.nan
+    low, good, ref = (rng.uniform(size=n) < q for q in (0.5, 0.7, 0.1))
+    every = np.ones(n, bool)
+    members = np.array([m & on for on in (low, ~low) for m in (every, good, ref, ref & good)])
+    sizes = np.array([64, 32, 64, 32] * 2, np.int64)
+    order = np.argsort(v, kind="stable")
+    order = order[np.isfinite(v[order])]
+    want = np.unique(np.concatenate([order[m[order]][:s] for m, s in zip(members, sizes)]))
+    np.testing.assert_array_equal(_select.best_of_pools(v, members, sizes), want)

@@ -575,16 +575,12 @@ def _predicted(spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents, need_net: 
     lb = np.maximum(np.hypot(*(L0 - T).T) - moves[ri[par]], 0.0)
     low = ra.low[ri[par]]
     good = _parent_ok(info[par], need_net, prefs)
-    parts = []
-    pools = [(None, PRUNE), (good, PRUNE // 2)]
+    pools = [(np.ones(lb.size, bool), PRUNE), (good, PRUNE // 2)]
     if ask.height_free:  # the reference height keeps the quota it has when it is asked
         pools += [(full, PRUNE), (full & good, PRUNE // 2)]
-    order = np.argsort(lb, kind="stable")  # restricted to a pool: the pool's stable order
-    for on in (low, ~low):
-        for mask, size in pools:
-            pool = on if mask is None else mask & on
-            parts.append(order[pool[order]][:size])
-    keep = np.unique(np.concatenate(parts))
+    members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])
+    # the best bounds of each pool (a landing-less parent's NaN bound predicts no candidate: left out)
+    keep = _select.best_of_pools(lb, members, [size for _ in (0, 1) for _, size in pools])
     par, B, L0 = par[keep], B[keep], L0[keep]
     J = ra.J[ri[par]]
     Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)

@@ -77,6 +77,17 @@ def pool_picks(spec: MachineSpec, pr, members: np.ndarray, tops: np.ndarray, col
     return some[taken], sub[taken]
 
 
+def best_of_pools(values: np.ndarray, members: np.ndarray, sizes) -> np.ndarray:
+    """The union (sorted indices) over pools p of the ``sizes[p]`` entries of smallest (value, index) among the
+    finite ``values`` of the pool (``members[p]``: a mask over the entries), as a stable argsort restricted to
+    each pool would give them (non-finite values left out).  Compiled: :func:`_best_kernel`, :func:`_distinct`."""
+    sizes = np.asarray(sizes, np.int64)
+    cand = np.empty(int(sizes.sum()), np.int64)
+    ends = np.empty(sizes.size + 1, np.int64)
+    _best_kernel(np.ascontiguousarray(values, dtype=float), 1, members, sizes, cand, ends)
+    return _distinct(cand[: ends[-1]], values.size)[0]
+
+
 @nb.njit(cache=True, error_model="numpy")
 def _best_kernel(pred, k, members, sizes, cand, ends):
     """Per pool p, the (up to) ``sizes[p]`` candidates j of smallest (pred[j], j) among the finite ones of its
