@@ -91,19 +91,11 @@ def test_spare_flights_are_parents_only_when_asked_for():
 
 
 @pytest.mark.parametrize("target,kw", [((8.0, -1.0), {}), ((10.0, 2.0), dict(height_m=1.0)), ((20.0, 1.0), {})])
-def test_an_aim_flies_no_setting_twice(monkeypatch, target, kw):
+def test_an_aim_flies_no_setting_twice(flown_settings, target, kw):
     """Every flight of an aim's search is a different launch (the speed's sensitivity flights of stage 1 are
     reused as stage 2's parents, not flown again)."""
-    flown = []
-    real = _search.Shooter.__call__
-
-    def spy(self, h, v, a, b, w, g, **kw):
-        flown.append(np.column_stack(np.broadcast_arrays(h, v, a, b, w, g)).astype(float))
-        return real(self, h, v, a, b, w, g, **kw)
-
-    monkeypatch.setattr(_search.Shooter, "__call__", spy)
     aim_all(target, 100, 1000, 0, spec=DEFAULT_SPEC, **kw)
-    every = np.round(np.concatenate(flown), 9)
+    every = np.round(np.concatenate(flown_settings), 9)
     assert len(every) > 150
     assert len(np.unique(every, axis=0)) == len(every)
 

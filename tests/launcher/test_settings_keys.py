@@ -22,6 +22,17 @@ FINE = MachineSpec(
 )
 
 
+@pytest.fixture
+def force_bytes_keys(monkeypatch):
+    """Call it to give every machine the bytes form of the keys (as one of more than 2^62 settings would)."""
+    radix = _select._key_radix
+
+    def force():
+        monkeypatch.setattr(_select, "_key_radix", lambda spec: radix(spec)[:3] + (False,))
+
+    return force
+
+
 def _columns(rng, n):
     """n settings on the default machine's steps, with repeats."""
     h = rng.integers(1, 30, n) * 0.1
@@ -75,16 +86,10 @@ def _answer(res) -> dict:
 
 
 @pytest.mark.parametrize("target", TARGETS)
-def test_the_aim_is_the_same_with_bytes_keys(target, monkeypatch):
+def test_the_aim_is_the_same_with_bytes_keys(target, force_bytes_keys):
     """The search on the default machine with its keys forced to the bytes form answers exactly as with int64."""
     want = _answer(aim(target, speed_kmh=100, spin_rpm=1000))
-    radix = _select._key_radix
-
-    def as_bytes(spec):
-        lo, step, sizes, _ = radix(spec)
-        return lo, step, sizes, False
-
-    monkeypatch.setattr(_select, "_key_radix", as_bytes)
+    force_bytes_keys()
     assert _select.settings_key(DEFAULT_SPEC, *_columns(np.random.default_rng(0), 4)).dtype.kind == "V"
     assert _answer(aim(target, speed_kmh=100, spin_rpm=1000)) == want
 
@@ -97,27 +102,17 @@ def test_a_machine_of_more_than_2_62_settings_aims():
     assert fine.miss_mm <= coarse.miss_mm + 0.1
 
 
-def test_with_bytes_keys_an_aim_flies_no_setting_twice(monkeypatch):
+def test_with_bytes_keys_an_aim_flies_no_setting_twice(force_bytes_keys, flown_settings):
     """The bytes keys deduplicate as the int64 keys do: every flight of the search a different launch."""
-    _search = importlib.import_module("tennislab.launcher._search")
-    radix = _select._key_radix
-    monkeypatch.setattr(_select, "_key_radix", lambda spec: radix(spec)[:3] + (False,))
-    flown = []
-    real = _search.Shooter.__call__
-
-    def spy(self, h, v, a, b, w, g, **kw):
-        flown.append(np.column_stack(np.broadcast_arrays(h, v, a, b, w, g)).astype(float))
-        return real(self, h, v, a, b, w, g, **kw)
-
-    monkeypatch.setattr(_search.Shooter, "__call__", spy)
+    force_bytes_keys()
     aim((9.0, 2.0), speed_kmh=70, spin_rpm=0)  # 19 of its ~930 predicted candidates repeat a setting
-    every = np.round(np.concatenate(flown), 9)
+    every = np.round(np.concatenate(flown_settings), 9)
     assert len(every) > 150
     assert len(np.unique(every, axis=0)) == len(every)
 
 
 @pytest.mark.parametrize("seed", range(4))
-def test_pool_picks_are_the_same_with_bytes_keys(seed, monkeypatch):
+def test_pool_picks_are_the_same_with_bytes_keys(seed, force_bytes_keys):
     """The candidates chosen to fly, when many predicted candidates share a setting: the same in either form."""
     _search = importlib.import_module("tennislab.launcher._search")
     rng = np.random.default_rng(seed)
@@ -138,8 +133,7 @@ def test_pool_picks_are_the_same_with_bytes_keys(seed, monkeypatch):
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
     pick, keys = _select.pool_picks(DEFAULT_SPEC, pr, members, tops, cols)
     assert keys.dtype == np.int64 and len(set(keys.tolist())) == len(keys)
-    radix = _select._key_radix
-    monkeypatch.setattr(_select, "_key_radix", lambda spec: radix(spec)[:3] + (False,))
+    force_bytes_keys()
     pick_b, keys_b = _select.pool_picks(DEFAULT_SPEC, pr, members, tops, cols)
     assert keys_b.dtype.kind == "V"
     np.testing.assert_array_equal(pick_b, pick)

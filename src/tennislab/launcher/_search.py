@@ -546,6 +546,18 @@ def _parent_ok(info: np.ndarray, need_net: bool, prefs: Preferences) -> np.ndarr
     return ok
 
 
+def _pools(low: np.ndarray, good: np.ndarray, ref: np.ndarray | None, top: int) -> tuple[np.ndarray, np.ndarray]:
+    """The selection pools of the search, per branch (``low``, then the other): every entry (``top`` of them),
+    those whose parent is acceptable (``good``, half as many) and, when the height is searched, the same two at
+    the reference height (``ref``: it keeps the quota it has when it is asked).  Returns the pools' masks
+    (pools, entries) and sizes."""
+    pools = [(np.ones(low.size, bool), top), (good, top // 2)]
+    if ref is not None:
+        pools += [(ref, top), (ref & good, top // 2)]
+    members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])
+    return members, np.array([size for _ in (0, 1) for _, size in pools], np.int64)
+
+
 def _predicted(spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents, need_net: bool, prefs: Preferences):
     """Every (flown parent, heading step, quantised spin) candidate with its predicted miss (module docstring):
     a :class:`Predicted`."""
@@ -575,12 +587,8 @@ def _predicted(spec: MachineSpec, ask: Ask, ra: Rows, flown: Parents, need_net: 
     lb = np.maximum(np.hypot(*(L0 - T).T) - moves[ri[par]], 0.0)
     low = ra.low[ri[par]]
     good = _parent_ok(info[par], need_net, prefs)
-    pools = [(np.ones(lb.size, bool), PRUNE), (good, PRUNE // 2)]
-    if ask.height_free:  # the reference height keeps the quota it has when it is asked
-        pools += [(full, PRUNE), (full & good, PRUNE // 2)]
-    members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])
     # the best bounds of each pool (a landing-less parent's NaN bound predicts no candidate: left out)
-    keep = _select.best_of_pools(lb, members, [size for _ in (0, 1) for _, size in pools])
+    keep = _select.best_of_pools(lb, *_pools(low, good, full if ask.height_free else None, PRUNE))
     par, B, L0 = par[keep], B[keep], L0[keep]
     J = ra.J[ri[par]]
     Jc = np.stack([_rotate(J[:, :, 0], B), _rotate(J[:, :, 1], B)], axis=2)
@@ -652,13 +660,7 @@ def search(shoot5, spec: MachineSpec, ask: Ask, rows: Rows, flown: Parents, need
     low = ra.low[rows_e]  # per entry
     parent_ok = _parent_ok(pr.entries["info"], need_net, prefs)
     cols = ("height", "speed", "elevation", "heading", "rate", "axis")
-    every = np.ones(low.size, bool)
-    pools = [(every, TOP), (parent_ok, TOP // 2)]  # masks of the entries
-    if ask.height_free:
-        ref = ra.full[rows_e]
-        pools += [(ref, TOP), (ref & parent_ok, TOP // 2)]
-    members = np.array([mask & on for on in (low, ~low) for mask, _ in pools])  # (pools, entries)
-    tops = np.array([top for _ in (0, 1) for _, top in pools], np.int64)
+    members, tops = _pools(low, parent_ok, ra.full[rows_e] if ask.height_free else None, TOP)
     pick, keys = _select.pool_picks(spec, pr, members, tops, cols)
     seen = set(keys.tolist()) if keys.dtype == np.int64 else {k.tobytes() for k in keys}
     flown_c = [_fly_candidates(shoot5, spec, ask, pr.at("row", pick), [pr.at(c, pick) for c in cols])]

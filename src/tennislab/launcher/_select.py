@@ -63,10 +63,7 @@ def pool_picks(spec: MachineSpec, pr, members: np.ndarray, tops: np.ndarray, col
     (:func:`settings_key`).  Compiled: the selection (:func:`_best_kernel`, a bounded heap: no sort of the ~10^4
     candidates; a pool inside an earlier one read off that one's list, :func:`_from_earlier`), the distinct
     picks (:func:`_distinct`) and the walk (:func:`_walk_kernel`)."""
-    cand = np.empty(int((8 * tops).sum()), np.int64)
-    ends = np.empty(len(tops) + 1, np.int64)
-    _best_kernel(pr.pred, pr.k, members, 8 * tops, cand, ends)
-    some, pos = _distinct(cand[: ends[-1]], pr.pred.size)
+    some, pos, ends = _best_lists(pr.pred, pr.k, members, 8 * tops)
     sub = settings_key(spec, *(pr.at(c, some) for c in cols))
     if sub.dtype == np.int64:
         ids = sub
@@ -81,11 +78,18 @@ def best_of_pools(values: np.ndarray, members: np.ndarray, sizes) -> np.ndarray:
     """The union (sorted indices) over pools p of the ``sizes[p]`` entries of smallest (value, index) among the
     finite ``values`` of the pool (``members[p]``: a mask over the entries), as a stable argsort restricted to
     each pool would give them (non-finite values left out).  Compiled: :func:`_best_kernel`, :func:`_distinct`."""
+    return _best_lists(np.ascontiguousarray(values, dtype=float), 1, members, sizes)[0]
+
+
+def _best_lists(pred: np.ndarray, k: int, members: np.ndarray, sizes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_best_kernel`'s lists of every pool: the distinct candidates of all lists (sorted), each list
+    element's position among them, and the lists' ends."""
     sizes = np.asarray(sizes, np.int64)
     cand = np.empty(int(sizes.sum()), np.int64)
     ends = np.empty(sizes.size + 1, np.int64)
-    _best_kernel(np.ascontiguousarray(values, dtype=float), 1, members, sizes, cand, ends)
-    return _distinct(cand[: ends[-1]], values.size)[0]
+    _best_kernel(pred, k, members, sizes, cand, ends)
+    some, pos = _distinct(cand[: ends[-1]], pred.size)
+    return some, pos, ends
 
 
 @nb.njit(cache=True, error_model="numpy")
