@@ -32,6 +32,11 @@ def idle(pg, timeout: float = 60000):
 def open_page(pg, name: str, query: str = ""):
     pg.goto(f"{pg.base}/#{name}{query}")
     pg.wait_for_selector('body[data-ready="1"]', timeout=30000)
+    # A hash change within the loaded app is handled by a task queued after goto returns: wait until the
+    # page is shown (its run is counted as pending in the same task), then until it is idle.
+    pg.wait_for_function(
+        "n => { const el = document.getElementById('page-' + n); return el && !el.hidden; }", arg=name, timeout=30000
+    )
     idle(pg)
     assert pg.is_visible(f"#page-{name}")
 

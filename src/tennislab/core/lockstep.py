@@ -175,12 +175,10 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, n):
 @nb.njit(**JIT)
 def _crosses(ev, evw, YN, lane):
     """Whether an event still to come may have happened in the lane's step (``step_events`` then
-    looks): the new state on or beyond its target."""
-    tgt = evw[0]
-    dirn = evw[1]
-    done = evw[2]
+    looks): the new state on or beyond its target.  ``evw`` is every lane's event work (LANES, 6,
+    MAX_EVENTS), indexed in place: a view per lane and step would cost two atomic reference counts."""
     for e in range(ev.shape[0]):
-        if done[e] == 0.0 and dirn[e] * (YN[int(ev[e, EV_COMPONENT]), lane] - tgt[e]) >= 0.0:
+        if evw[lane, 2, e] == 0.0 and evw[lane, 1, e] * (YN[int(ev[e, EV_COMPONENT]), lane] - evw[lane, 0, e]) >= 0.0:
             return True
     return False
 
@@ -257,9 +255,8 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
             busy += 1
             top = lane + 1
             att[lane] += 1
-            w = evw[lane]
-            if aim_e >= 0 and w[2, aim_e] == 0.0:
-                h[lane] = aim_step(Y[aim_c, lane] - w[0, aim_e], F[aim_c, lane], F[aim_c + 3, lane], h[lane])
+            if aim_e >= 0 and evw[lane, 2, aim_e] == 0.0:
+                h[lane] = aim_step(Y[aim_c, lane] - evw[lane, 0, aim_e], F[aim_c, lane], F[aim_c + 3, lane], h[lane])
             if t[lane] + h[lane] > c.t_max:
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
@@ -276,18 +273,17 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] *= max(0.2, 0.9 * err**-0.2)
                 continue
             nst[lane] += 1
-            w = evw[lane]
             stop_e = -1
-            if _crosses(ev, w, YN, lane):
+            if _crosses(ev, evw, YN, lane):
                 for j in range(9):
                     yl[j] = Y[j, lane]
                     ynl[j] = YN[j, lane]
                     for s in range(7):
                         Kl[s, j] = K[s, j, lane]
-                stop_e = step_events(ev, c, w, t[lane], h[lane], yl, ynl, Kl, nst[lane], out[shot[lane]])
+                stop_e = step_events(ev, c, evw[lane], t[lane], h[lane], yl, ynl, Kl, nst[lane], out[shot[lane]])
             if nst[lane] == 1:
                 for e in range(ev.shape[0]):
-                    w[4, e] = 0.0
+                    evw[lane, 4, e] = 0.0
             if stop_e >= 0:
                 _finish_row(out[shot[lane]], c, int(ev[stop_e, EV_STATUS]), nst[lane])
                 nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
