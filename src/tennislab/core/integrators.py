@@ -186,6 +186,11 @@ def _root(c, target, y0, K, h, P, f0, f1, lo=0.0):
     return x
 
 
+#: the rows of an event work array ``evw`` (6, MAX_EVENTS), one column per event: its target value,
+#: direction, done flag, step fraction of its crossing, armed flag (on its target at the start, moving
+#: away) and the step it crossed in.  The kernels index it in place: a view of a row costs two atomic
+#: reference counts, paid per event and step.
+W_TARGET, W_DIRECTION, W_DONE, W_THETA, W_ARMED, W_WHEN = range(6)
 #: a start this close to an event's target [m] is *on* it: a ball launched 1e-17 m above the ground
 #: and rising would otherwise find its "landing" in the round-off of the interpolant at t = 0
 _ON_TARGET = 1e-12
@@ -303,11 +308,6 @@ def start_flight(y, fcur, aero, aero_p, c, ev, row, evw):
     a bad or out-of-range start, or a ball on the ground not going up).  Shared by the per-shot and
     the lockstep kernel."""
     r = c.radius
-    tgt = evw[0]
-    dirn = evw[1]
-    done = evw[2]
-    armed = evw[4]
-    when = evw[5]
     for i in range(NCOLS):
         row[i] = np.nan
     for i in range(9):
@@ -326,21 +326,21 @@ def start_flight(y, fcur, aero, aero_p, c, ev, row, evw):
     stop_e = -1
     for e in range(ev.shape[0]):
         toward = ev[e, EV_DIRECTION] == TOWARD
-        dirn[e] = -side if toward else ev[e, EV_DIRECTION]
-        tgt[e] = ev[e, EV_TARGET] + ev[e, EV_RADII] * r * (side if toward else 1.0)
-        done[e] = 0.0
-        armed[e] = 0.0
-        when[e] = -1.0
+        evw[W_DIRECTION, e] = -side if toward else ev[e, EV_DIRECTION]
+        evw[W_TARGET, e] = ev[e, EV_TARGET] + ev[e, EV_RADII] * r * (side if toward else 1.0)
+        evw[W_DONE, e] = 0.0
+        evw[W_ARMED, e] = 0.0
+        evw[W_WHEN, e] = -1.0
         ci = int(ev[e, EV_COMPONENT])
-        f0 = y[ci] - tgt[e]
-        if abs(f0) <= _ON_TARGET and dirn[e] * f0 <= 0.0 and dirn[e] * fcur[ci] < 0.0:
-            armed[e] = 1.0  # on its target (to round-off) and moving away: the crossing after the start
+        f0 = y[ci] - evw[W_TARGET, e]
+        if abs(f0) <= _ON_TARGET and evw[W_DIRECTION, e] * f0 <= 0.0 and evw[W_DIRECTION, e] * fcur[ci] < 0.0:
+            evw[W_ARMED, e] = 1.0  # on its target (to round-off) and moving away: the crossing after the start
             continue
-        if dirn[e] * f0 < 0.0:
+        if evw[W_DIRECTION, e] * f0 < 0.0:
             continue
-        done[e] = 1.0
+        evw[W_DONE, e] = 1.0
         if _stops_at(ev, e, y[1], y[2], c):
-            if dirn[e] * f0 > 0.0:  # beyond an event that ends the flight: below the ground, inside the net
+            if evw[W_DIRECTION, e] * f0 > 0.0:  # beyond an event that ends the flight: below the ground, inside the net
                 _finish_row(row, c, STATUS_BAD_START, 0)
                 return False
             if stop_e < 0:
@@ -360,33 +360,27 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
     every crossing first, then the earliest that ends the flight; the crossings up to it recorded
     in ``row``.  Returns the event that ends the flight, or -1."""
     P = _P
-    tgt = evw[0]
-    dirn = evw[1]
-    done = evw[2]
-    theta = evw[3]
-    armed = evw[4]
-    when = evw[5]
     n_ev = ev.shape[0]
     th_stop = 2.0
     stop_e = -1
     ncross = 0
     for e in range(n_ev):
-        if done[e] != 0.0:
+        if evw[W_DONE, e] != 0.0:
             continue
         ci = int(ev[e, EV_COMPONENT])
-        d = dirn[e]
-        f1 = ynew[ci] - tgt[e]
+        d = evw[W_DIRECTION, e]
+        f1 = ynew[ci] - evw[W_TARGET, e]
         if d * f1 < 0.0:
             continue
-        f0 = y[ci] - tgt[e]
-        if armed[e] != 0.0:
-            th = _root_after_start(ci, tgt[e], d, y, K, h, P, f1)
+        f0 = y[ci] - evw[W_TARGET, e]
+        if evw[W_ARMED, e] != 0.0:
+            th = _root_after_start(ci, evw[W_TARGET, e], d, y, K, h, P, f1)
         elif d * f0 < 0.0:
-            th = _root(ci, tgt[e], y, K, h, P, f0, f1)
+            th = _root(ci, evw[W_TARGET, e], y, K, h, P, f0, f1)
         else:
             continue
-        theta[e] = th
-        when[e] = nsteps
+        evw[W_THETA, e] = th
+        evw[W_WHEN, e] = nsteps
         ncross += 1
         if ev[e, EV_STOP] == ALWAYS:
             stops = True
@@ -399,10 +393,10 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
             stop_e = e
     if ncross > 0:
         for e in range(n_ev):
-            if when[e] == nsteps and done[e] == 0.0 and theta[e] <= th_stop:
-                done[e] = 1.0
+            if evw[W_WHEN, e] == nsteps and evw[W_DONE, e] == 0.0 and evw[W_THETA, e] <= th_stop:
+                evw[W_DONE, e] = 1.0
                 if ev[e, EV_STOP] != IF_NET or e == stop_e:
-                    _record(ev, e, t, theta[e], y, K, h, P, row)
+                    _record(ev, e, t, evw[W_THETA, e], y, K, h, P, row)
     return stop_e
 
 

@@ -64,6 +64,10 @@ from tennislab.core.integrators import (
     BATCH_SIGNATURE,
     STATUS_FAILED,
     STATUS_NO_LANDING,
+    W_ARMED,
+    W_DIRECTION,
+    W_DONE,
+    W_TARGET,
     _aim_event,
     _finish_row,
     aim_step,
@@ -178,7 +182,10 @@ def _crosses(ev, evw, YN, lane):
     looks): the new state on or beyond its target.  ``evw`` is every lane's event work (LANES, 6,
     MAX_EVENTS), indexed in place: a view per lane and step would cost two atomic reference counts."""
     for e in range(ev.shape[0]):
-        if evw[lane, 2, e] == 0.0 and evw[lane, 1, e] * (YN[int(ev[e, EV_COMPONENT]), lane] - evw[lane, 0, e]) >= 0.0:
+        if (
+            evw[lane, W_DONE, e] == 0.0
+            and evw[lane, W_DIRECTION, e] * (YN[int(ev[e, EV_COMPONENT]), lane] - evw[lane, W_TARGET, e]) >= 0.0
+        ):
             return True
     return False
 
@@ -255,8 +262,10 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
             busy += 1
             top = lane + 1
             att[lane] += 1
-            if aim_e >= 0 and evw[lane, 2, aim_e] == 0.0:
-                h[lane] = aim_step(Y[aim_c, lane] - evw[lane, 0, aim_e], F[aim_c, lane], F[aim_c + 3, lane], h[lane])
+            if aim_e >= 0 and evw[lane, W_DONE, aim_e] == 0.0:
+                h[lane] = aim_step(
+                    Y[aim_c, lane] - evw[lane, W_TARGET, aim_e], F[aim_c, lane], F[aim_c + 3, lane], h[lane]
+                )
             if t[lane] + h[lane] > c.t_max:
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
@@ -283,7 +292,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 stop_e = step_events(ev, c, evw[lane], t[lane], h[lane], yl, ynl, Kl, nst[lane], out[shot[lane]])
             if nst[lane] == 1:
                 for e in range(ev.shape[0]):
-                    evw[lane, 4, e] = 0.0
+                    evw[lane, W_ARMED, e] = 0.0
             if stop_e >= 0:
                 _finish_row(out[shot[lane]], c, int(ev[stop_e, EV_STATUS]), nst[lane])
                 nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
