@@ -42,13 +42,27 @@ DERIVATIVE_SIGNATURE = types.void(_F[::1], _F[::1], AERO_FUNCTION_TYPE, _F[::1],
 @nb.njit(**JIT, inline="always")
 def acceleration(vx, vy, vz, wx, wy, wz, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z):
     """(ax, ay, az) [m/s^2] of a ball moving at (vx, vy, vz) spinning at (wx, wy, wz): the force law
-    of :func:`derivative` on scalars (the one statement of it; the lockstep kernel of
-    :mod:`tennislab.core.lockstep` evaluates it lane by lane)."""
+    of :func:`derivative` on scalars."""
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    return acceleration_at_spin(vx, vy, vz, wx, wy, wz, w, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z)
+
+
+@nb.njit(**JIT, inline="always")
+def spin_rate(Y, lane):
+    """|w| [rad/s] of the spin in column ``lane`` of ``Y`` (9, lanes): :func:`acceleration`'s, for
+    :func:`derivative_lanes`'s ``wn``."""
+    return math.sqrt(Y[6, lane] * Y[6, lane] + Y[7, lane] * Y[7, lane] + Y[8, lane] * Y[8, lane])
+
+
+@nb.njit(**JIT, inline="always")
+def acceleration_at_spin(vx, vy, vz, wx, wy, wz, w, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z):
+    """:func:`acceleration` with the spin rate ``w`` = |(wx, wy, wz)| [rad/s] given (the one statement
+    of the force law; the lockstep kernel of :mod:`tennislab.core.lockstep` evaluates it lane by lane,
+    each lane's |w| computed once a flight when the spin does not decay)."""
     ux = vx - wind_x
     uy = vy - wind_y
     uz = vz - wind_z
     u = math.sqrt(ux * ux + uy * uy + uz * uz)
-    w = math.sqrt(wx * wx + wy * wy + wz * wz)
     cd, cl = aero_coefficients(aero, u, w, r, aero_p)
     d = -kd * cd * u
     ax = d * ux
@@ -63,13 +77,17 @@ def acceleration(vx, vy, vz, wx, wy, wz, aero, aero_p, kd, kl, g, r, wind_x, win
 
 
 @nb.njit(**JIT, inline="always")
-def derivative_lanes(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec):
+def derivative_lanes(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec, wn):
     """``F[:, l]`` = dy/dt at ``Y[:, l]`` for every lane ``l < n`` (states in columns: the structure of
     arrays of the lockstep kernel, :mod:`tennislab.core.lockstep`): :func:`derivative` lane by lane, through
-    :func:`acceleration`, inlined so that LLVM evaluates the lanes in SIMD registers."""
+    :func:`acceleration_at_spin`, inlined so that LLVM evaluates the lanes in SIMD registers.  Without
+    spin decay (``dec`` 0) a flight's spin is constant, stage by stage to the bit (its slopes are 0), and
+    the lane's |w| is ``wn[l]`` (:func:`spin_rate` of its start: one square root and one division of
+    three per evaluation spared); otherwise it is computed from ``Y``."""
     for lane in range(n):
-        ax, ay, az = acceleration(
-            Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane], aero, ap, k, k, g, r, wx, wy, wz
+        w = wn[lane] if dec == 0.0 else spin_rate(Y, lane)
+        ax, ay, az = acceleration_at_spin(
+            Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane], w, aero, ap, k, k, g, r, wx, wy, wz
         )
         F[0, lane] = Y[3, lane]
         F[1, lane] = Y[4, lane]

@@ -30,8 +30,8 @@ import numba as nb
 import numpy as np
 
 from tennislab.core._jit import JIT
-from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel
-from tennislab.core.dynamics import derivative_lanes
+from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel, cap_distance
+from tennislab.core.dynamics import derivative_lanes, spin_rate
 from tennislab.core.events import EV_COMPONENT, EV_STATUS, MAX_EVENTS
 from tennislab.core.integrators import (
     _A21,
@@ -109,7 +109,7 @@ _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel,
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, n):
+def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
     ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state,
     the :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the error factor of a capped lift's
@@ -124,33 +124,33 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, n):
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A21 * K[0, i, la])
-    derivative_lanes(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A31 * K[0, i, la] + _A32 * K[1, i, la])
-    derivative_lanes(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A41 * K[0, i, la] + _A42 * K[1, i, la] + _A43 * K[2, i, la])
-    derivative_lanes(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A51 * K[0, i, la] + _A52 * K[1, i, la] + _A53 * K[2, i, la] + _A54 * K[3, i, la]
             )
-    derivative_lanes(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for i in range(9):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A61 * K[0, i, la] + _A62 * K[1, i, la] + _A63 * K[2, i, la] + _A64 * K[3, i, la] + _A65 * K[4, i, la]
             )
-    derivative_lanes(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for i in range(9):
         for la in range(n):
             YN[i, la] = Y[i, la] + h[la] * (
                 _B1 * K[0, i, la] + _B3 * K[2, i, la] + _B4 * K[3, i, la] + _B5 * K[4, i, la] + _B6 * K[5, i, la]
             )
-    derivative_lanes(YN, K[6], n, aero, ap, k, g, r, wx, wy, wz, dec)
+    derivative_lanes(YN, K[6], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
     for la in range(n):
         errsum[la] = 0.0
         ysum[la] = 0.0
@@ -172,7 +172,11 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, n):
         for la in range(n):
             ysum[la] += YN[i, la]
     for la in range(n):
-        D1[la] = cap_gap(aero, ap, c, YN[3, la], YN[4, la], YN[5, la], YN[6, la], YN[7, la], YN[8, la])
+        ux = YN[3, la] - wx
+        uy = YN[4, la] - wy
+        uz = YN[5, la] - wz
+        w = WN[la] if dec == 0.0 else spin_rate(YN, la)
+        D1[la] = cap_distance(aero, math.sqrt(ux * ux + uy * uy + uz * uz), w, r, ap)  # cap_gap, |w| as above
         zscale[la] = cap_zone_scale(D0[la], D1[la])
 
 
@@ -191,7 +195,7 @@ def _crosses(ev, evw, YN, lane):
 
 
 @nb.njit(**JIT)
-def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
+def _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1):
     """Give ``lane`` the next shot from ``nxt`` on that needs integrating (the others finish at their
     start), and its start's ``cap_gap`` in ``D0``; returns the next unused row.  A lane left without a
     shot idles at rest (``shot`` -1)."""
@@ -205,6 +209,7 @@ def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev
                 Y[j, lane] = y1[j]
                 F[j, lane] = f1[j]
             D0[lane] = cap_gap(aero, ap, c, y1[3], y1[4], y1[5], y1[6], y1[7], y1[8])
+            WN[lane] = spin_rate(Y, lane)
             t[lane] = 0.0
             h[lane] = _H0
             nst[lane] = 0
@@ -214,6 +219,7 @@ def _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev
     shot[lane] = -1
     h[lane] = 0.0
     D0[lane] = 0.0
+    WN[lane] = 0.0
     for j in range(9):
         Y[j, lane] = 0.0
         F[j, lane] = 0.0
@@ -236,6 +242,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     zscale = np.empty(LANES)
     D0 = np.empty(LANES)
     D1 = np.empty(LANES)
+    WN = np.empty(LANES)  # each lane's |w| (spin_rate of its start: constant without spin decay)
     shot = np.empty(LANES, dtype=np.int64)
     nst = np.zeros(LANES, dtype=np.int64)
     att = np.zeros(LANES, dtype=np.int64)
@@ -249,14 +256,16 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     aim_c = int(ev[aim_e, EV_COMPONENT]) if aim_e >= 0 else 0
     nxt = i0
     for lane in range(LANES):
-        nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+        nxt = _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
     while True:
         busy = 0
         top = 0
         for lane in range(LANES):  # before the step: the attempt limit, the aim at the ground, t_max
             while shot[lane] >= 0 and att[lane] >= c.max_steps:
                 _finish_row(out[shot[lane]], c, STATUS_FAILED, nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(
+                    states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1
+                )
             if shot[lane] < 0:
                 continue
             busy += 1
@@ -270,7 +279,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
             return
-        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, aero, ap, c, top)
+        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, top)
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
@@ -295,12 +304,16 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                     evw[lane, W_ARMED, e] = 0.0
             if stop_e >= 0:
                 _finish_row(out[shot[lane]], c, int(ev[stop_e, EV_STATUS]), nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(
+                    states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1
+                )
                 continue
             t[lane] += h[lane]
             if not t[lane] < c.t_max:
                 _finish_row(out[shot[lane]], c, STATUS_NO_LANDING, nst[lane])
-                nxt = _load(states, nxt, i1, lane, Y, F, D0, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1)
+                nxt = _load(
+                    states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c, ev, out, evw, y1, f1
+                )
                 continue
             acc[lane] = True
             h[lane] *= step_factor(err)
