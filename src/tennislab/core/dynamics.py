@@ -55,6 +55,13 @@ def spin_rate(Y, lane):
 
 
 @nb.njit(**JIT, inline="always")
+def lane_spin_rate(Y, lane, wn, dec):
+    """|w| [rad/s] of column ``lane`` of ``Y``: the lane's kept ``wn[lane]`` (:func:`spin_rate` of its
+    start) without spin decay (``dec`` 0: the stages keep the spin to the bit), else computed from ``Y``."""
+    return wn[lane] if dec == 0.0 else spin_rate(Y, lane)
+
+
+@nb.njit(**JIT, inline="always")
 def acceleration_at_spin(vx, vy, vz, wx, wy, wz, w, aero, aero_p, kd, kl, g, r, wind_x, wind_y, wind_z):
     """:func:`acceleration` with the spin rate ``w`` = |(wx, wy, wz)| [rad/s] given (the one statement
     of the force law; the lockstep kernel of :mod:`tennislab.core.lockstep` evaluates it lane by lane,
@@ -82,10 +89,10 @@ def derivative_lanes(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec, wn):
     arrays of the lockstep kernel, :mod:`tennislab.core.lockstep`): :func:`derivative` lane by lane, through
     :func:`acceleration_at_spin`, inlined so that LLVM evaluates the lanes in SIMD registers.  Without
     spin decay (``dec`` 0) a flight's spin is constant, stage by stage to the bit (its slopes are 0), and
-    the lane's |w| is ``wn[l]`` (:func:`spin_rate` of its start: one square root and one division of
-    three per evaluation spared); otherwise it is computed from ``Y``."""
+    the lane's |w| is ``wn[l]`` (:func:`lane_spin_rate`: one square root of three per evaluation spared);
+    otherwise it is computed from ``Y``."""
     for lane in range(n):
-        w = wn[lane] if dec == 0.0 else spin_rate(Y, lane)
+        w = lane_spin_rate(Y, lane, wn, dec)
         ax, ay, az = acceleration_at_spin(
             Y[3, lane], Y[4, lane], Y[5, lane], Y[6, lane], Y[7, lane], Y[8, lane], w, aero, ap, k, k, g, r, wx, wy, wz
         )

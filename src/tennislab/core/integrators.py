@@ -404,12 +404,16 @@ def step_events(ev, c, evw, t, h, y, ynew, K, nsteps, row):
 def cap_gap(aero, ap, c, vx, vy, vz, wx, wy, wz):
     """c_l S - cap [-] at velocity/spin (v, w) in the wind of ``c``: where a capped lift's blend zone is
     (:func:`~tennislab.core.aero.cap_distance`; -inf for a model without a cap)."""
+    return cap_gap_at_spin(aero, ap, c, vx, vy, vz, math.sqrt(wx * wx + wy * wy + wz * wz))
+
+
+@nb.njit(**JIT, inline="always")
+def cap_gap_at_spin(aero, ap, c, vx, vy, vz, w):
+    """:func:`cap_gap` with the spin rate ``w`` [rad/s] given (the lockstep kernel's lanes keep it)."""
     ux = vx - c.wind_x
     uy = vy - c.wind_y
     uz = vz - c.wind_z
-    return cap_distance(
-        aero, math.sqrt(ux * ux + uy * uy + uz * uz), math.sqrt(wx * wx + wy * wy + wz * wz), c.radius, ap
-    )
+    return cap_distance(aero, math.sqrt(ux * ux + uy * uy + uz * uz), w, c.radius, ap)
 
 
 @nb.njit(**JIT, inline="always")

@@ -30,8 +30,8 @@ import numba as nb
 import numpy as np
 
 from tennislab.core._jit import JIT
-from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel, cap_distance
-from tennislab.core.dynamics import derivative_lanes, spin_rate
+from tennislab.core.aero import _constant_kernel, _kernel_key, _linear_lift_kernel, _stepanek_kernel
+from tennislab.core.dynamics import derivative_lanes, lane_spin_rate, spin_rate
 from tennislab.core.events import EV_COMPONENT, EV_STATUS, MAX_EVENTS
 from tennislab.core.integrators import (
     _A21,
@@ -72,6 +72,7 @@ from tennislab.core.integrators import (
     _finish_row,
     aim_step,
     cap_gap,
+    cap_gap_at_spin,
     cap_zone_scale,
     start_flight,
     step_events,
@@ -113,7 +114,8 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
     ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state,
     the :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the error factor of a capped lift's
-    blend zone from it and ``D0``, that of ``Y`` (``cap_zone_scale``: the per-shot kernel's ``cap_scale``)."""
+    blend zone from it and ``D0``, that of ``Y`` (``cap_zone_scale``: the per-shot kernel's ``cap_scale``).
+    ``WN`` holds each lane's spin rate (:func:`~tennislab.core.dynamics.lane_spin_rate`)."""
     k = c.k
     g = c.gravity
     r = c.radius
@@ -172,11 +174,8 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
         for la in range(n):
             ysum[la] += YN[i, la]
     for la in range(n):
-        ux = YN[3, la] - wx
-        uy = YN[4, la] - wy
-        uz = YN[5, la] - wz
-        w = WN[la] if dec == 0.0 else spin_rate(YN, la)
-        D1[la] = cap_distance(aero, math.sqrt(ux * ux + uy * uy + uz * uz), w, r, ap)  # cap_gap, |w| as above
+        w = lane_spin_rate(YN, la, WN, dec)
+        D1[la] = cap_gap_at_spin(aero, ap, c, YN[3, la], YN[4, la], YN[5, la], w)
         zscale[la] = cap_zone_scale(D0[la], D1[la])
 
 
