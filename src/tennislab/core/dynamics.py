@@ -90,7 +90,8 @@ def derivative_lanes(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec, wn):
     :func:`acceleration_at_spin`, inlined so that LLVM evaluates the lanes in SIMD registers.  Without
     spin decay (``dec`` 0) a flight's spin is constant, stage by stage to the bit (its slopes are 0), and
     the lane's |w| is ``wn[l]`` (:func:`lane_spin_rate`: one square root of three per evaluation spared);
-    otherwise it is computed from ``Y``."""
+    otherwise it is computed from ``Y``.  Without spin decay the spin's slopes (0) are not written: the
+    caller's ``F`` holds them (the lockstep kernel's stages start as zeros)."""
     for lane in range(n):
         w = lane_spin_rate(Y, lane, wn, dec)
         ax, ay, az = acceleration_at_spin(
@@ -102,9 +103,11 @@ def derivative_lanes(Y, F, n, aero, ap, k, g, r, wx, wy, wz, dec, wn):
         F[3, lane] = ax
         F[4, lane] = ay
         F[5, lane] = az
-        F[6, lane] = -dec * Y[6, lane]
-        F[7, lane] = -dec * Y[7, lane]
-        F[8, lane] = -dec * Y[8, lane]
+    if dec != 0.0:
+        for lane in range(n):
+            F[6, lane] = -dec * Y[6, lane]
+            F[7, lane] = -dec * Y[7, lane]
+            F[8, lane] = -dec * Y[8, lane]
 
 
 @nb.njit(**JIT)

@@ -123,31 +123,39 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
     wy = c.wind_y
     wz = c.wind_z
     dec = c.spin_decay
-    for i in range(9):
+    # the right-hand side reads velocity and spin only: the stages' positions are not formed; without
+    # spin decay the spin rows of every stage are Y's (slopes 0: the same to the bit), kept in YT, YN
+    hi = 6 if dec == 0.0 else 9
+    if dec == 0.0:
+        for i in range(6, 9):
+            for la in range(n):
+                YT[i, la] = Y[i, la]
+                YN[i, la] = Y[i, la]
+    for i in range(3, hi):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A21 * K[0, i, la])
     derivative_lanes(YT, K[1], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
-    for i in range(9):
+    for i in range(3, hi):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A31 * K[0, i, la] + _A32 * K[1, i, la])
     derivative_lanes(YT, K[2], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
-    for i in range(9):
+    for i in range(3, hi):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (_A41 * K[0, i, la] + _A42 * K[1, i, la] + _A43 * K[2, i, la])
     derivative_lanes(YT, K[3], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
-    for i in range(9):
+    for i in range(3, hi):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A51 * K[0, i, la] + _A52 * K[1, i, la] + _A53 * K[2, i, la] + _A54 * K[3, i, la]
             )
     derivative_lanes(YT, K[4], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
-    for i in range(9):
+    for i in range(3, hi):
         for la in range(n):
             YT[i, la] = Y[i, la] + h[la] * (
                 _A61 * K[0, i, la] + _A62 * K[1, i, la] + _A63 * K[2, i, la] + _A64 * K[3, i, la] + _A65 * K[4, i, la]
             )
     derivative_lanes(YT, K[5], n, aero, ap, k, g, r, wx, wy, wz, dec, WN)
-    for i in range(9):
+    for i in range(hi):
         for la in range(n):
             YN[i, la] = Y[i, la] + h[la] * (
                 _B1 * K[0, i, la] + _B3 * K[2, i, la] + _B4 * K[3, i, la] + _B5 * K[4, i, la] + _B6 * K[5, i, la]
@@ -156,8 +164,7 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
     for la in range(n):
         errsum[la] = 0.0
         ysum[la] = 0.0
-    ne = 6 if dec == 0.0 else 9  # without spin decay the spin's stages are 0: no error to add
-    for i in range(ne):
+    for i in range(hi):  # without spin decay the spin's stages are 0: no error to add
         for la in range(n):
             acc = (
                 _E1 * K[0, i, la]
@@ -229,7 +236,7 @@ def _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c
 def _block(states, i0, i1, aero, ap, c, ev, out):
     """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, :data:`LANES` at a time."""
     Y = np.empty((9, LANES))
-    K = np.empty((7, 9, LANES))
+    K = np.zeros((7, 9, LANES))  # zeros: without spin decay the spin's slopes are never written
     F = K[0]  # the slopes at Y: the first stage of the next step
     acc = np.zeros(LANES, dtype=np.bool_)
     YT = np.empty((9, LANES))
@@ -316,7 +323,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 continue
             acc[lane] = True
             h[lane] *= step_factor(err)
-        for i in range(9):  # the lanes that go on from their accepted step (SIMD, masked)
+        for i in range(6 if c.spin_decay == 0.0 else 9):  # the lanes going on (SIMD, masked; spin kept)
             for la in range(LANES):
                 if acc[la]:
                     Y[i, la] = YN[i, la]
