@@ -132,12 +132,39 @@ _c_status = COL["status"]
 
 
 @nb.njit(**JIT, inline="always")
-def _dense_comp(theta, c, y0, K, h, P):
+def _weight(theta, P, k):
+    """Stage ``k``'s weight in the interpolant at step fraction ``theta`` (the same for every component)."""
+    return theta * (P[k, 0] + theta * (P[k, 1] + theta * (P[k, 2] + theta * P[k, 3])))
+
+
+@nb.njit(**JIT, inline="always")
+def _dense_weights(theta, P):
+    """The seven stage weights of the interpolant at ``theta``: formed once for every component an
+    event records (:func:`_record`)."""
+    return (
+        _weight(theta, P, 0),
+        _weight(theta, P, 1),
+        _weight(theta, P, 2),
+        _weight(theta, P, 3),
+        _weight(theta, P, 4),
+        _weight(theta, P, 5),
+        _weight(theta, P, 6),
+    )
+
+
+@nb.njit(**JIT, inline="always")
+def _dense_at(q, c, y0, K, h):
+    """Component ``c`` of the interpolant with the stage weights ``q`` (:func:`_dense_weights`)."""
     s = 0.0
     for k in range(7):
-        q = theta * (P[k, 0] + theta * (P[k, 1] + theta * (P[k, 2] + theta * P[k, 3])))
-        s += K[k, c] * q
+        s += K[k, c] * q[k]
     return y0[c] + h * s
+
+
+@nb.njit(**JIT, inline="always")
+def _dense_comp(theta, c, y0, K, h, P):
+    """Component ``c`` of the interpolant at step fraction ``theta``."""
+    return _dense_at(_dense_weights(theta, P), c, y0, K, h)
 
 
 @nb.njit(**JIT)
@@ -269,10 +296,11 @@ def _stops_at(ev, e, y_, z_, c):
 def _record(ev, e, t, theta, y0, K, h, P, row):
     """Write event ``e``'s time and recorded components at step fraction ``theta`` into ``row``."""
     row[int(ev[e, EV_TCOL])] = t + theta * h
+    q = _dense_weights(theta, P)
     for i in range(9):
         col = int(ev[e, EV_COL0 + i])
         if col >= 0:
-            row[col] = _dense_comp(theta, i, y0, K, h, P)
+            row[col] = _dense_at(q, i, y0, K, h)
 
 
 @nb.njit(**JIT)
