@@ -110,11 +110,12 @@ _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel,
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
+def _stages(Y, K, YT, YN, h, errsum, ysum, err, D0, D1, WN, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
-    ``K[1..6]``, the new state ``YN`` and, per lane, the sums of squared scaled errors and of the new state,
-    the :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the error factor of a capped lift's
-    blend zone from it and ``D0``, that of ``Y`` (``cap_zone_scale``: the per-shot kernel's ``cap_scale``).
+    ``K[1..6]``, the new state ``YN`` and, per lane, the sum of the new state, the
+    :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the step's scaled error ``err`` (the
+    RMS of the scaled errors, ``errsum`` their squares, times the error factor of a capped lift's blend zone
+    from ``D1`` and ``D0``, that of ``Y``: ``cap_zone_scale``, the per-shot kernel's ``cap_scale``).
     ``WN`` holds each lane's spin rate (:func:`~tennislab.core.dynamics.lane_spin_rate`)."""
     k = c.k
     g = c.gravity
@@ -183,7 +184,7 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, n):
     for la in range(n):
         w = lane_spin_rate(YN, la, WN, dec)
         D1[la] = cap_gap_at_spin(aero, ap, c, YN[3, la], YN[4, la], YN[5, la], w)
-        zscale[la] = cap_zone_scale(D0[la], D1[la])
+        err[la] = math.sqrt(errsum[la] / 9.0) * cap_zone_scale(D0[la], D1[la])
 
 
 @nb.njit(**JIT)
@@ -245,7 +246,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     t = np.zeros(LANES)
     errsum = np.empty(LANES)
     ysum = np.empty(LANES)
-    zscale = np.empty(LANES)
+    errs = np.empty(LANES)
     D0 = np.empty(LANES)
     D1 = np.empty(LANES)
     WN = np.empty(LANES)  # each lane's |w| (spin_rate of its start: constant without spin decay)
@@ -285,11 +286,11 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
             return
-        _stages(Y, K, YT, YN, h, errsum, ysum, zscale, D0, D1, WN, aero, ap, c, top)
+        _stages(Y, K, YT, YN, h, errsum, ysum, errs, D0, D1, WN, aero, ap, c, top)
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
-            err = math.sqrt(errsum[lane] / 9.0) * zscale[lane]
+            err = errs[lane]
             if not math.isfinite(err + ysum[lane]):  # a non-finite error or state: a rejection
                 h[lane] *= 0.2
                 continue
