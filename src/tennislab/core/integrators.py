@@ -23,7 +23,9 @@ from typing import NamedTuple
 
 import numba as nb
 import numpy as np
+from llvmlite import ir
 from numba import types
+from numba.extending import intrinsic
 
 from tennislab.core._jit import JIT
 from tennislab.core._net import net_blocks, net_height_linear
@@ -463,11 +465,56 @@ def cap_scale(aero, ap, c, vx0, vy0, vz0, wx0, wy0, wz0, vx1, vy1, vz1, wx1, wy1
     )
 
 
+@intrinsic
+def _float_bits(typingctx, x):
+    """The bits of the float64 ``x`` as an int64 (a reinterpretation, no conversion)."""
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return types.int64(types.float64), codegen
+
+
+@intrinsic
+def _bits_float(typingctx, i):
+    """The float64 whose bits are the int64 ``i``."""
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return types.float64(types.int64), codegen
+
+
+#: the bits of 1.0; 1.2 times them less a fifth of x's bits approximate x^-1/5 to ~10 % (the exponent
+#: field scales as log2: Blinn 1997, "Floating-point tricks", IEEE Comput. Graph. Appl. 17(4):80)
+_ONE_BITS = 0x3FF0000000000000
+
+
+@nb.njit(**JIT, inline="always")
+def inv_fifth_root(x):
+    """x^(-1/5) for a normal x in [1e-7, 1e5], to 3 ulp: a first guess from the bits of x, then five
+    Newton steps on y^-5 = x (quadratic: 10 % -> 1e-16).  Branch-free, so that LLVM forms every lane's in
+    SIMD, where the library's ``pow`` is a scalar call (~11 ns; this 1.7 ns, SIMD)."""
+    y = _bits_float(np.int64(1.2 * _ONE_BITS - 0.2 * np.float64(_float_bits(x))))
+    for _ in range(5):
+        y2 = y * y
+        y = y * (1.2 - 0.2 * x * (y2 * y2 * y))
+    return y
+
+
+#: errors below ``_ERR_LO`` give the largest factor (0.9 err^-1/5 >= 10 below 0.09^5 = 5.9e-6), above
+#: ``_ERR_HI`` the smallest (<= 0.2 above 4.5^5 = 1845): :func:`step_factor` clamps to them
+_ERR_LO = 5e-6
+_ERR_HI = 2000.0
+
+
 @nb.njit(**JIT, inline="always")
 def step_factor(err):
     """The step-size factor after a step of scaled error ``err`` (Hairer et al. II.4: 0.9 err^-1/5,
-    within [0.2, 10])."""
-    return 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
+    within [0.2, 10]; err^-1/5 by :func:`inv_fifth_root`), after an accepted step (err <= 1) and a
+    rejected one alike.  Branch-free: the lockstep kernel forms every lane's in SIMD."""
+    y = inv_fifth_root(min(max(err, _ERR_LO), _ERR_HI))
+    return 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * y))
 
 
 @nb.njit(**JIT)
@@ -560,7 +607,7 @@ def integrate_one(y_init, aero, aero_p, c, ev, row, work, evw):
             h *= 0.2
             continue
         if err > 1.0:
-            h *= max(0.2, 0.9 * err**-0.2)
+            h *= step_factor(err)
             continue
         nsteps += 1
         # ---- events within [t, t + h]: every crossing first, then the earliest that ends the flight

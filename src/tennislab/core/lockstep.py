@@ -110,12 +110,13 @@ _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel,
 
 
 @nb.njit(**JIT)
-def _stages(Y, K, YT, YN, h, errsum, ysum, err, D0, D1, WN, aero, ap, c, n):
+def _stages(Y, K, YT, YN, h, errsum, ysum, err, fac, D0, D1, WN, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
     ``K[1..6]``, the new state ``YN`` and, per lane, the sum of the new state, the
     :func:`~tennislab.core.integrators.cap_gap` ``D1`` of ``YN`` and the step's scaled error ``err`` (the
     RMS of the scaled errors, ``errsum`` their squares, times the error factor of a capped lift's blend zone
-    from ``D1`` and ``D0``, that of ``Y``: ``cap_zone_scale``, the per-shot kernel's ``cap_scale``).
+    from ``D1`` and ``D0``, that of ``Y``: ``cap_zone_scale``, the per-shot kernel's ``cap_scale``) with
+    its step-size factor ``fac`` (:func:`~tennislab.core.integrators.step_factor`, SIMD).
     ``WN`` holds each lane's spin rate (:func:`~tennislab.core.dynamics.lane_spin_rate`)."""
     k = c.k
     g = c.gravity
@@ -185,6 +186,7 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, err, D0, D1, WN, aero, ap, c, n):
         w = lane_spin_rate(YN, la, WN, dec)
         D1[la] = cap_gap_at_spin(aero, ap, c, YN[3, la], YN[4, la], YN[5, la], w)
         err[la] = math.sqrt(errsum[la] / 9.0) * cap_zone_scale(D0[la], D1[la])
+        fac[la] = step_factor(err[la])
 
 
 @nb.njit(**JIT)
@@ -247,6 +249,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
     errsum = np.empty(LANES)
     ysum = np.empty(LANES)
     errs = np.empty(LANES)
+    facs = np.empty(LANES)  # each lane's step-size factor (step_factor of its error)
     D0 = np.empty(LANES)
     D1 = np.empty(LANES)
     WN = np.empty(LANES)  # each lane's |w| (spin_rate of its start: constant without spin decay)
@@ -286,7 +289,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] = c.t_max - t[lane]
         if busy == 0:
             return
-        _stages(Y, K, YT, YN, h, errsum, ysum, errs, D0, D1, WN, aero, ap, c, top)
+        _stages(Y, K, YT, YN, h, errsum, ysum, errs, facs, D0, D1, WN, aero, ap, c, top)
         for lane in range(LANES):  # after the step, lane by lane
             if shot[lane] < 0:
                 continue
@@ -295,7 +298,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 h[lane] *= 0.2
                 continue
             if err > 1.0:
-                h[lane] *= max(0.2, 0.9 * err**-0.2)
+                h[lane] *= facs[lane]
                 continue
             nst[lane] += 1
             stop_e = -1
@@ -323,7 +326,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 )
                 continue
             acc[lane] = True
-            h[lane] *= step_factor(err)
+            h[lane] *= facs[lane]
         for i in range(6 if c.spin_decay == 0.0 else 9):  # the lanes going on (SIMD, masked; spin kept)
             for la in range(LANES):
                 if acc[la]:
