@@ -79,18 +79,17 @@ from tennislab.core.integrators import (
     step_factor,
 )
 
-#: shots advanced together.  32 lanes, not the 8 of one 512-bit register: LLVM vectorises each loop over
-#: the lanes and interleaves it, so a short loop runs mostly in its scalar remainder, and the stages'
-#: square roots and divisions are latency-bound unless several vectors are in flight.  A step computes the
-#: lanes up to the last busy one only (a batch of a few shots pays for those, not for 32); a lane's
-#: arithmetic is the same in the vector loop and in its remainder, so a shot's row does not depend on where
-#: it sits and chunking a batch never changes a bit (docs/batch.md; tests/core/test_lockstep.py).  A lane
-#: count following the block size, or 64 lanes rounded to 16, did change bits.  2 threads, quiet machine,
-#: CPU per batch of the default model when every lane was computed: 8 lanes 27 / 81 us for 1 / 20 shots and
-#: 129 ms for 5 x 10^4; 16 lanes 33 / 102 us, 119 ms; 32 lanes 47 / 125 us, 95 ms; 64 lanes 68 / 193 us,
-#: 99 ms (one run).  Up to the last busy lane, 32 lanes (one run, a slower machine, against the per-shot
-#: kernel in the same run): 31 / 84 us (per-shot 20 / 120 us), 5 x 10^4 shots 1.66x the per-shot kernel
-LANES = 32
+#: shots advanced together.  64 lanes, not the 8 of one 512-bit register: LLVM vectorises each loop over
+#: the lanes (8 per register, several registers in flight, since the stages' square roots and divisions are
+#: latency-bound) only when the loop runs 64 times or more, after checking at run time that its arrays do not
+#: overlap (read from the kernel's assembly); with 32 lanes every step ran in the scalar remainder.  A step
+#: computes the lanes up to the last busy one only (a batch of a few shots pays for those, not for 64); with
+#: no reassociation in the kernels (:data:`~tennislab.core._jit.FASTMATH`) a lane's arithmetic is the same in
+#: the vector loop and in its remainder, so a shot's row does not depend on where it sits and chunking a
+#: batch never changes a bit (docs/batch.md; tests/core/test_lockstep.py).  One thread, 2 x 10^4 mixed shots,
+#: same-run A/B against 32 lanes: 1.55-1.61 against 1.87-1.94 us CPU per flight; batches of 1 and 20 shots
+#: the same (51 and 104-111 us CPU against 49 and 95-101 us)
+LANES = 64
 #: shots per block (one thread's unit of work): the lanes idle only while a block drains
 BLOCK = 512
 
