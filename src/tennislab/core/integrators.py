@@ -512,9 +512,9 @@ _ERR_HI = 2000.0
 def step_factor(err):
     """The step-size factor after a step of scaled error ``err`` (Hairer et al. II.4: 0.9 err^-1/5,
     within [0.2, 10]; err^-1/5 by :func:`inv_fifth_root`), after an accepted step (err <= 1) and a
-    rejected one alike.  Branch-free: the lockstep kernel forms every lane's in SIMD."""
-    y = inv_fifth_root(min(max(err, _ERR_LO), _ERR_HI))
-    return 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * y))
+    rejected one alike (an error of 0 is clamped to ``_ERR_LO``: the largest factor).  Branch-free: the
+    lockstep kernel forms every lane's in SIMD."""
+    return min(10.0, max(0.2, 0.9 * inv_fifth_root(min(max(err, _ERR_LO), _ERR_HI))))
 
 
 @nb.njit(**JIT)

@@ -108,6 +108,13 @@ def lockstep_suits(kernel) -> bool:
 _SUITED = frozenset(_kernel_key(k) for k in (_constant_kernel, _stepanek_kernel, _linear_lift_kernel))
 
 
+@nb.njit(**JIT, inline="always")
+def _changing_rows(dec):
+    """How many rows of a lane's state a step changes: all 9, or without spin decay (``dec`` 0) the 6 of
+    position and velocity (the spin is the start's to the bit)."""
+    return 6 if dec == 0.0 else 9
+
+
 @nb.njit(**JIT)
 def _stages(Y, K, YT, YN, h, errsum, ysum, err, fac, D0, D1, WN, aero, ap, c, n):
     """One Dormand-Prince step of size ``h[l]`` from ``Y`` (slopes ``K[0]``) in every lane: the stages
@@ -126,7 +133,7 @@ def _stages(Y, K, YT, YN, h, errsum, ysum, err, fac, D0, D1, WN, aero, ap, c, n)
     dec = c.spin_decay
     # the right-hand side reads velocity and spin only: the stages' positions are not formed; without
     # spin decay the spin rows of every stage are Y's (slopes 0: the same to the bit), kept in YT, YN
-    hi = 6 if dec == 0.0 else 9
+    hi = _changing_rows(dec)
     if dec == 0.0:
         for i in range(6, 9):
             for la in range(n):
@@ -326,7 +333,7 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
                 continue
             acc[lane] = True
             h[lane] *= facs[lane]
-        for i in range(6 if c.spin_decay == 0.0 else 9):  # the lanes going on (SIMD, masked; spin kept)
+        for i in range(_changing_rows(c.spin_decay)):  # the lanes going on (SIMD, masked)
             for la in range(LANES):
                 if acc[la]:
                     Y[i, la] = YN[i, la]
