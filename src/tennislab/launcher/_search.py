@@ -246,8 +246,11 @@ class Parents:
 
     def keep(self, mask) -> Parents:
         """The parents (and spare flights) of the rows ``mask`` (over the rows they index) keeps, their rows
-        renumbered as those rows are once the others are dropped (so that they index the kept rows)."""
+        renumbered as those rows are once the others are dropped (so that they index the kept rows); these
+        parents themselves when every row is kept."""
         mask = np.asarray(mask, bool)
+        if mask.all():
+            return self
         renumber = np.cumsum(mask) - 1
         out = Parents(self.spec)
         for ri, v, a, ell, info in self.parts:

@@ -213,31 +213,39 @@ def _variants_kernel(L0, J, om, tx, ty, w0, g0, tol_w, tol_g, w_lo, w_hi, w_step
         j00, j01, j10, j11 = J[i, 0, 0], J[i, 0, 1], J[i, 1, 0], J[i, 1, 1]
         r0x = L0[i, 0] - j00 * om[i, 0] - j01 * om[i, 1] - tx
         r0y = L0[i, 1] - j10 * om[i, 0] - j11 * om[i, 1] - ty
-        for j in range(1 + 2 * m):
-            if j == 0:
-                w, g, cg, sg, near = w_q, g_q, cq, sq, near_q
-            else:
-                jj = (j - 1) % m
-                g, cg, sg, near = axes[r, jj], iv[r, jj, 4], iv[r, jj, 5], iv[r, jj, 6] > 0.5
-                jx, jy = j00 * cg + j01 * sg, j10 * cg + j11 * sg
-                w_opt = -(jx * r0x + jy * r0y) / (jx * jx + jy * jy)
-                if not math.isfinite(w_opt):
-                    w_opt = w0
-                best = _best_rate(w_opt, iv[r, jj])
-                k = math.floor(((best if math.isfinite(best) else w0) - w_lo) / w_step) + (0 if j <= m else 1)
-                w = w_lo + k * w_step
-            w = _round9(min(max(w, w_lo), w_hi))
-            if w == 0.0:
-                g, cg, sg, near = g_q, cq, sq, near_q  # zero spin: one axis (the same flight)
-            W[i, j], G[i, j] = w, g
-            ox, oy = w * cg, w * sg
-            ok = (ox - a0x) ** 2 + (oy - a0y) ** 2 <= tol2
-            ok = ok or (box and near and abs(w - w0) <= tol_w + 1e-9) or (w == w_q and g == g_q)
-            if ok:
-                ex, ey = r0x + j00 * ox + j01 * oy, r0y + j10 * ox + j11 * oy
-                miss[i, j] = math.sqrt(ex * ex + ey * ey)
-            else:
-                miss[i, j] = np.inf
+        _variant_into(i, 0, w_q, g_q, cq, sq, near_q, r0x, r0y, J, w0, w_q, g_q, cq, sq, near_q, w_lo, w_hi, a0x, a0y,
+                      tol2, tol_w, box, W, G, miss)  # fmt: skip
+        for jj in range(m):  # each axis step: the best rate on it, rounded down (variant 1 + jj) and up (1 + m + jj)
+            g, cg, sg, near = axes[r, jj], iv[r, jj, 4], iv[r, jj, 5], iv[r, jj, 6] > 0.5
+            jx, jy = j00 * cg + j01 * sg, j10 * cg + j11 * sg
+            w_opt = -(jx * r0x + jy * r0y) / (jx * jx + jy * jy)
+            if not math.isfinite(w_opt):
+                w_opt = w0
+            best = _best_rate(w_opt, iv[r, jj])
+            k = math.floor(((best if math.isfinite(best) else w0) - w_lo) / w_step)
+            for up in range(2):
+                _variant_into(i, 1 + jj + up * m, w_lo + (k + up) * w_step, g, cg, sg, near, r0x, r0y, J, w0, w_q,
+                              g_q, cq, sq, near_q, w_lo, w_hi, a0x, a0y, tol2, tol_w, box, W, G, miss)  # fmt: skip
+
+
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def _variant_into(i, j, w, g, cg, sg, near, r0x, r0y, J, w0, w_q, g_q, cq, sq, near_q, w_lo, w_hi, a0x, a0y, tol2, tol_w,
+                  box, W, G, miss):  # fmt: skip
+    """Variant j of candidate i of :func:`_variants_kernel`: rate ``w`` [rpm] (clipped to the machine's rates and
+    rounded as NumPy's round(x, 9)) on axis g [deg] (cos, sin; within the axis tolerance: ``near``), its predicted
+    miss (inf outside the tolerances) into W, G, miss."""
+    w = _round9(min(max(w, w_lo), w_hi))
+    if w == 0.0:
+        g, cg, sg, near = g_q, cq, sq, near_q  # zero spin: one axis (the same flight)
+    W[i, j], G[i, j] = w, g
+    ox, oy = w * cg, w * sg
+    ok = (ox - a0x) ** 2 + (oy - a0y) ** 2 <= tol2
+    ok = ok or (box and near and abs(w - w0) <= tol_w + 1e-9) or (w == w_q and g == g_q)
+    if ok:
+        ex, ey = r0x + J[i, 0, 0] * ox + J[i, 0, 1] * oy, r0y + J[i, 1, 0] * ox + J[i, 1, 1] * oy
+        miss[i, j] = math.sqrt(ex * ex + ey * ey)
+    else:
+        miss[i, j] = np.inf
 
 
 def reach(J: np.ndarray, omega_b, asked: tuple[float, float], tol: Tolerances) -> np.ndarray:

@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 import hashlib
 import json
 import math
@@ -156,6 +157,13 @@ class ReachMap:
     key: str
     build_s: float = math.nan
 
+    @functools.cached_property
+    def spin_major(self) -> tuple[np.ndarray, np.ndarray]:
+        """``rho`` and ``phi`` as (n_t n_s, n_h n_v n_a) arrays, the spin's axes first (:func:`_aim_rows` contracts
+        the spin along contiguous memory); made once per map."""
+        nh, nv, na, nt, ns = self.rho.shape
+        return tuple(np.ascontiguousarray(c.reshape(nh * nv * na, nt * ns).T) for c in (self.rho, self.phi))
+
     def _u(self, axis: int, x) -> np.ndarray:
         x = np.asarray(x, dtype=float)
         if axis == 0:
@@ -209,9 +217,10 @@ class ReachMap:
         d, h, v = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(distance, h, v))
         g0, g1 = (self.lo[2], self.hi[2]) if elevation is None else (float(elevation[0]), float(elevation[1]))
         out = np.empty((2, d.size, 6))
+        rho_s, phi_s = self.spin_major
         _aim_rows(
-            self.rho, self.phi, self.lo, self.hi, self.gravity, d, h, v, float(t), float(s), g0, g1, CURVE_POINTS,
-            CROSSING_ITER, out,
+            rho_s, phi_s, self.rho.shape, self.lo, self.hi, self.gravity, d, h, v, float(t), float(s), g0, g1,
+            CURVE_POINTS, CROSSING_ITER, out,
         )  # fmt: skip
         return tuple(  # type: ignore[return-value]
             {
@@ -288,43 +297,41 @@ def _crossing(c: np.ndarray, d: float, ua: float, ub: float, fa: float, fb: floa
 
 
 @nb.njit(**JIT)
-def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
+def _aim_rows(rho_s, phi_s, shape, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
     """:meth:`ReachMap.aim_both` for Q rows: per row the coefficients in the elevation (spin, height and speed
     contracted), the curve rho on ``npts`` points uniform in the elevation's variable (the vacuum flight time,
     module docstring) between elevations g0 and g1 [deg], on each branch's side of the longest flight the
     crossing of the row's distance (bracketed on the grid, then solved on the fitted curve), phi there and the
-    slope.  ``out`` (2, Q, 6), low then high: elevation [deg], phi [rad], split [deg], shortest and longest
+    slope.  ``rho_s``, ``phi_s``: the coefficients spin-major (:attr:`ReachMap.spin_major`), ``shape`` their
+    :data:`NODES`.  ``out`` (2, Q, 6), low then high: elevation [deg], phi [rad], split [deg], shortest and longest
     distance [m], slope [m/deg]."""
-    nh, nv, na, nt, ns = rho.shape
+    nh, nv, na, nt, ns = shape
     tt, ts = np.empty(nt), np.empty(ns)
     _cheb_into(_scaled(t, lo[3], hi[3]), tt)
     _cheb_into(_scaled(s, lo[4], hi[4]), ts)
-    spin = np.empty((nt, ns))
-    for i in range(nt):
-        for j in range(ns):
-            spin[i, j] = tt[i] * ts[j]
-    # the spin contracted once for every row: (nh, nv, na)
-    sr, sp = np.zeros((nh, nv, na)), np.zeros((nh, nv, na))
-    for i in range(nh):
-        for j in range(nv):
-            for k in range(na):
-                ar = 0.0
-                ap = 0.0
-                for m in range(nt):
-                    for n in range(ns):
-                        ar += rho[i, j, k, m, n] * spin[m, n]
-                        ap += phi[i, j, k, m, n] * spin[m, n]
-                sr[i, j, k] = ar
-                sp[i, j, k] = ap
+    # the spin contracted once for every row: (nh, nv, na).  Every sum below runs over its terms in the order of
+    # the plain loop (from 0.0, index by index), but with the output index innermost, so that the loops take SIMD
+    # bodies (a reduction does not without reassociation, which FASTMATH leaves out) and give the same bits.
+    nr = nh * nv * na
+    sr, sp = np.zeros(nr), np.zeros(nr)
+    for m in range(nt):
+        for n in range(ns):
+            w = tt[m] * ts[n]
+            c = m * ns + n
+            for r in range(nr):
+                sr[r] += rho_s[c, r] * w
+            for r in range(nr):
+                sp[r] += phi_s[c, r] * w
     th, tv, work = np.empty(nh), np.empty(nv), np.empty(na)
     cr, cp = np.empty(na), np.empty(na)
     full = g0 == lo[2] and g1 == hi[2]  # the grid in u is then the same for every row
     ugrid = np.empty(npts)
-    tgrid = np.empty((npts, na))
+    tgrid = np.empty((na, npts))  # T_k at the grid's points, k major
     if full:
-        for k in range(npts):
-            ugrid[k] = -1.0 + 2.0 * k / (npts - 1)
-            _cheb_into(ugrid[k], tgrid[k])
+        for g in range(npts):
+            ugrid[g] = -1.0 + 2.0 * g / (npts - 1)
+            _cheb_into(ugrid[g], work)
+            tgrid[:, g] = work
     curve = np.empty(npts)
     for q in range(d.size):
         _cheb_into(_scaled(math.sqrt(max(h[q], 0.0)), lo[0], hi[0]), th)
@@ -334,26 +341,27 @@ def _aim_rows(rho, phi, lo, hi, grav, d, h, v, t, s, g0, g1, npts, iters, out):
         if not full:
             u0 = _scaled(_vacuum_time(g0, h[q], vm, grav), tau0, tau1)
             u1 = _scaled(_vacuum_time(g1, h[q], vm, grav), tau0, tau1)
-            for k in range(npts):
-                ugrid[k] = u0 + (u1 - u0) * k / (npts - 1)
-                _cheb_into(ugrid[k], tgrid[k])
+            for g in range(npts):
+                ugrid[g] = u0 + (u1 - u0) * g / (npts - 1)
+                _cheb_into(ugrid[g], work)
+                tgrid[:, g] = work
+        cr[:] = 0.0
+        cp[:] = 0.0
+        for i in range(nh):
+            for j in range(nv):
+                w = th[i] * tv[j]
+                o = (i * nv + j) * na
+                for k in range(na):
+                    cr[k] += w * sr[o + k]
+                for k in range(na):
+                    cp[k] += w * sp[o + k]
+        curve[:] = 0.0
         for k in range(na):
-            ar = 0.0
-            ap = 0.0
-            for i in range(nh):
-                for j in range(nv):
-                    w = th[i] * tv[j]
-                    ar += w * sr[i, j, k]
-                    ap += w * sp[i, j, k]
-            cr[k] = ar
-            cp[k] = ap
+            for g in range(npts):
+                curve[g] += cr[k] * tgrid[k, g]
         k_max = 0
         for g in range(npts):
-            c = 0.0
-            for k in range(na):
-                c += cr[k] * tgrid[g, k]
-            curve[g] = c
-            if c > curve[k_max]:
+            if curve[g] > curve[k_max]:
                 k_max = g
         for side in range(2):  # 0: low, the first crossing rising; 1: high, the last one falling
             found = -1
