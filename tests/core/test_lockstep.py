@@ -134,9 +134,10 @@ def test_unknown_kernel_is_refused():
 @pytest.mark.parametrize("name", ["choppin2018", "constant", "stepanek1988"])
 @pytest.mark.parametrize("obstacle", [False, True])
 def test_a_shot_lands_the_same_whatever_batch_it_is_flown_in(name, obstacle):
-    """Only the lanes up to the last busy one are computed (a batch of a few shots pays for those), yet a
-    shot's row is the same bit for bit alone, in a short batch (the lanes of the vector loop's remainder) and in
-    a long one: batches of 1 to LANES + 5 shots against the whole batch, both threadings."""
+    """Only the lanes up to the last busy one are computed (a batch of a few shots pays for those) and a drained
+    block moves its flights down to its lowest lanes (``_compact``), yet a shot's row is the same bit for bit
+    alone, in a short batch (the lanes of the vector loop's remainder) and in a long one: batches of 1 to
+    LANES + 5 shots against the whole batch, both threadings."""
     S = shot_states(3 * LANES + 7, seed=5)
     p = _params(name, net_obstacle=obstacle)
     whole = fly_batch(S, p, kernel="lockstep").data

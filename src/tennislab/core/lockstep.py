@@ -8,7 +8,9 @@ out as ``[component, lane]``, so that LLVM turns them into packed (SIMD) arithme
 one evaluation of the right-hand side serves :data:`LANES` shots.  Only the per-lane
 decisions (accept or reject, the events of an accepted step, a finished flight) are
 scalar; a lane whose flight ends takes the next shot of its block at once, so the
-lanes stay busy until the block runs dry.
+lanes stay busy until the block runs dry; then its flights still going move down to
+its lowest lanes (:func:`_compact`), since a step computes the lanes up to the last
+busy one.
 
 Each lane does the per-shot kernel's arithmetic in the same order, so both give the
 same landings to round-off (1e-9 m, tests/core/test_lockstep.py); the setup of a
@@ -241,6 +243,51 @@ def _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c
     return nxt
 
 
+#: Busy lanes at most of a drained block whose step computes 64 lanes, below which its flights move to the lowest
+#: lanes (:func:`_compact`): the loops then run in their scalar remainder, ~3x the cost of a SIMD lane, over the
+#: busy lanes alone
+COMPACT_BELOW = LANES // 3
+
+
+@nb.njit(**JIT)
+def _compact(shot, Y, F, D0, WN, t, h, nst, att, evw):
+    """Move the flights of a drained block into its lowest lanes, the idle ones above, when that shortens the
+    lanes a step computes (to the last busy one): whenever a step computes fewer than :data:`LANES` lanes (the
+    scalar remainder, whose cost is per lane), else once no more than :data:`COMPACT_BELOW` are busy.  A lane's
+    arithmetic does not depend on where it sits: the same rows to the bit."""
+    busy = 0
+    top = 0
+    for lane in range(LANES):
+        if shot[lane] >= 0:
+            busy += 1
+            top = lane + 1
+    if busy == top or (top == LANES and busy > COMPACT_BELOW):
+        return
+    dst = 0
+    for src in range(top):
+        if shot[src] < 0:
+            continue
+        while shot[dst] >= 0 and dst < src:
+            dst += 1
+        if dst >= src:
+            continue
+        for j in range(9):
+            Y[j, dst] = Y[j, src]
+            F[j, dst] = F[j, src]
+        for a in range(evw.shape[1]):
+            for e in range(evw.shape[2]):
+                evw[dst, a, e] = evw[src, a, e]
+        D0[dst], WN[dst], t[dst], h[dst] = D0[src], WN[src], t[src], h[src]
+        nst[dst], att[dst], shot[dst] = nst[src], att[src], shot[src]
+        shot[src] = -1
+        h[src] = 0.0
+        D0[src] = 0.0
+        WN[src] = 0.0
+        for j in range(9):
+            Y[j, src] = 0.0
+            F[j, src] = 0.0
+
+
 @nb.njit(**JIT)
 def _block(states, i0, i1, aero, ap, c, ev, out):
     """Fly the rows ``i0`` to ``i1`` of ``states`` into ``out``, :data:`LANES` at a time."""
@@ -342,6 +389,8 @@ def _block(states, i0, i1, aero, ap, c, ev, out):
             if acc[la]:
                 D0[la] = D1[la]
             acc[la] = False
+        if nxt >= i1:  # the block has run dry: its flights still going move down (a step computes up to the last)
+            _compact(shot, Y, F, D0, WN, t, h, nst, att, evw)
 
 
 @nb.njit(**JIT, parallel=True)
