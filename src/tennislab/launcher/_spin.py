@@ -229,8 +229,8 @@ def _variants_kernel(L0, J, om, tx, ty, w0, g0, tol_w, tol_g, w_lo, w_hi, w_step
 
 
 @nb.njit(cache=True, error_model="numpy", inline="always")
-def _variant_into(i, j, w, g, cg, sg, near, r0x, r0y, J, w0, w_q, g_q, cq, sq, near_q, w_lo, w_hi, a0x, a0y, tol2, tol_w,
-                  box, W, G, miss):  # fmt: skip
+def _variant_into(i, j, w, g, cg, sg, near, r0x, r0y, J, w0, w_q, g_q, cq, sq, near_q, w_lo, w_hi, a0x, a0y, tol2,
+                  tol_w, box, W, G, miss):  # fmt: skip
     """Variant j of candidate i of :func:`_variants_kernel`: rate ``w`` [rpm] (clipped to the machine's rates and
     rounded as NumPy's round(x, 9)) on axis g [deg] (cos, sin; within the axis tolerance: ``near``), its predicted
     miss (inf outside the tolerances) into W, G, miss."""
