@@ -162,7 +162,8 @@ class ReachMap:
         """``rho`` and ``phi`` as (n_t n_s, n_h n_v n_a) arrays, the spin's axes first (:func:`_aim_rows` contracts
         the spin along contiguous memory); made once per map."""
         nh, nv, na, nt, ns = self.rho.shape
-        return tuple(np.ascontiguousarray(c.reshape(nh * nv * na, nt * ns).T) for c in (self.rho, self.phi))
+        rho_s, phi_s = (np.ascontiguousarray(c.reshape(nh * nv * na, nt * ns).T) for c in (self.rho, self.phi))
+        return rho_s, phi_s
 
     def _u(self, axis: int, x) -> np.ndarray:
         x = np.asarray(x, dtype=float)
