@@ -233,6 +233,13 @@ def _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c
             att[lane] = 0
             shot[lane] = i
             return nxt
+    _idle(lane, shot, Y, F, D0, WN, h)
+    return nxt
+
+
+@nb.njit(**JIT, inline="always")
+def _idle(lane, shot, Y, F, D0, WN, h):
+    """Leave ``lane`` without a shot (``shot`` -1), at rest."""
     shot[lane] = -1
     h[lane] = 0.0
     D0[lane] = 0.0
@@ -240,7 +247,6 @@ def _load(states, nxt, i1, lane, Y, F, D0, WN, t, h, shot, nst, att, aero, ap, c
     for j in range(9):
         Y[j, lane] = 0.0
         F[j, lane] = 0.0
-    return nxt
 
 
 #: Busy lanes at most of a drained block whose step computes 64 lanes, below which its flights move to the lowest
@@ -279,13 +285,7 @@ def _compact(shot, Y, F, D0, WN, t, h, nst, att, evw):
                 evw[dst, a, e] = evw[src, a, e]
         D0[dst], WN[dst], t[dst], h[dst] = D0[src], WN[src], t[src], h[src]
         nst[dst], att[dst], shot[dst] = nst[src], att[src], shot[src]
-        shot[src] = -1
-        h[src] = 0.0
-        D0[src] = 0.0
-        WN[src] = 0.0
-        for j in range(9):
-            Y[j, src] = 0.0
-            F[j, src] = 0.0
+        _idle(src, shot, Y, F, D0, WN, h)
 
 
 @nb.njit(**JIT)
