@@ -62,16 +62,18 @@ def test_the_documented_identification(points):
 
     d = calibrate_tracks(points=points).to_dict()
     assert d["split"] == {"name": "parity (odd games fitted, even held out)", "n_fit": 111, "n_held_out": 128}
-    # each knot within a tenth of its own standard error (and 6e-4) of the registered curves; a knot held
-    # fixed (no standard error: C_L at S 0.1, the lift anchor) within 6e-4.  The weakly determined knots
-    # (C_D at 10 m/s: +-0.078, C_L at S 0.4: +-0.10) move by a few 1e-3 when the compiled kernels'
-    # floating-point order changes (fast-math, inlining, the host's vector width, the libraries' versions),
-    # far inside what the data determine
+    # each knot within a quarter of its own standard error (and 6e-4) of the registered curves; a knot held
+    # fixed (no standard error: C_L at S 0.1, the lift anchor) within 6e-4.  The fit stops where its cost is
+    # flat (docs/validation.md), so where it stops moves with the compiled kernels' floating-point order
+    # (fast-math, reassociation, the host's vector width, the libraries' versions): measured, C_L at S 0.6
+    # 0.4577 against the recorded 0.454 +- 0.029 (0.13 of its error) after the kernels of 7 December, C_L at
+    # S 0.4 0.3406 against 0.338 +- 0.110 on another host; a changed physics or data set moves knots by
+    # about one standard error
     c = d["curves"]
     for name, registered in (("cd", aero.TENNISLAB2026_CD), ("cl", aero.TENNISLAB2026_CL)):
         sd = np.array([0.0 if v is None else v for v in c[f"{name}_sd"]])
         assert len(c[name]) == len(registered) == sd.size, name
-        tol = np.maximum(6e-4, 0.1 * sd)
+        tol = np.maximum(6e-4, 0.25 * sd)
         assert np.all(np.abs(np.array(c[name]) - np.array(registered)) <= tol), (name, c[name], list(tol))
     assert d["spin_decay_per_s"] == pytest.approx(aero.TENNISLAB2026_SPIN_DECAY, abs=max(6e-4, 0.1 * d["sd"]["decay"]))
     assert d["sd"]["cd@25"] == pytest.approx(0.017, rel=0.3) and d["sd"]["decay"] == pytest.approx(0.112, rel=0.3)
