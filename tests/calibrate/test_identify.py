@@ -92,6 +92,13 @@ def test_held_out_report(identified):
     table = identified.table_csv().splitlines()
     assert table[0] == "speed_ms,spin_rpm,cd,cl" and len(table) > 100
     assert "spin_decay = " in identified.config_toml("aero.csv")
+    assert d["convergence"]["stopped"] == "converged" and 1 < d["convergence"]["iterations"] < 10
+
+
+def test_a_fit_cut_short_says_so():
+    """``convergence`` tells a fit that ran out of iterations from one that converged."""
+    r = calibrate_tracks(_flights(n=4, hz=25.0), drag_sigma=0, max_iter=1, **KNOTS)
+    assert r.to_dict()["convergence"] == {"iterations": 1, "stopped": "max_iter"}
 
 
 def test_cubic_floor_of_a_cubic_is_zero():

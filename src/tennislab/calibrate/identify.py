@@ -301,6 +301,9 @@ class Identification:
     weights: np.ndarray
     iterations: int
     cost: float
+    #: why the iterations ended: ``converged`` (every global's last step under 1e-4), ``no_descent`` (no
+    #: Levenberg-Marquardt step lowered the cost), ``max_iter``, or ``nothing_free``
+    stopped: str = "max_iter"
 
 
 def _prior(ext, ext0, free, lay):
@@ -419,6 +422,7 @@ def identify(
     lam = 1e-3
     it = 0
     cost = math.inf
+    stopped = "max_iter"
     for it in range(1, max_iter + 1):
         if drag_sigma is not None and {"cd_v", "cd_s"} & set(free):
             ext = _normalise(ext, shots, lay)
@@ -426,6 +430,7 @@ def identify(
         weights = np.minimum(1.0, HUBER * float(np.median(rms)) / np.maximum(rms, 1e-12))
         cost, A, b, _ = _profile(shots, kernel, ext, fidx, steps, weights)
         if fidx.size == 0:
+            stopped = "nothing_free"
             break
         saved = [s.p.copy() for s in shots]
         L, v = _prior(ext, ext0, fidx, lay)
@@ -451,7 +456,9 @@ def identify(
         med = float(np.median([s.rms_mm(kernel, ext) for s in shots]))
         say(f"iteration {it}: weighted cost {cost:.6g}, median flight rms {med:.2f} mm")
         if lam >= 1e8 or step_max < 1e-4:
+            stopped = "no_descent" if lam >= 1e8 else "converged"
             break
+    say(f"stopped after {it} iteration{'s' if it != 1 else ''}: {stopped.replace('_', ' ')}")
     if drag_sigma is not None and {"cd_v", "cd_s"} & set(free):
         ext = _normalise(ext, shots, lay)
     cost, A, b, grads = _profile(shots, kernel, ext, fidx, steps, weights)
@@ -469,4 +476,5 @@ def identify(
         weights=weights,
         iterations=it,
         cost=cost,
+        stopped=stopped,
     )

@@ -80,7 +80,8 @@ class TrackCalibrationResult(Table):
     spin_decay_sd, wind_ms``}, ``split`` {``name, n_fit, n_held_out``}, ``fit_part`` and ``held_out``
     ({kind: {``n``, ``before``/``after``/``cubic_floor`` {``median_mm, p90_mm, median_ci95_mm,
     p90_ci95_mm``}, ``excess_median_mm``}}, kinds ``all, serve, rally, track``), ``drag_scale``
-    {``sigma_prior``, ``p10, p50, p90``}, ``excluded`` (flights not used, by reason) and
+    {``sigma_prior``, ``p10, p50, p90``}, ``excluded`` (flights not used, by reason), ``convergence``
+    {``iterations``, ``stopped``: ``converged``, ``no_descent``, ``max_iter`` or ``nothing_free``} and
     ``spin_decay_per_s`` (what ``--spin-decay`` takes).
     """
 
@@ -123,6 +124,7 @@ class TrackCalibrationResult(Table):
     held_out: dict | None = None
     drag_scale: dict | None = None
     excluded: dict | None = None
+    convergence: dict | None = None
 
     def to_dict(self) -> dict:
         out = {
@@ -143,7 +145,7 @@ class TrackCalibrationResult(Table):
             "tracks": list(self.per_track),
         }
         if self.model == "curves":
-            for key in ("curves", "split", "fit_part", "held_out", "drag_scale", "excluded"):
+            for key in ("curves", "split", "fit_part", "held_out", "drag_scale", "excluded", "convergence"):
                 out[key] = getattr(self, key)
         return jsonable(out)
 
@@ -412,6 +414,7 @@ def _curves_result(
             "p90": float(np.percentile(ds, 90)),
         },
         excluded={k: v for k, v in excluded.items() if v},
+        convergence={"iterations": ident.iterations, "stopped": ident.stopped},
     )
 
 
