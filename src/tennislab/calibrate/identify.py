@@ -303,7 +303,7 @@ class Identification:
     cost: float
     #: why the iterations ended: ``converged`` (every global's last step under 1e-4), ``no_descent`` (no
     #: Levenberg-Marquardt step lowered the cost), ``max_iter``, or ``nothing_free``
-    stopped: str = "max_iter"
+    stopped: str
 
 
 def _prior(ext, ext0, free, lay):
@@ -455,8 +455,11 @@ def identify(
             lam *= 10.0
         med = float(np.median([s.rms_mm(kernel, ext) for s in shots]))
         say(f"iteration {it}: weighted cost {cost:.6g}, median flight rms {med:.2f} mm")
-        if lam >= 1e8 or step_max < 1e-4:
-            stopped = "no_descent" if lam >= 1e8 else "converged"
+        if lam >= 1e8:
+            stopped = "no_descent"
+            break
+        if step_max < 1e-4:
+            stopped = "converged"
             break
     say(f"stopped after {it} iteration{'s' if it != 1 else ''}: {stopped.replace('_', ' ')}")
     if drag_sigma is not None and {"cd_v", "cd_s"} & set(free):
